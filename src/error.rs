@@ -1,0 +1,102 @@
+//! The crate's one error type: every failure names where it happened and why.
+
+use std::path::PathBuf;
+
+use ash::vk;
+
+/// Everything that can go wrong in `ellipsoid-splat`.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A Vulkan call failed; `call` is the entry point's name.
+    #[error("{call} failed: {result:?}")]
+    Vulkan {
+        /// The Vulkan entry point, e.g. `vkCreateDevice`.
+        call: &'static str,
+        /// What the driver returned.
+        result: vk::Result,
+    },
+    /// The Vulkan loader (`libvulkan.so.1`) could not be opened.
+    #[error("cannot load the Vulkan library: {0} (on Debian: apt-get install mesa-vulkan-drivers)")]
+    Loader(String),
+    /// No usable physical device or a missing capability.
+    #[error("no suitable Vulkan device: {0}")]
+    NoDevice(String),
+    /// GPU memory allocation failed.
+    #[error("GPU allocation of {what} failed: {reason}")]
+    Allocation {
+        /// What was being allocated.
+        what: &'static str,
+        /// The allocator's message.
+        reason: String,
+    },
+    /// The validation layer reported a message while validation was required to be clean.
+    #[error("validation layer reported {count} message(s); first: {first}")]
+    Validation {
+        /// How many messages were recorded.
+        count: usize,
+        /// The first message's text.
+        first: String,
+    },
+    /// A scene file has a bad row, field or header.
+    #[error("{}:{line}:{column}: {reason}", file.display())]
+    Parse {
+        /// The file being read.
+        file: PathBuf,
+        /// 1-based line number (0 when the problem is not tied to a line).
+        line: usize,
+        /// The column name, or a description of the place in the line.
+        column: String,
+        /// Why it is rejected.
+        reason: String,
+    },
+    /// An argument or value is outside what the renderer accepts.
+    #[error("invalid {what}: {reason}")]
+    Invalid {
+        /// What was invalid (e.g. `camera.near`, `ellipsoid 12 radii`).
+        what: String,
+        /// Why.
+        reason: String,
+    },
+    /// Reading or writing a file failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// Encoding an output image failed.
+    #[error("cannot write {}: {reason}", path.display())]
+    Encode {
+        /// The file.
+        path: PathBuf,
+        /// The encoder's message.
+        reason: String,
+    },
+}
+
+/// Shorthand for `Result<T, ellipsoid_splat::Error>`.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl Error {
+    /// An `Invalid` error from two displayable parts.
+    pub fn invalid(what: impl Into<String>, reason: impl Into<String>) -> Self {
+        Error::Invalid {
+            what: what.into(),
+            reason: reason.into(),
+        }
+    }
+}
+
+/// Extension to name the Vulkan call on a `VkResult`.
+pub(crate) trait VkCall<T> {
+    /// Turns a raw `VkResult` into the crate error naming `call`.
+    fn call(self, call: &'static str) -> Result<T>;
+}
+
+impl<T> VkCall<T> for std::result::Result<T, vk::Result> {
+    fn call(self, call: &'static str) -> Result<T> {
+        self.map_err(|result| Error::Vulkan { call, result })
+    }
+}
