@@ -4,7 +4,11 @@
 pub mod camera;
 pub mod ellipsoid;
 pub mod error;
+pub mod frame;
+pub mod scene;
 
 pub use camera::{Camera, Projection};
 pub use ellipsoid::Ellipsoid;
 pub use error::{Error, Result};
+pub use frame::{Frame, NO_INSTANCE};
+pub use scene::Scene;

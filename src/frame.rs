@@ -1,0 +1,39 @@
+//! A rendered frame read back to the CPU: colour, view depth, world normal and instance ID,
+//! all `width x height`, row 0 at the top, pixel-aligned.
+
+/// Instance ID of a pixel that shows no ellipsoid.
+pub const NO_INSTANCE: u32 = u32::MAX;
+
+/// Per-pixel outputs of one render, row-major, row 0 at the top.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Frame {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// sRGB-encoded RGBA8 colour.
+    pub color: Vec<[u8; 4]>,
+    /// View depth `dot(p - eye, f)`; `f32::INFINITY` where nothing is hit.
+    pub depth: Vec<f32>,
+    /// World-space unit normal; zero where nothing is hit.
+    pub normal: Vec<[f32; 3]>,
+    /// Index of the visible ellipsoid in the scene; [`NO_INSTANCE`] where nothing is hit.
+    pub id: Vec<u32>,
+}
+
+impl Frame {
+    /// Number of pixels.
+    pub fn len(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+
+    /// True for a 0x0 frame.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Linear index of pixel `(i, j)`.
+    pub fn index(&self, i: u32, j: u32) -> usize {
+        j as usize * self.width as usize + i as usize
+    }
+}
