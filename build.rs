@@ -1,1 +1,72 @@
-fn main(){}
+//! Compiles every shader in `glsl/` to SPIR-V in `OUT_DIR` with glslangValidator.
+//! Writes only to `OUT_DIR`; reruns when a shader or an include changes.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const STAGES: &[&str] = &["vert", "frag", "comp"];
+
+fn main() {
+    let glsl = PathBuf::from("glsl");
+    let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
+    let tool = std::env::var("GLSLANG_VALIDATOR").unwrap_or_else(|_| "glslangValidator".into());
+    println!("cargo:rerun-if-env-changed=GLSLANG_VALIDATOR");
+    println!("cargo:rerun-if-changed=glsl");
+
+    let mut sources = Vec::new();
+    collect(&glsl, &mut sources);
+    sources.sort();
+    let mut failures = Vec::new();
+    for src in &sources {
+        println!("cargo:rerun-if-changed={}", src.display());
+        let ext = src.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if !STAGES.contains(&ext) {
+            continue; // includes are tracked above, compiled through their users
+        }
+        let name = src.file_name().expect("file has a name").to_string_lossy();
+        let spv = out.join(format!("{name}.spv"));
+        let result = Command::new(&tool)
+            .args(["-V", "--target-env", "vulkan1.2", "--spirv-val"])
+            .arg(format!("-I{}", glsl.join("include").display()))
+            .arg("-o")
+            .arg(&spv)
+            .arg(src)
+            .output();
+        match result {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                panic!(
+                    "\n\nshader compiler `{tool}` not found.\n\
+                     Install it with:  sudo apt-get install glslang-tools\n\
+                     or point GLSLANG_VALIDATOR at a glslangValidator binary.\n"
+                );
+            }
+            Err(e) => panic!("cannot run `{tool}`: {e}"),
+            Ok(o) if !o.status.success() => {
+                // glslangValidator prints compile errors on stdout.
+                failures.push(format!(
+                    "{}:\n{}{}",
+                    src.display(),
+                    String::from_utf8_lossy(&o.stdout),
+                    String::from_utf8_lossy(&o.stderr)
+                ));
+            }
+            Ok(_) => {}
+        }
+    }
+    if !failures.is_empty() {
+        panic!("\n\nshader compilation failed:\n{}", failures.join("\n"));
+    }
+}
+
+fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
+    let entries =
+        std::fs::read_dir(dir).unwrap_or_else(|e| panic!("cannot read {}: {e}", dir.display()));
+    for entry in entries {
+        let path = entry.expect("directory entry").path();
+        if path.is_dir() {
+            collect(&path, out);
+        } else {
+            out.push(path);
+        }
+    }
+}

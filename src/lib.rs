@@ -12,3 +12,9 @@ pub use ellipsoid::Ellipsoid;
 pub use error::{Error, Result};
 pub use frame::{Frame, NO_INSTANCE};
 pub use scene::Scene;
+pub mod gpu;
+pub mod offscreen;
+pub mod renderer;
+
+pub use offscreen::OffscreenRenderer;
+pub use renderer::EllipsoidRenderer;

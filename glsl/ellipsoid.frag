@@ -1,0 +1,111 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Closed-form ray/ellipsoid hit in the silhouette frame (DESIGN.md section 3):
+//   p = (r q, -(u + alpha)) / (1 + u alpha),  alpha = sqrt(1 - |q|^2)
+// is both the hit point and the parameter-space normal, with no cancellation at any distance.
+// Handles near-plane caps and a camera inside the ellipsoid; writes reversed-Z depth.
+#include "ellipsoid_common.glsl"
+
+// Outputs beyond colour only when the pipeline has those attachments.
+layout(constant_id = 1) const bool AUX_OUTPUTS = true;
+
+layout(location = 0) noperspective in vec3 v_ray;
+layout(location = 1) flat in vec4 v_k;
+layout(location = 2) flat in vec4 v_depth;
+layout(location = 3) flat in vec2 v_misc;
+layout(location = 4) flat in mat3 v_to_normal;
+layout(location = 7) flat in uint v_id;
+layout(location = 8) flat in uint v_flags;
+layout(location = 9) flat in vec3 v_color;
+
+layout(location = 0) out vec4 out_color;
+layout(location = 1) out vec4 out_normal;
+layout(location = 2) out uint out_id;
+// Written depth never exceeds the quad's (reversed-Z: nearer is larger).
+layout(depth_less) out float gl_FragDepth;
+
+vec3 shade(vec3 n, vec3 to_eye, vec3 base) {
+    vec3 r = cam.right_sx.xyz, up = cam.up_sy.xyz, f = cam.forward.xyz;
+    float ka = cam.material.x, kd = cam.material.y, ks = cam.material.z, shininess = cam.material.w;
+    // A head-light at the eye and a key light above-left, fixed to the camera.
+    vec3 key = normalize(-0.45 * r + 0.65 * up - 0.6 * f);
+    vec3 lights[2] = vec3[2](to_eye, key);
+    float weights[2] = float[2](0.55, 0.6);
+    vec3 color = ka * base;
+    for (int i = 0; i < 2; i++) {
+        vec3 l = lights[i];
+        float nl = dot(n, l);
+        if (nl > 0.0) {
+            vec3 h = normalize(l + to_eye);
+            float spec = pow(max(dot(n, h), 0.0), shininess);
+            color += weights[i] * (kd * nl * base + ks * spec * cam.specular_color.rgb);
+        }
+    }
+    return color;
+}
+
+void main() {
+    float near = cam.eye_near.w;
+    vec3 g = v_depth.xyz;
+    float cz = v_depth.w;
+    bool cap = false;
+    vec3 p = vec3(0.0);
+    float depth = near;
+
+    if ((v_flags & FLAG_EYE_INSIDE) != 0u) {
+        // Eye inside: from O = (0, 0, -|e~|) along D the ray leaves the unit sphere once ahead;
+        // the pixel shows the cap wherever that exit lies beyond the near plane.
+        float eye_dist = v_misc.y;
+        vec3 o = vec3(0.0, 0.0, -eye_dist);
+        vec3 d = v_ray;
+        float dd = dot(d, d), b = dot(o, d), c0 = (1.0 - eye_dist) * (1.0 + eye_dist);
+        float s = sqrt(b * b + dd * c0);
+        float t = b > 0.0 ? c0 / (b + s) : (s - b) / dd;
+        vec3 exit_point = o + t * d;
+        if (cz + dot(g, exit_point) < near) {
+            discard;
+        }
+        cap = true;
+    } else {
+        float den = v_k.x + v_k.z * v_ray.z;
+        if (!(den > 0.0)) {
+            discard; // the ray points away from the ellipsoid
+        }
+        vec2 q = v_k.y * v_ray.xy / den;
+        float qq = dot(q, q);
+        if (!(qq < 1.0)) {
+            discard;
+        }
+        float u = v_misc.x, r = v_k.w;
+        float alpha = sqrt(1.0 - qq);
+        p = vec3(r * q, -(u + alpha)) / (1.0 + u * alpha);
+        depth = cz + dot(g, p);
+        if (depth < near) {
+            if ((v_flags & FLAG_MAY_CAP) == 0u) {
+                discard;
+            }
+            // Entered before the near plane: a cap if the ray leaves after it.
+            vec3 exit_point = vec3(r * q, alpha - u) / (1.0 - u * alpha);
+            if (cz + dot(g, exit_point) < near) {
+                discard;
+            }
+            cap = true;
+        }
+    }
+
+    vec3 f = cam.forward.xyz;
+    vec3 n = cap ? -f : normalize(v_to_normal * p);
+    gl_FragDepth = cap ? 1.0 : near / depth;
+
+    // Direction to the eye for lighting: the pixel's ray reversed.
+    vec3 to_eye = -f;
+    if (!ORTHOGRAPHIC) {
+        vec2 ndc = vec2(gl_FragCoord.x * cam.viewport.x - 1.0, 1.0 - gl_FragCoord.y * cam.viewport.y);
+        to_eye = -normalize(f + ndc.x * cam.right_sx.w * cam.right_sx.xyz + ndc.y * cam.up_sy.w * cam.up_sy.xyz);
+    }
+    out_color = vec4(shade(n, to_eye, v_color), 1.0);
+    if (AUX_OUTPUTS) {
+        out_normal = vec4(n, 0.0);
+        out_id = v_id;
+    }
+}

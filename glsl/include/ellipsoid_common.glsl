@@ -1,0 +1,47 @@
+// Shared between ellipsoid.vert and ellipsoid.frag: camera push constants, the instance
+// record, and the interface between the stages.
+//
+// Coordinates: instance centres and the eye are relative to a scene origin chosen on the CPU
+// near the data, so float32 never subtracts two large nearly-equal positions.
+
+// Must match `CameraPush` in src/renderer.rs (7 x vec4 = 112 bytes).
+layout(push_constant, std430) uniform CameraPush {
+    vec4 eye_near;       // xyz: eye relative to the scene origin, w: near-plane view depth
+    vec4 right_sx;       // xyz: camera right r, w: NDC x -> screen-plane scale (tan(fovy/2) W/H or h/2 W/H)
+    vec4 up_sy;          // xyz: camera up u,    w: NDC y -> screen-plane scale (tan(fovy/2) or h/2)
+    vec4 forward;        // xyz: view direction f, w: unused
+    vec4 viewport;       // x: 2/W, y: 2/H (NDC per pixel), z: quad margin in pixels, w: unused
+    vec4 material;       // ambient, diffuse, specular, shininess
+    vec4 specular_color; // rgb, w: unused
+} cam;
+
+// Must match `GpuInstance` in src/renderer.rs (48 bytes, std430).
+struct Instance {
+    vec3 center;   // relative to the scene origin
+    uint color;    // RGBA8, packUnorm4x8 order
+    vec4 rotation; // unit quaternion (x, y, z, w): local axes -> world
+    vec4 radii;    // xyz semi-axes, w unused
+};
+
+layout(std430, set = 0, binding = 0) readonly buffer Instances {
+    Instance instances[];
+};
+
+// Orthographic camera: chosen when the pipeline is built.
+layout(constant_id = 0) const bool ORTHOGRAPHIC = false;
+
+// Per-instance flags passed to the fragment stage.
+const uint FLAG_EYE_INSIDE = 1u;  // the eye is inside the ellipsoid: show the exit-side cap
+const uint FLAG_MAY_CAP = 2u;     // the ellipsoid reaches in front of the near plane
+
+// Rotation matrix (columns = local axes in world) of a unit quaternion.
+mat3 quat_to_mat3(vec4 q) {
+    float x2 = q.x + q.x, y2 = q.y + q.y, z2 = q.z + q.z;
+    float xx = q.x * x2, yy = q.y * y2, zz = q.z * z2;
+    float xy = q.x * y2, xz = q.x * z2, yz = q.y * z2;
+    float wx = q.w * x2, wy = q.w * y2, wz = q.w * z2;
+    return mat3(
+        vec3(1.0 - (yy + zz), xy + wz, xz - wy),
+        vec3(xy - wz, 1.0 - (xx + zz), yz + wx),
+        vec3(xz + wy, yz - wx, 1.0 - (xx + yy)));
+}

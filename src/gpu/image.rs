@@ -1,0 +1,155 @@
+//! A 2D image with one view and its memory, owned together and freed together.
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
+use gpu_allocator::MemoryLocation;
+
+use crate::error::{Error, Result, VkCall};
+
+/// A device-local 2D image with a full view. Free it with [`GpuImage::destroy`].
+pub struct GpuImage {
+    image: vk::Image,
+    view: vk::ImageView,
+    allocation: Option<Allocation>,
+    format: vk::Format,
+    extent: vk::Extent2D,
+    name: &'static str,
+}
+
+impl GpuImage {
+    /// Creates an image with one mip level and layer, and a view of it.
+    pub fn new(
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        name: &'static str,
+        format: vk::Format,
+        extent: vk::Extent2D,
+        usage: vk::ImageUsageFlags,
+        aspect: vk::ImageAspectFlags,
+    ) -> Result<Self> {
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(format)
+            .extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            })
+            .mip_levels(1)
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(usage)
+            .sharing_mode(vk::SharingMode::EXCLUSIVE)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: valid create info; destroyed by `destroy` or on the error paths below.
+        let image = unsafe { device.create_image(&info, None) }.call("vkCreateImage")?;
+        // SAFETY: `image` was just created from `device`.
+        let requirements = unsafe { device.get_image_memory_requirements(image) };
+        let allocation = match allocator.allocate(&AllocationCreateDesc {
+            name,
+            requirements,
+            location: MemoryLocation::GpuOnly,
+            linear: false,
+            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+        }) {
+            Ok(a) => a,
+            Err(e) => {
+                // SAFETY: unused, unbound image.
+                unsafe { device.destroy_image(image, None) };
+                return Err(Error::Allocation {
+                    what: name,
+                    reason: e.to_string(),
+                });
+            }
+        };
+        let cleanup = |device: &ash::Device, allocator: &mut Allocator, allocation| {
+            // SAFETY: nothing uses the image yet.
+            unsafe { device.destroy_image(image, None) };
+            let _ = allocator.free(allocation);
+        };
+        // SAFETY: memory and offset come from an allocation made for these requirements.
+        if let Err(result) = unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) } {
+            cleanup(device, allocator, allocation);
+            return Err(Error::Vulkan {
+                call: "vkBindImageMemory",
+                result,
+            });
+        }
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(image)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(format)
+            .subresource_range(full_range(aspect));
+        // SAFETY: `image` is bound to memory and has this format.
+        let view = match unsafe { device.create_image_view(&view_info, None) } {
+            Ok(v) => v,
+            Err(result) => {
+                cleanup(device, allocator, allocation);
+                return Err(Error::Vulkan {
+                    call: "vkCreateImageView",
+                    result,
+                });
+            }
+        };
+        Ok(Self {
+            image,
+            view,
+            allocation: Some(allocation),
+            format,
+            extent,
+            name,
+        })
+    }
+
+    /// The image handle.
+    pub fn handle(&self) -> vk::Image {
+        self.image
+    }
+
+    /// The view of the whole image.
+    pub fn view(&self) -> vk::ImageView {
+        self.view
+    }
+
+    /// Pixel format.
+    pub fn format(&self) -> vk::Format {
+        self.format
+    }
+
+    /// Size in pixels.
+    pub fn extent(&self) -> vk::Extent2D {
+        self.extent
+    }
+
+    /// Destroys view and image and frees the memory. The GPU must be done with them.
+    pub fn destroy(mut self, device: &ash::Device, allocator: &mut Allocator) {
+        if let Some(allocation) = self.allocation.take() {
+            // SAFETY: the caller guarantees no pending GPU work uses the image; it is owned here.
+            unsafe {
+                device.destroy_image_view(self.view, None);
+                device.destroy_image(self.image, None);
+            }
+            let _ = allocator.free(allocation);
+        }
+    }
+}
+
+impl Drop for GpuImage {
+    fn drop(&mut self) {
+        if self.allocation.is_some() {
+            eprintln!("ellipsoid-splat: image '{}' dropped without destroy(): leaked", self.name);
+        }
+    }
+}
+
+/// The whole subresource range of a single-level, single-layer image.
+pub fn full_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
+    vk::ImageSubresourceRange {
+        aspect_mask: aspect,
+        base_mip_level: 0,
+        level_count: 1,
+        base_array_layer: 0,
+        layer_count: 1,
+    }
+}

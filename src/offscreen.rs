@@ -1,0 +1,483 @@
+//! The standalone path: owns a device, renders a scene into offscreen targets and reads back
+//! colour, view depth, world normal and instance ID.
+
+use std::time::{Duration, Instant};
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use crate::camera::Camera;
+use crate::error::{Error, Result, VkCall};
+use crate::frame::Frame;
+use crate::gpu::image::full_range;
+use crate::gpu::{Context, ContextOptions, GpuBuffer, GpuImage};
+use crate::renderer::{EllipsoidRenderer, Material, TargetFormats, ID_FORMAT, NORMAL_FORMAT};
+use crate::scene::Scene;
+
+const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
+const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+/// Background colour (linear RGB).
+const BACKGROUND: [f32; 4] = [0.045, 0.05, 0.065, 1.0];
+/// How long to wait for one frame before calling the device hung.
+const FRAME_TIMEOUT: Duration = Duration::from_secs(300);
+
+/// Offscreen attachments of one size and the host buffer they are copied into.
+struct Targets {
+    color: GpuImage,
+    depth: GpuImage,
+    normal: GpuImage,
+    id: GpuImage,
+    readback: GpuBuffer,
+}
+
+impl Targets {
+    /// Byte offsets of colour, depth, normal and ID inside the readback buffer.
+    fn offsets(extent: vk::Extent2D) -> [u64; 4] {
+        let pixels = extent.width as u64 * extent.height as u64;
+        [0, 4 * pixels, 8 * pixels, 24 * pixels]
+    }
+
+    fn readback_bytes(extent: vk::Extent2D) -> u64 {
+        28 * extent.width as u64 * extent.height as u64
+    }
+}
+
+/// A self-contained renderer: its own Vulkan device, targets and readback.
+pub struct OffscreenRenderer {
+    renderer: Option<EllipsoidRenderer>,
+    targets: Option<Targets>,
+    command_pool: vk::CommandPool,
+    command_buffer: vk::CommandBuffer,
+    fence: vk::Fence,
+    // Declared last: dropped after the fields above have been destroyed by `Drop`.
+    context: Context,
+}
+
+/// Wall time of the parts of one frame.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameTiming {
+    /// Submit to fence signalled.
+    pub gpu_wall: Duration,
+    /// Copying the readback into a [`Frame`].
+    pub readback: Duration,
+}
+
+impl OffscreenRenderer {
+    /// Creates a context with `options` and the renderer's pipelines.
+    pub fn new(options: &ContextOptions) -> Result<Self> {
+        let context = Context::new(options)?;
+        let mut this = Self {
+            renderer: None,
+            targets: None,
+            command_pool: vk::CommandPool::null(),
+            command_buffer: vk::CommandBuffer::null(),
+            fence: vk::Fence::null(),
+            context,
+        };
+        this.create_objects()?; // on error, Drop releases what exists
+        Ok(this)
+    }
+
+    fn create_objects(&mut self) -> Result<()> {
+        let (_, family) = self.context.queue();
+        let (device, allocator) = self.context.device_and_allocator();
+        let info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: valid create info; owned by `self`, destroyed in `Drop`.
+        self.command_pool = unsafe { device.create_command_pool(&info, None) }.call("vkCreateCommandPool")?;
+        let info = vk::CommandBufferAllocateInfo::default()
+            .command_pool(self.command_pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        // SAFETY: allocated from our pool; freed with it.
+        self.command_buffer = unsafe { device.allocate_command_buffers(&info) }
+            .call("vkAllocateCommandBuffers")?[0];
+        // SAFETY: valid create info; owned by `self`.
+        self.fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }.call("vkCreateFence")?;
+        let formats = TargetFormats {
+            color: COLOR_FORMAT,
+            depth: DEPTH_FORMAT,
+            aux_outputs: true,
+        };
+        self.renderer = Some(EllipsoidRenderer::new(device, allocator, formats)?);
+        Ok(())
+    }
+
+    /// The Vulkan context (device info, validation messages).
+    pub fn context(&self) -> &Context {
+        &self.context
+    }
+
+    /// Shading parameters.
+    pub fn material_mut(&mut self) -> &mut Material {
+        &mut self.renderer_mut().material
+    }
+
+    fn renderer_mut(&mut self) -> &mut EllipsoidRenderer {
+        self.renderer.as_mut().expect("renderer exists after construction")
+    }
+
+    /// Uploads the scene's instances (replacing the previous scene).
+    pub fn upload(&mut self, scene: &Scene) -> Result<()> {
+        let renderer = self.renderer.as_mut().expect("renderer exists after construction");
+        let (device, allocator) = self.context.device_and_allocator();
+        renderer.upload(device, allocator, scene)
+    }
+
+    /// Uploads `scene` and renders it with `camera`.
+    pub fn render(&mut self, scene: &Scene, camera: &Camera) -> Result<Frame> {
+        self.upload(scene)?;
+        Ok(self.render_uploaded(camera)?.0)
+    }
+
+    /// Renders the last uploaded scene and reads the frame back.
+    pub fn render_uploaded(&mut self, camera: &Camera) -> Result<(Frame, FrameTiming)> {
+        camera.validate()?;
+        let extent = vk::Extent2D {
+            width: camera.width,
+            height: camera.height,
+        };
+        self.ensure_targets(extent)?;
+        self.record(camera, extent)?;
+        let start = Instant::now();
+        self.submit_and_wait()?;
+        let gpu_wall = start.elapsed();
+        let start = Instant::now();
+        let frame = self.read_frame(camera)?;
+        Ok((
+            frame,
+            FrameTiming {
+                gpu_wall,
+                readback: start.elapsed(),
+            },
+        ))
+    }
+
+    fn ensure_targets(&mut self, extent: vk::Extent2D) -> Result<()> {
+        if self.targets.as_ref().is_some_and(|t| t.color.extent() == extent) {
+            return Ok(());
+        }
+        let (device, allocator) = self.context.device_and_allocator();
+        if let Some(old) = self.targets.take() {
+            // SAFETY: every submission is waited for before returning, so nothing uses them.
+            for image in [old.color, old.depth, old.normal, old.id] {
+                image.destroy(device, allocator);
+            }
+            old.readback.destroy(device, allocator);
+        }
+        let attach = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
+        let color_aspect = vk::ImageAspectFlags::COLOR;
+        // Build one at a time so a failure frees the ones already made.
+        let mut made: Vec<GpuImage> = Vec::new();
+        let specs = [
+            ("colour target", COLOR_FORMAT, attach, color_aspect),
+            (
+                "depth target",
+                DEPTH_FORMAT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+                vk::ImageAspectFlags::DEPTH,
+            ),
+            ("normal target", NORMAL_FORMAT, attach, color_aspect),
+            ("id target", ID_FORMAT, attach, color_aspect),
+        ];
+        for (name, format, usage, aspect) in specs {
+            match GpuImage::new(device, allocator, name, format, extent, usage, aspect) {
+                Ok(image) => made.push(image),
+                Err(e) => {
+                    made.into_iter().for_each(|i| i.destroy(device, allocator));
+                    return Err(e);
+                }
+            }
+        }
+        let readback = match GpuBuffer::new(
+            device,
+            allocator,
+            "readback",
+            Targets::readback_bytes(extent),
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        ) {
+            Ok(b) => b,
+            Err(e) => {
+                made.into_iter().for_each(|i| i.destroy(device, allocator));
+                return Err(e);
+            }
+        };
+        let mut it = made.into_iter();
+        let (Some(color), Some(depth), Some(normal), Some(id)) = (it.next(), it.next(), it.next(), it.next()) else {
+            unreachable!("four targets were made");
+        };
+        self.targets = Some(Targets {
+            color,
+            depth,
+            normal,
+            id,
+            readback,
+        });
+        Ok(())
+    }
+
+    fn record(&mut self, camera: &Camera, extent: vk::Extent2D) -> Result<()> {
+        let device = self.context.device();
+        let cmd = self.command_buffer;
+        let targets = self.targets.as_ref().expect("targets exist after ensure_targets");
+        let renderer = self.renderer.as_ref().expect("renderer exists after construction");
+        let colors = [&targets.color, &targets.normal, &targets.id];
+        // SAFETY: the command buffer is not pending (every submit is waited for); all recorded
+        // handles are owned by `self` and live until the submission completes.
+        unsafe {
+            device
+                .reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
+                .call("vkResetCommandBuffer")?;
+            let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            device.begin_command_buffer(cmd, &begin).call("vkBeginCommandBuffer")?;
+
+            // Attachments to render layouts. The previous frame's copy read them: wait for it.
+            let mut barriers: Vec<vk::ImageMemoryBarrier> = colors
+                .iter()
+                .map(|t| {
+                    vk::ImageMemoryBarrier::default()
+                        .src_access_mask(vk::AccessFlags::empty())
+                        .dst_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
+                        .old_layout(vk::ImageLayout::UNDEFINED)
+                        .new_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                        .image(t.handle())
+                        .subresource_range(full_range(vk::ImageAspectFlags::COLOR))
+                })
+                .collect();
+            barriers.push(
+                vk::ImageMemoryBarrier::default()
+                    .src_access_mask(vk::AccessFlags::empty())
+                    .dst_access_mask(
+                        vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ
+                            | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                    )
+                    .old_layout(vk::ImageLayout::UNDEFINED)
+                    .new_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                    .image(targets.depth.handle())
+                    .subresource_range(full_range(vk::ImageAspectFlags::DEPTH)),
+            );
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+                    | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
+                    | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &barriers,
+            );
+
+            let clears = [
+                vk::ClearColorValue {
+                    float32: BACKGROUND,
+                },
+                vk::ClearColorValue { float32: [0.0; 4] },
+                vk::ClearColorValue {
+                    uint32: [crate::frame::NO_INSTANCE, 0, 0, 0],
+                },
+            ];
+            let color_attachments: Vec<vk::RenderingAttachmentInfo> = colors
+                .iter()
+                .zip(clears)
+                .map(|(t, clear)| {
+                    vk::RenderingAttachmentInfo::default()
+                        .image_view(t.view())
+                        .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                        .load_op(vk::AttachmentLoadOp::CLEAR)
+                        .store_op(vk::AttachmentStoreOp::STORE)
+                        .clear_value(vk::ClearValue { color: clear })
+                })
+                .collect();
+            let depth_attachment = vk::RenderingAttachmentInfo::default()
+                .image_view(targets.depth.view())
+                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(vk::ClearValue {
+                    depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 },
+                });
+            let rendering = vk::RenderingInfo::default()
+                .render_area(vk::Rect2D {
+                    offset: vk::Offset2D { x: 0, y: 0 },
+                    extent,
+                })
+                .layer_count(1)
+                .color_attachments(&color_attachments)
+                .depth_attachment(&depth_attachment);
+            device.cmd_begin_rendering(cmd, &rendering);
+            renderer.record(device, cmd, camera)?;
+            device.cmd_end_rendering(cmd);
+
+            // Attachments to transfer source, then copy into the readback buffer.
+            let to_transfer = |image: vk::Image, aspect, old, src_access| {
+                vk::ImageMemoryBarrier::default()
+                    .src_access_mask(src_access)
+                    .dst_access_mask(vk::AccessFlags::TRANSFER_READ)
+                    .old_layout(old)
+                    .new_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+                    .image(image)
+                    .subresource_range(full_range(aspect))
+            };
+            let mut barriers: Vec<vk::ImageMemoryBarrier> = colors
+                .iter()
+                .map(|t| {
+                    to_transfer(
+                        t.handle(),
+                        vk::ImageAspectFlags::COLOR,
+                        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                        vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
+                    )
+                })
+                .collect();
+            barriers.push(to_transfer(
+                targets.depth.handle(),
+                vk::ImageAspectFlags::DEPTH,
+                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            ));
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+                    | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
+                    | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &barriers,
+            );
+            let offsets = Targets::offsets(extent);
+            let images = [
+                (&targets.color, vk::ImageAspectFlags::COLOR, offsets[0]),
+                (&targets.depth, vk::ImageAspectFlags::DEPTH, offsets[1]),
+                (&targets.normal, vk::ImageAspectFlags::COLOR, offsets[2]),
+                (&targets.id, vk::ImageAspectFlags::COLOR, offsets[3]),
+            ];
+            for (image, aspect, offset) in images {
+                let region = vk::BufferImageCopy::default()
+                    .buffer_offset(offset)
+                    .image_subresource(vk::ImageSubresourceLayers {
+                        aspect_mask: aspect,
+                        mip_level: 0,
+                        base_array_layer: 0,
+                        layer_count: 1,
+                    })
+                    .image_extent(vk::Extent3D {
+                        width: extent.width,
+                        height: extent.height,
+                        depth: 1,
+                    });
+                device.cmd_copy_image_to_buffer(
+                    cmd,
+                    image.handle(),
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    targets.readback.handle(),
+                    &[region],
+                );
+            }
+            // Make the copies visible to the host read after the fence.
+            let to_host = vk::BufferMemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
+                .dst_access_mask(vk::AccessFlags::HOST_READ)
+                .buffer(targets.readback.handle())
+                .offset(0)
+                .size(vk::WHOLE_SIZE);
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::HOST,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[to_host],
+                &[],
+            );
+            device.end_command_buffer(cmd).call("vkEndCommandBuffer")?;
+        }
+        Ok(())
+    }
+
+    fn submit_and_wait(&self) -> Result<()> {
+        let device = self.context.device();
+        let (queue, _) = self.context.queue();
+        let buffers = [self.command_buffer];
+        let submit = vk::SubmitInfo::default().command_buffers(&buffers);
+        // SAFETY: the command buffer is fully recorded; the fence is unsignalled (reset after
+        // every wait) and owned by `self`.
+        unsafe {
+            device
+                .queue_submit(queue, &[submit], self.fence)
+                .call("vkQueueSubmit")?;
+            let waited = device.wait_for_fences(&[self.fence], true, FRAME_TIMEOUT.as_nanos() as u64);
+            if waited == Err(vk::Result::TIMEOUT) {
+                return Err(Error::Vulkan {
+                    call: "vkWaitForFences (frame took longer than 300 s)",
+                    result: vk::Result::TIMEOUT,
+                });
+            }
+            waited.call("vkWaitForFences")?;
+            device.reset_fences(&[self.fence]).call("vkResetFences")?;
+        }
+        Ok(())
+    }
+
+    fn read_frame(&self, camera: &Camera) -> Result<Frame> {
+        let targets = self.targets.as_ref().expect("targets exist after ensure_targets");
+        let bytes = targets.readback.mapped().ok_or_else(|| Error::Allocation {
+            what: "readback",
+            reason: "not host-visible".into(),
+        })?;
+        let extent = targets.color.extent();
+        let offsets = Targets::offsets(extent);
+        let pixels = extent.width as usize * extent.height as usize;
+        let word = |base: u64, i: usize| {
+            let at = base as usize + 4 * i;
+            [bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]
+        };
+        let near = camera.near;
+        let mut frame = Frame {
+            width: extent.width,
+            height: extent.height,
+            color: Vec::with_capacity(pixels),
+            depth: Vec::with_capacity(pixels),
+            normal: Vec::with_capacity(pixels),
+            id: Vec::with_capacity(pixels),
+        };
+        for i in 0..pixels {
+            frame.color.push(word(offsets[0], i));
+            // Reversed-Z stores near / view depth; 0 (the clear value) is infinitely far.
+            let z = f32::from_ne_bytes(word(offsets[1], i));
+            frame.depth.push(if z > 0.0 { (near / z as f64) as f32 } else { f32::INFINITY });
+            let n = |k: usize| f32::from_ne_bytes(word(offsets[2], 4 * i + k));
+            frame.normal.push([n(0), n(1), n(2)]);
+            frame.id.push(u32::from_ne_bytes(word(offsets[3], i)));
+        }
+        Ok(frame)
+    }
+}
+
+impl Drop for OffscreenRenderer {
+    fn drop(&mut self) {
+        let _ = self.context.wait_idle();
+        let renderer = self.renderer.take();
+        let targets = self.targets.take();
+        let (pool, fence) = (self.command_pool, self.fence);
+        let (device, allocator) = self.context.device_and_allocator();
+        if let Some(r) = renderer {
+            r.destroy(device, allocator);
+        }
+        if let Some(t) = targets {
+            for image in [t.color, t.depth, t.normal, t.id] {
+                image.destroy(device, allocator);
+            }
+            t.readback.destroy(device, allocator);
+        }
+        // SAFETY: the device is idle; pool (with its command buffer) and fence are owned here.
+        unsafe {
+            device.destroy_fence(fence, None);
+            device.destroy_command_pool(pool, None);
+        }
+    }
+}
