@@ -2,10 +2,13 @@
 //! Vulkan draw.
 
 pub mod camera;
+pub mod cli;
 pub mod ellipsoid;
 pub mod error;
 pub mod frame;
 pub mod scene;
+pub mod reference;
+pub mod compare;
 
 pub use camera::{Camera, Projection};
 pub use ellipsoid::Ellipsoid;
@@ -14,6 +17,7 @@ pub use frame::{Frame, NO_INSTANCE};
 pub use scene::Scene;
 pub mod gpu;
 pub mod offscreen;
+pub mod output;
 pub mod renderer;
 
 pub use offscreen::OffscreenRenderer;

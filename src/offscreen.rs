@@ -458,8 +458,33 @@ impl OffscreenRenderer {
     }
 }
 
-impl Drop for OffscreenRenderer {
-    fn drop(&mut self) {
+impl OffscreenRenderer {
+    /// Tears everything down and reports what a clean shutdown must not have: allocations the
+    /// allocator still tracks, and validation messages (including those raised while the
+    /// device and instance are destroyed).
+    pub fn finish(mut self) -> Result<()> {
+        self.release();
+        let live = self.context.live_allocations();
+        let log = self.context.message_log();
+        drop(self);
+        let failures = crate::gpu::validation::failures(&log);
+        if let Some(first) = failures.first() {
+            return Err(Error::Validation {
+                count: failures.len(),
+                first: first.to_string(),
+            });
+        }
+        if live != 0 {
+            return Err(Error::Allocation {
+                what: "shutdown",
+                reason: format!("{live} allocation(s) still live after every resource was destroyed"),
+            });
+        }
+        Ok(())
+    }
+
+    /// Destroys everything but the context (idempotent).
+    fn release(&mut self) {
         let _ = self.context.wait_idle();
         let renderer = self.renderer.take();
         let targets = self.targets.take();
@@ -474,10 +499,19 @@ impl Drop for OffscreenRenderer {
             }
             t.readback.destroy(device, allocator);
         }
-        // SAFETY: the device is idle; pool (with its command buffer) and fence are owned here.
+        // SAFETY: the device is idle; pool (with its command buffer) and fence are owned here
+        // (null after the first release, which Vulkan ignores).
         unsafe {
             device.destroy_fence(fence, None);
             device.destroy_command_pool(pool, None);
         }
+        self.fence = vk::Fence::null();
+        self.command_pool = vk::CommandPool::null();
+    }
+}
+
+impl Drop for OffscreenRenderer {
+    fn drop(&mut self) {
+        self.release();
     }
 }

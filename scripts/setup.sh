@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs what ellipsoid-splat needs on Debian 12 if it is missing: the shader compiler,
+# lavapipe (Mesa's CPU Vulkan driver) with the loader, and the Khronos validation layer.
+set -euo pipefail
+
+packages=(glslang-tools mesa-vulkan-drivers libvulkan1 vulkan-validationlayers)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "installing: ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}"
+fi
+
+if ! command -v cargo >/dev/null 2>&1; then
+  [ -x "$HOME/.cargo/bin/cargo" ] && export PATH="$HOME/.cargo/bin:$PATH"
+fi
+if ! command -v cargo >/dev/null 2>&1; then
+  echo "cargo not found: install Rust (stable, 1.85 or newer) with rustup, see https://rustup.rs" >&2
+  exit 1
+fi

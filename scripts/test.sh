@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Set up, then run every test on lavapipe with the validation layer on.
+set -euo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+source "$here/scripts/setup.sh"
+cd "$here"
+cargo test --release "$@"

@@ -1,0 +1,184 @@
+//! Command-line arguments of the `ellipsoid-splat` binary and how they become a scene and a
+//! camera.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+use glam::DVec3;
+
+use crate::camera::{Camera, Projection};
+use crate::error::{Error, Result};
+use crate::scene::{self, Scene};
+
+/// Exact ray-cast ellipsoid impostors on Vulkan.
+#[derive(Debug, Parser)]
+#[command(name = "ellipsoid-splat", version, about)]
+pub struct Cli {
+    /// What to do; with none, renders the default demo.
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// Subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render a scene to PNG (and optionally depth, normal and ID images).
+    Render(RenderArgs),
+    /// Print the Vulkan device, driver and features used.
+    Info(DeviceArgs),
+}
+
+/// Device selection and validation.
+#[derive(Debug, Clone, Args, Default)]
+pub struct DeviceArgs {
+    /// Device index or name substring (default: prefer a real GPU, fall back to lavapipe).
+    #[arg(long)]
+    pub device: Option<String>,
+    /// Run with the Khronos validation layer (and synchronization validation); any message
+    /// makes the command fail.
+    #[arg(long)]
+    pub validation: bool,
+}
+
+/// Arguments of `render`.
+#[derive(Debug, Clone, Args)]
+pub struct RenderArgs {
+    /// A CSV file, `tensor-field[:N]` (N^3 glyphs, default 40) or `random:COUNT`.
+    #[arg(long, default_value = "tensor-field")]
+    pub scene: String,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 1920)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 1080)]
+    pub height: u32,
+    /// Eye position `x,y,z` (default: frames the scene).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub eye: Option<DVec3>,
+    /// Point looked at `x,y,z` (default: the scene's centre).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub target: Option<DVec3>,
+    /// Up direction `x,y,z`.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, default_value = "0,1,0")]
+    pub up: DVec3,
+    /// Vertical field of view in degrees (perspective).
+    #[arg(long, default_value_t = 45.0, conflicts_with = "ortho")]
+    pub fov_y: f64,
+    /// Orthographic projection with this view height.
+    #[arg(long)]
+    pub ortho: Option<f64>,
+    /// Near-plane distance (default: half the distance to the scene's bounding sphere).
+    #[arg(long)]
+    pub near: Option<f64>,
+    /// Colour PNG.
+    #[arg(long, default_value = "ellipsoids.png")]
+    pub output: PathBuf,
+    /// Float32 EXR of view depth (background +inf).
+    #[arg(long)]
+    pub depth: Option<PathBuf>,
+    /// Float32 EXR of world-space unit normals (background 0).
+    #[arg(long)]
+    pub normal: Option<PathBuf>,
+    /// Lossless 32-bit instance-ID image (`.exr`: uint channel; `.png`: RGBA8 little-endian).
+    #[arg(long)]
+    pub id: Option<PathBuf>,
+    /// Device and validation.
+    #[command(flatten)]
+    pub device: DeviceArgs,
+}
+
+impl Default for RenderArgs {
+    fn default() -> Self {
+        // The demo: exactly what `render` does with no flags.
+        Cli::parse_from(["ellipsoid-splat", "render"])
+            .command
+            .and_then(|c| match c {
+                Command::Render(r) => Some(r),
+                Command::Info(_) => None,
+            })
+            .expect("`render` with no flags parses")
+    }
+}
+
+fn parse_vec3(text: &str) -> std::result::Result<DVec3, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected x,y,z, got '{text}'"));
+    }
+    let mut v = [0.0; 3];
+    for (slot, part) in v.iter_mut().zip(&parts) {
+        *slot = part
+            .parse::<f64>()
+            .map_err(|_| format!("'{part}' is not a number"))?;
+        if !slot.is_finite() {
+            return Err(format!("'{part}' is not finite"));
+        }
+    }
+    Ok(DVec3::from_array(v))
+}
+
+/// Loads or generates the scene named by `--scene`.
+pub fn load_scene(spec: &str) -> Result<Scene> {
+    let count = |text: &str, what: &str| {
+        text.parse::<usize>()
+            .map_err(|_| Error::invalid("--scene", format!("{what} count '{text}' is not a whole number")))
+    };
+    if spec == "tensor-field" {
+        return Ok(scene::tensor_field(40));
+    }
+    if let Some(n) = spec.strip_prefix("tensor-field:") {
+        let n = count(n, "tensor-field")?;
+        if n == 0 || n > 256 {
+            return Err(Error::invalid("--scene", "tensor-field:N needs 1 <= N <= 256"));
+        }
+        return Ok(scene::tensor_field(n));
+    }
+    if let Some(n) = spec.strip_prefix("random:") {
+        let n = count(n, "random")?;
+        if n == 0 {
+            return Err(Error::invalid("--scene", "random:COUNT needs COUNT >= 1"));
+        }
+        let extent = (n as f64).cbrt() * 2.0;
+        return Ok(scene::random_cloud(n, 1, extent, 1.0));
+    }
+    scene::load_csv(std::path::Path::new(spec))
+}
+
+/// The camera of the render arguments, framing the scene where positions are not given.
+pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
+    let (center, radius) = scene
+        .bounding_sphere()
+        .ok_or_else(|| Error::invalid("scene", "has no ellipsoids"))?;
+    let projection = match args.ortho {
+        Some(height) => Projection::Orthographic { height },
+        None => Projection::Perspective {
+            fov_y_deg: args.fov_y,
+        },
+    };
+    let mut camera = Camera::framing(center, radius, args.width, args.height)?;
+    camera.projection = projection;
+    camera.up = args.up;
+    if let Some(target) = args.target {
+        camera.target = target;
+    }
+    if let Some(eye) = args.eye {
+        camera.eye = eye;
+        if args.target.is_none() {
+            camera.target = center;
+        }
+    }
+    camera.near = match args.near {
+        Some(near) => near,
+        None => {
+            // Half way to the bounding sphere, or a small fraction of its size from inside.
+            let gap = (center - camera.eye).length() - radius;
+            if gap > 0.0 {
+                0.5 * gap
+            } else {
+                radius * 1e-3
+            }
+        }
+    };
+    camera.validate()?;
+    Ok(camera)
+}
