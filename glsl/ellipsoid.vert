@@ -50,7 +50,7 @@ void cull() {
 void main() {
     Instance inst = instances[gl_InstanceIndex];
     v_id = uint(gl_InstanceIndex);
-    v_color = unpackUnorm4x8(inst.color).rgb;
+    v_color = srgb_to_linear(unpackUnorm4x8(inst.color).rgb);
     v_flags = 0u;
 
     vec3 r = cam.right_sx.xyz, u_axis = cam.up_sy.xyz, f = cam.forward.xyz;

@@ -17,7 +17,7 @@ pub struct Ellipsoid {
     pub radii: DVec3,
     /// Unit quaternion rotating the local axes into world axes.
     pub rotation: DQuat,
-    /// Linear RGB colour in [0, 1].
+    /// Display (sRGB) colour in [0, 1]; shading happens in linear light.
     pub color: [f32; 3],
 }
 

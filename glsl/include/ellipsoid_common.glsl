@@ -18,7 +18,7 @@ layout(push_constant, std430) uniform CameraPush {
 // Must match `GpuInstance` in src/renderer.rs (48 bytes, std430).
 struct Instance {
     vec3 center;   // relative to the scene origin
-    uint color;    // RGBA8, packUnorm4x8 order
+    uint color;    // sRGB-encoded RGBA8, packUnorm4x8 order
     vec4 rotation; // unit quaternion (x, y, z, w): local axes -> world
     vec4 radii;    // xyz semi-axes, w unused
 };
@@ -44,4 +44,9 @@ mat3 quat_to_mat3(vec4 q) {
         vec3(1.0 - (yy + zz), xy + wz, xz - wy),
         vec3(xy - wz, 1.0 - (xx + zz), yz + wx),
         vec3(xz + wy, yz - wx, 1.0 - (xx + yy)));
+}
+
+// sRGB transfer function, decoded: instance colours are display (sRGB) values, shading is linear.
+vec3 srgb_to_linear(vec3 c) {
+    return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), greaterThan(c, vec3(0.04045)));
 }
