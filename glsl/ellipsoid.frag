@@ -44,14 +44,50 @@ vec3 shade(vec3 n, vec3 to_eye, vec3 base) {
     return color;
 }
 
-void main() {
+// The pixel's ray relative to the eye: origin offset (orthographic) and direction with unit
+// forward component, so the ray parameter is the view depth.
+void pixel_ray(out vec3 origin, out vec3 dir) {
+    vec2 ndc = vec2(gl_FragCoord.x * cam.viewport.x - 1.0, 1.0 - gl_FragCoord.y * cam.viewport.y);
+    vec3 offset = ndc.x * cam.right_sx.w * cam.right_sx.xyz + ndc.y * cam.up_sy.w * cam.up_sy.xyz;
+    origin = ORTHOGRAPHIC ? offset : vec3(0.0);
+    dir = ORTHOGRAPHIC ? cam.forward.xyz : cam.forward.xyz + offset;
+}
+
+// Textbook baseline: |O + t D|^2 = 1 in parameter space with the discriminant b^2 - ac, all in
+// float32. v_depth.xyz holds the centre relative to the eye, v_to_normal the world->parameter map.
+bool hit_textbook(out float depth, out vec3 normal, out bool cap) {
+    float near = cam.eye_near.w;
+    vec3 origin, dir;
+    pixel_ray(origin, dir);
+    mat3 m = v_to_normal;
+    vec3 o = m * (origin - v_depth.xyz);
+    vec3 d = m * dir;
+    float a = dot(d, d), b = dot(o, d), c = dot(o, o) - 1.0;
+    float disc = b * b - a * c;
+    if (disc < 0.0) {
+        return false;
+    }
+    float root = sqrt(disc);
+    depth = (-b - root) / a;
+    cap = false;
+    if (depth < near) {
+        if ((-b + root) / a < near) {
+            return false;
+        }
+        cap = true;
+    }
+    normal = transpose(m) * (o + depth * d);
+    return true;
+}
+
+// The closed form in the silhouette frame (see the top of this file).
+bool hit_stable(out float depth, out vec3 normal, out bool cap) {
     float near = cam.eye_near.w;
     vec3 g = v_depth.xyz;
     float cz = v_depth.w;
-    bool cap = false;
-    vec3 p = vec3(0.0);
-    float depth = near;
-
+    cap = false;
+    depth = near;
+    normal = vec3(0.0);
     if ((v_flags & FLAG_EYE_INSIDE) != 0u) {
         // Eye inside: from O = (0, 0, -|e~|) along D the ray leaves the unit sphere once ahead;
         // the pixel shows the cap wherever that exit lies beyond the near plane.
@@ -62,47 +98,52 @@ void main() {
         float s = sqrt(b * b + dd * c0);
         float t = b > 0.0 ? c0 / (b + s) : (s - b) / dd;
         vec3 exit_point = o + t * d;
-        if (cz + dot(g, exit_point) < near) {
-            discard;
-        }
         cap = true;
-    } else {
-        float den = v_k.x + v_k.z * v_ray.z;
-        if (!(den > 0.0)) {
-            discard; // the ray points away from the ellipsoid
-        }
-        vec2 q = v_k.y * v_ray.xy / den;
-        float qq = dot(q, q);
-        if (!(qq < 1.0)) {
-            discard;
-        }
-        float u = v_misc.x, r = v_k.w;
-        float alpha = sqrt(1.0 - qq);
-        p = vec3(r * q, -(u + alpha)) / (1.0 + u * alpha);
-        depth = cz + dot(g, p);
-        if (depth < near) {
-            if ((v_flags & FLAG_MAY_CAP) == 0u) {
-                discard;
-            }
-            // Entered before the near plane: a cap if the ray leaves after it.
-            vec3 exit_point = vec3(r * q, alpha - u) / (1.0 - u * alpha);
-            if (cz + dot(g, exit_point) < near) {
-                discard;
-            }
-            cap = true;
-        }
+        return cz + dot(g, exit_point) >= near;
     }
+    float den = v_k.x + v_k.z * v_ray.z;
+    if (!(den > 0.0)) {
+        return false; // the ray points away from the ellipsoid
+    }
+    vec2 q = v_k.y * v_ray.xy / den;
+    float qq = dot(q, q);
+    if (!(qq < 1.0)) {
+        return false;
+    }
+    float u = v_misc.x, r = v_k.w;
+    float alpha = sqrt(1.0 - qq);
+    vec3 p = vec3(r * q, -(u + alpha)) / (1.0 + u * alpha);
+    depth = cz + dot(g, p);
+    normal = v_to_normal * p;
+    if (depth < near) {
+        if ((v_flags & FLAG_MAY_CAP) == 0u) {
+            return false;
+        }
+        // Entered before the near plane: a cap if the ray leaves after it.
+        vec3 exit_point = vec3(r * q, alpha - u) / (1.0 - u * alpha);
+        cap = true;
+        return cz + dot(g, exit_point) >= near;
+    }
+    return true;
+}
 
+void main() {
+    float near = cam.eye_near.w;
+    float depth;
+    vec3 normal;
+    bool cap;
+    bool hit = TEXTBOOK ? hit_textbook(depth, normal, cap) : hit_stable(depth, normal, cap);
+    if (!hit) {
+        discard;
+    }
     vec3 f = cam.forward.xyz;
-    vec3 n = cap ? -f : normalize(v_to_normal * p);
+    vec3 n = cap ? -f : normalize(normal);
     gl_FragDepth = cap ? 1.0 : near / depth;
 
     // Direction to the eye for lighting: the pixel's ray reversed.
-    vec3 to_eye = -f;
-    if (!ORTHOGRAPHIC) {
-        vec2 ndc = vec2(gl_FragCoord.x * cam.viewport.x - 1.0, 1.0 - gl_FragCoord.y * cam.viewport.y);
-        to_eye = -normalize(f + ndc.x * cam.right_sx.w * cam.right_sx.xyz + ndc.y * cam.up_sy.w * cam.up_sy.xyz);
-    }
+    vec3 origin, dir;
+    pixel_ray(origin, dir);
+    vec3 to_eye = -normalize(dir);
     out_color = vec4(shade(n, to_eye, v_color), 1.0);
     if (AUX_OUTPUTS) {
         out_normal = vec4(n, 0.0);

@@ -59,9 +59,8 @@ void main() {
     mat3 Rt = transpose(R);
     vec3 radii = inst.radii.xyz;
 
-    // Centre relative to the eye, in world axes and in view coordinates (cx, cy, cz).
-    vec3 to_center = inst.center - cam.eye_near.xyz;
-    vec3 c = vec3(dot(to_center, r), dot(to_center, u_axis), dot(to_center, f));
+    // Centre relative to the eye in view coordinates (cx, cy, cz): V centre - V eye.
+    vec3 c = vec3(dot(inst.center, r), dot(inst.center, u_axis), dot(inst.center, f)) - cam.eye_near.xyz;
     // View axes in the ellipsoid's local axes; M = diag(1/radii) R^T maps world offsets to
     // parameter space, A^T = diag(radii) R^T maps view axes to half-extent vectors.
     vec3 lr = Rt * r, lu = Rt * u_axis, lf = Rt * f;
@@ -75,7 +74,7 @@ void main() {
     }
 
     // Eye -> centre in parameter space, and the silhouette frame.
-    vec3 e_par = (Rt * to_center) / radii;
+    vec3 e_par = m_r * c.x + m_u * c.y + m_f * c.z;
     float eye_dist = length(e_par);
     vec3 fz = ORTHOGRAPHIC ? normalize(m_f) : (eye_dist > 0.0 ? e_par / eye_dist : vec3(0.0, 0.0, 1.0));
     vec3 fx, fy;
@@ -136,9 +135,15 @@ void main() {
     // In offset mode the dropped centre term maps onto the frame's z axis only, by construction.
     v_ray = to_frame * (m_r * s.x + m_u * s.y + m_f * s.z);
 
-    v_depth = vec4(to_frame * a_f, c.z);
     v_misc = vec2(u, eye_dist);
-    v_to_normal = R * mat3(fx / radii, fy / radii, fz / radii);
+    if (TEXTBOOK) {
+        // The baseline works in world axes: centre relative to the eye, and M = diag(1/a) R^T.
+        v_depth = vec4(c.x * r + c.y * u_axis + c.z * f, c.z);
+        v_to_normal = transpose(mat3(R[0] / radii.x, R[1] / radii.y, R[2] / radii.z));
+    } else {
+        v_depth = vec4(to_frame * a_f, c.z);
+        v_to_normal = R * mat3(fx / radii, fy / radii, fz / radii);
+    }
 
     // Constant quad depth at the nearest point (reversed-Z: near / depth), nudged nearer so
     // every fragment's written depth is <= it, which makes `depth_less` true.

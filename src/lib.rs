@@ -7,8 +7,10 @@ pub mod ellipsoid;
 pub mod error;
 pub mod frame;
 pub mod scene;
+pub mod stress;
 pub mod reference;
 pub mod compare;
+pub mod report;
 
 pub use camera::{Camera, Projection};
 pub use ellipsoid::Ellipsoid;

@@ -11,7 +11,7 @@ use crate::error::{Error, Result, VkCall};
 use crate::frame::Frame;
 use crate::gpu::image::full_range;
 use crate::gpu::{Context, ContextOptions, GpuBuffer, GpuImage};
-use crate::renderer::{EllipsoidRenderer, Material, TargetFormats, ID_FORMAT, NORMAL_FORMAT};
+use crate::renderer::{EllipsoidRenderer, Intersection, Material, TargetFormats, ID_FORMAT, NORMAL_FORMAT};
 use crate::scene::Scene;
 
 const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
@@ -112,6 +112,11 @@ impl OffscreenRenderer {
     /// Shading parameters.
     pub fn material_mut(&mut self) -> &mut Material {
         &mut self.renderer_mut().material
+    }
+
+    /// Chooses the intersection formulation for the following frames.
+    pub fn set_intersection(&mut self, intersection: Intersection) {
+        self.renderer_mut().intersection = intersection;
     }
 
     fn renderer_mut(&mut self) -> &mut EllipsoidRenderer {
@@ -222,7 +227,7 @@ impl OffscreenRenderer {
         let device = self.context.device();
         let cmd = self.command_buffer;
         let targets = self.targets.as_ref().expect("targets exist after ensure_targets");
-        let renderer = self.renderer.as_ref().expect("renderer exists after construction");
+        let renderer = self.renderer.as_mut().expect("renderer exists after construction");
         let colors = [&targets.color, &targets.normal, &targets.id];
         // SAFETY: the command buffer is not pending (every submit is waited for); all recorded
         // handles are owned by `self` and live until the submission completes.

@@ -58,6 +58,24 @@ pub struct TargetFormats {
     pub aux_outputs: bool,
 }
 
+/// How the fragment shader intersects the pixel's ray with the ellipsoid.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Intersection {
+    /// Gumhold's closed form in the silhouette frame: no cancellation at any distance.
+    #[default]
+    Stable,
+    /// The textbook quadratic `b^2 - ac` in parameter space, in float32: the baseline that
+    /// shows what the stable form buys (it loses hits and normals at large distance/radius).
+    Textbook,
+}
+
+/// What a pipeline is specialised for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+struct Variant {
+    orthographic: bool,
+    intersection: Intersection,
+}
+
 /// Normal attachment format when `aux_outputs` is set.
 pub const NORMAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 /// Instance-ID attachment format when `aux_outputs` is set.
@@ -69,32 +87,36 @@ pub struct EllipsoidRenderer {
     pipeline_layout: vk::PipelineLayout,
     descriptor_pool: vk::DescriptorPool,
     descriptor_set: vk::DescriptorSet,
-    perspective: vk::Pipeline,
-    orthographic: vk::Pipeline,
+    formats: TargetFormats,
+    pipelines: Vec<(Variant, vk::Pipeline)>,
     instances: Option<GpuBuffer>,
     count: u32,
     origin: DVec3,
     /// Shading parameters, applied at the next `record`.
     pub material: Material,
+    /// Intersection formulation used from the next `record` on.
+    pub intersection: Intersection,
 }
 
 impl EllipsoidRenderer {
-    /// Creates descriptor layout, pipelines for both projections, and an empty instance buffer.
+    /// Creates the descriptor and pipeline layouts; pipelines are built on first use of each
+    /// variant (projection kind x intersection), so a scene pays only for what it draws.
     pub fn new(device: &ash::Device, allocator: &mut Allocator, formats: TargetFormats) -> Result<Self> {
         let mut renderer = Self {
             set_layout: vk::DescriptorSetLayout::null(),
             pipeline_layout: vk::PipelineLayout::null(),
             descriptor_pool: vk::DescriptorPool::null(),
             descriptor_set: vk::DescriptorSet::null(),
-            perspective: vk::Pipeline::null(),
-            orthographic: vk::Pipeline::null(),
+            formats,
+            pipelines: Vec::new(),
             instances: None,
             count: 0,
             origin: DVec3::ZERO,
             material: Material::default(),
+            intersection: Intersection::default(),
         };
         // On failure, `destroy` releases whatever was created (null handles are skipped).
-        match renderer.create_objects(device, formats) {
+        match renderer.create_objects(device) {
             Ok(()) => Ok(renderer),
             Err(e) => {
                 renderer.destroy(device, allocator);
@@ -103,7 +125,7 @@ impl EllipsoidRenderer {
         }
     }
 
-    fn create_objects(&mut self, device: &ash::Device, formats: TargetFormats) -> Result<()> {
+    fn create_objects(&mut self, device: &ash::Device) -> Result<()> {
         let bindings = [vk::DescriptorSetLayoutBinding::default()
             .binding(0)
             .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
@@ -138,10 +160,17 @@ impl EllipsoidRenderer {
         // SAFETY: the pool has room for exactly this set; freed with the pool.
         self.descriptor_set = unsafe { device.allocate_descriptor_sets(&info) }
             .call("vkAllocateDescriptorSets")?[0];
-
-        self.perspective = create_pipeline(device, self.pipeline_layout, formats, false)?;
-        self.orthographic = create_pipeline(device, self.pipeline_layout, formats, true)?;
         Ok(())
+    }
+
+    /// The pipeline for `variant`, built now if this is its first use.
+    fn pipeline(&mut self, device: &ash::Device, variant: Variant) -> Result<vk::Pipeline> {
+        if let Some((_, p)) = self.pipelines.iter().find(|(v, _)| *v == variant) {
+            return Ok(*p);
+        }
+        let pipeline = create_pipeline(device, self.pipeline_layout, self.formats, variant)?;
+        self.pipelines.push((variant, pipeline));
+        Ok(pipeline)
     }
 
     /// Replaces the instance data with `scene`. Positions are stored relative to a scene origin
@@ -222,16 +251,17 @@ impl EllipsoidRenderer {
     /// Records the draw into `cmd`, which must be inside a dynamic-rendering pass whose
     /// attachments match the `TargetFormats` and whose viewport is the camera's image size.
     /// Sets viewport and scissor itself. Records nothing if the scene is empty.
-    pub fn record(&self, device: &ash::Device, cmd: vk::CommandBuffer, camera: &Camera) -> Result<()> {
+    pub fn record(&mut self, device: &ash::Device, cmd: vk::CommandBuffer, camera: &Camera) -> Result<()> {
         camera.validate()?;
         if self.count == 0 {
             return Ok(());
         }
         let push = self.push_constants(camera);
-        let pipeline = match camera.projection {
-            Projection::Perspective { .. } => self.perspective,
-            Projection::Orthographic { .. } => self.orthographic,
+        let variant = Variant {
+            orthographic: matches!(camera.projection, Projection::Orthographic { .. }),
+            intersection: self.intersection,
         };
+        let pipeline = self.pipeline(device, variant)?;
         let viewport = vk::Viewport {
             x: 0.0,
             y: 0.0,
@@ -277,7 +307,9 @@ impl EllipsoidRenderer {
     fn push_constants(&self, camera: &Camera) -> Vec<u8> {
         let b = camera.basis();
         let (sx, sy) = camera.ndc_scale();
-        let eye = (camera.eye - self.origin).as_vec3();
+        // The eye in view axes, relative to the scene origin, in float64 then rounded once.
+        let rel = camera.eye - self.origin;
+        let eye = glam::DVec3::new(rel.dot(b.right), rel.dot(b.up), rel.dot(b.forward)).as_vec3();
         let m = &self.material;
         let values: [f32; PUSH_BYTES / 4] = [
             eye.x, eye.y, eye.z, camera.near as f32,
@@ -299,8 +331,9 @@ impl EllipsoidRenderer {
         // SAFETY: all handles were created by `self` from `device` (or are null, which Vulkan
         // ignores); the caller guarantees no pending work uses them.
         unsafe {
-            device.destroy_pipeline(self.perspective, None);
-            device.destroy_pipeline(self.orthographic, None);
+            for (_, pipeline) in self.pipelines.drain(..) {
+                device.destroy_pipeline(pipeline, None);
+            }
             device.destroy_descriptor_pool(self.descriptor_pool, None);
             device.destroy_pipeline_layout(self.pipeline_layout, None);
             device.destroy_descriptor_set_layout(self.set_layout, None);
@@ -313,7 +346,7 @@ fn create_pipeline(
     device: &ash::Device,
     layout: vk::PipelineLayout,
     formats: TargetFormats,
-    orthographic: bool,
+    variant: Variant,
 ) -> Result<vk::Pipeline> {
     let vert = shaders::create_module(device, shaders::ELLIPSOID_VERT)?;
     let frag = match shaders::create_module(device, shaders::ELLIPSOID_FRAG) {
@@ -324,7 +357,7 @@ fn create_pipeline(
             return Err(e);
         }
     };
-    let result = build_pipeline(device, layout, formats, orthographic, vert, frag);
+    let result = build_pipeline(device, layout, formats, variant, vert, frag);
     // SAFETY: modules are no longer needed once pipeline creation returned.
     unsafe {
         device.destroy_shader_module(vert, None);
@@ -337,19 +370,20 @@ fn build_pipeline(
     device: &ash::Device,
     layout: vk::PipelineLayout,
     formats: TargetFormats,
-    orthographic: bool,
+    variant: Variant,
     vert: vk::ShaderModule,
     frag: vk::ShaderModule,
 ) -> Result<vk::Pipeline> {
-    // Specialization constants: 0 = ORTHOGRAPHIC, 1 = AUX_OUTPUTS (VkBool32 each).
-    let spec_data: Vec<u8> = [orthographic as u32, formats.aux_outputs as u32]
-        .iter()
-        .flat_map(|v| v.to_ne_bytes())
-        .collect();
-    let entries = [
-        vk::SpecializationMapEntry { constant_id: 0, offset: 0, size: 4 },
-        vk::SpecializationMapEntry { constant_id: 1, offset: 4, size: 4 },
+    // Specialization constants (VkBool32 each): 0 = ORTHOGRAPHIC, 1 = AUX_OUTPUTS, 2 = TEXTBOOK.
+    let flags = [
+        variant.orthographic,
+        formats.aux_outputs,
+        variant.intersection == Intersection::Textbook,
     ];
+    let spec_data: Vec<u8> = flags.iter().flat_map(|&v| (v as u32).to_ne_bytes()).collect();
+    let entries: Vec<vk::SpecializationMapEntry> = (0..flags.len() as u32)
+        .map(|i| vk::SpecializationMapEntry { constant_id: i, offset: 4 * i, size: 4 })
+        .collect();
     let spec = vk::SpecializationInfo::default().map_entries(&entries).data(&spec_data);
     let stages = [
         vk::PipelineShaderStageCreateInfo::default()

@@ -1,12 +1,15 @@
 // Shared between ellipsoid.vert and ellipsoid.frag: camera push constants, the instance
 // record, and the interface between the stages.
 //
-// Coordinates: instance centres and the eye are relative to a scene origin chosen on the CPU
-// near the data, so float32 never subtracts two large nearly-equal positions.
+// Coordinates: instance centres are relative to a scene origin chosen on the CPU near the data;
+// the eye arrives already rotated into view axes (computed in float64), so float32 never
+// subtracts two large nearly-equal positions and a centre's view coordinates are exact to
+// float32 rounding of small numbers.
 
 // Must match `CameraPush` in src/renderer.rs (7 x vec4 = 112 bytes).
 layout(push_constant, std430) uniform CameraPush {
-    vec4 eye_near;       // xyz: eye relative to the scene origin, w: near-plane view depth
+    vec4 eye_near;       // xyz: V (eye - scene origin), the eye in view axes, rounded once from
+                         // float64 so view-space centres never lose the eye's precision; w: near
     vec4 right_sx;       // xyz: camera right r, w: NDC x -> screen-plane scale (tan(fovy/2) W/H or h/2 W/H)
     vec4 up_sy;          // xyz: camera up u,    w: NDC y -> screen-plane scale (tan(fovy/2) or h/2)
     vec4 forward;        // xyz: view direction f, w: unused
@@ -27,8 +30,9 @@ layout(std430, set = 0, binding = 0) readonly buffer Instances {
     Instance instances[];
 };
 
-// Orthographic camera: chosen when the pipeline is built.
+// Chosen when the pipeline is built (src/renderer.rs `Variant`).
 layout(constant_id = 0) const bool ORTHOGRAPHIC = false;
+layout(constant_id = 2) const bool TEXTBOOK = false;
 
 // Per-instance flags passed to the fragment stage.
 const uint FLAG_EYE_INSIDE = 1u;  // the eye is inside the ellipsoid: show the exit-side cap
