@@ -12,7 +12,7 @@ layout(constant_id = 1) const bool AUX_OUTPUTS = true;
 layout(location = 0) noperspective in vec3 v_ray;
 layout(location = 1) flat in vec4 v_k;
 layout(location = 2) flat in vec4 v_depth;
-layout(location = 3) flat in vec2 v_misc;
+layout(location = 3) flat in vec4 v_misc;
 layout(location = 4) flat in mat3 v_to_normal;
 layout(location = 7) flat in uint v_id;
 layout(location = 8) flat in uint v_flags;
@@ -97,9 +97,9 @@ bool hit_stable(out float depth, out vec3 normal, out bool cap) {
         float dd = dot(d, d), b = dot(o, d), c0 = (1.0 - eye_dist) * (1.0 + eye_dist);
         float s = sqrt(b * b + dd * c0);
         float t = b > 0.0 ? c0 / (b + s) : (s - b) / dd;
-        vec3 exit_point = o + t * d;
+        // D has unit forward component in view space, so t is the exit's view depth.
         cap = true;
-        return cz + dot(g, exit_point) >= near;
+        return t >= near;
     }
     float den = v_k.x + v_k.z * v_ray.z;
     if (!(den > 0.0)) {
@@ -113,16 +113,21 @@ bool hit_stable(out float depth, out vec3 normal, out bool cap) {
     float u = v_misc.x, r = v_k.w;
     float alpha = sqrt(1.0 - qq);
     vec3 p = vec3(r * q, -(u + alpha)) / (1.0 + u * alpha);
-    depth = cz + dot(g, p);
     normal = v_to_normal * p;
+    // Perspective: the ray parameter t with unit forward step is the view depth, and from the
+    // eye at z = -|e~| it is t = r^2 scale / ((1 + u alpha) den) -- a product of positive
+    // factors, so no cancellation when the surface is much nearer than the centre.
+    // Orthographic rays start on the eye plane: depth = cz + g.p.
+    float r2 = v_misc.z, scale = v_misc.w;
+    depth = ORTHOGRAPHIC ? cz + dot(g, p) : r2 * scale / ((1.0 + u * alpha) * den);
     if (depth < near) {
         if ((v_flags & FLAG_MAY_CAP) == 0u) {
             return false;
         }
         // Entered before the near plane: a cap if the ray leaves after it.
-        vec3 exit_point = vec3(r * q, alpha - u) / (1.0 - u * alpha);
+        float exit_depth = ORTHOGRAPHIC ? cz + dot(g, vec3(q, alpha)) : r2 * scale / ((1.0 - u * alpha) * den);
         cap = true;
-        return cz + dot(g, exit_point) >= near;
+        return exit_depth >= near;
     }
     return true;
 }

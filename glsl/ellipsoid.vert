@@ -13,7 +13,7 @@
 layout(location = 0) noperspective out vec3 v_ray;
 layout(location = 1) flat out vec4 v_k;             // k0, k1, k2, r: q = k1 ray.xy / (k0 + k2 ray.z)
 layout(location = 2) flat out vec4 v_depth;         // xyz: g = frame vector with depth = cz + g.p; w: cz
-layout(location = 3) flat out vec2 v_misc;          // x: u = 1/|e~|, y: |e~| (eye distance in parameter space)
+layout(location = 3) flat out vec4 v_misc;          // u = 1/|e~|, |e~|, r^2 = 1 - u^2, depth scale (see the fragment stage)
 layout(location = 4) flat out mat3 v_to_normal;     // frame point -> world normal (unnormalised)
 layout(location = 7) flat out uint v_id;
 layout(location = 8) flat out uint v_flags;
@@ -75,7 +75,11 @@ void main() {
 
     // Eye -> centre in parameter space, and the silhouette frame.
     vec3 e_par = m_r * c.x + m_u * c.y + m_f * c.z;
-    float eye_dist = length(e_par);
+    // |e~|^2 - 1 decides how near the eye is to the surface: fused multiply-adds keep it exact
+    // to rounding of the inputs even when the eye almost touches the ellipsoid.
+    float eye_dist2 = fma(e_par.x, e_par.x, fma(e_par.y, e_par.y, e_par.z * e_par.z));
+    float eye_dist = sqrt(eye_dist2);
+    float r2 = (fma(e_par.x, e_par.x, fma(e_par.y, e_par.y, fma(e_par.z, e_par.z, -1.0)))) / eye_dist2;
     vec3 fz = ORTHOGRAPHIC ? normalize(m_f) : (eye_dist > 0.0 ? e_par / eye_dist : vec3(0.0, 0.0, 1.0));
     vec3 fx, fy;
     frame_from_z(fz, fx, fy);
@@ -84,7 +88,7 @@ void main() {
     // Screen rectangle in NDC (x right, y up as in the pixel contract), and the mode.
     vec4 rect = vec4(-1.0, -1.0, 1.0, 1.0);
     bool offset_mode = true; // ray attribute = pixel offset from the projected centre
-    float u = 0.0, rr = 1.0;
+    float u = 0.0, rr = 1.0, depth_scale = 1.0;
     if (ORTHOGRAPHIC) {
         vec3 h = vec3(length(a_r), length(a_u), 0.0);
         rect = vec4((c.x - h.x) / sx, (c.y - h.y) / sy, (c.x + h.x) / sx, (c.y + h.y) / sy);
@@ -95,14 +99,15 @@ void main() {
         vec2 ky = tangent_slopes(a_u, a_f, c.y, c.z, half_z);
         rect = vec4(kx.x / sx, ky.x / sy, kx.y / sx, ky.y / sy);
         u = 1.0 / eye_dist;
-        rr = sqrt((1.0 - u) * (1.0 + u));
+        rr = sqrt(r2);
+        depth_scale = c.z;
         v_k = vec4(1.0, rr * c.z, c.z * u, rr);
     } else {
         // Crosses the eye plane: full screen, ray attribute = pixel direction.
         offset_mode = false;
         if (eye_dist > 1.0) {
             u = 1.0 / eye_dist;
-            rr = sqrt((1.0 - u) * (1.0 + u));
+            rr = sqrt(r2);
             v_k = vec4(0.0, rr, u, rr);
         } else {
             v_flags |= FLAG_EYE_INSIDE;
@@ -135,7 +140,7 @@ void main() {
     // In offset mode the dropped centre term maps onto the frame's z axis only, by construction.
     v_ray = to_frame * (m_r * s.x + m_u * s.y + m_f * s.z);
 
-    v_misc = vec2(u, eye_dist);
+    v_misc = vec4(u, eye_dist, rr * rr, depth_scale);
     if (TEXTBOOK) {
         // The baseline works in world axes: centre relative to the eye, and M = diag(1/a) R^T.
         v_depth = vec4(c.x * r + c.y * u_axis + c.z * f, c.z);

@@ -24,8 +24,48 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene to PNG (and optionally depth, normal and ID images).
     Render(RenderArgs),
+    /// Numerical-stability sweep: every point rendered on the GPU and by the float64
+    /// reference; writes a CSV table and plots, exits non-zero if a bound breaks.
+    Stress(StressArgs),
     /// Print the Vulkan device, driver and features used.
     Info(DeviceArgs),
+}
+
+/// Ray/ellipsoid intersection formulation (`--intersection`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, Default)]
+pub enum IntersectionArg {
+    /// Gumhold's closed form in the silhouette frame (the shipped renderer).
+    #[default]
+    Stable,
+    /// The textbook quadratic in float32: a baseline that breaks at large distance/radius.
+    Textbook,
+}
+
+impl From<IntersectionArg> for crate::renderer::Intersection {
+    fn from(value: IntersectionArg) -> Self {
+        match value {
+            IntersectionArg::Stable => Self::Stable,
+            IntersectionArg::Textbook => Self::Textbook,
+        }
+    }
+}
+
+/// Arguments of `stress`.
+#[derive(Debug, Clone, Args)]
+pub struct StressArgs {
+    /// Directory for `stress.csv` and the plots.
+    #[arg(long, default_value = "stress-out")]
+    pub out: PathBuf,
+    /// The reduced sweep the tests run: each parameter's extremes and a middle value, small
+    /// images.
+    #[arg(long)]
+    pub quick: bool,
+    /// Skip the textbook baseline rows.
+    #[arg(long)]
+    pub no_baseline: bool,
+    /// Device and validation.
+    #[command(flatten)]
+    pub device: DeviceArgs,
 }
 
 /// Device selection and validation.
@@ -82,6 +122,9 @@ pub struct RenderArgs {
     /// Lossless 32-bit instance-ID image (`.exr`: uint channel; `.png`: RGBA8 little-endian).
     #[arg(long)]
     pub id: Option<PathBuf>,
+    /// Ray/ellipsoid intersection formulation.
+    #[arg(long, value_enum, default_value_t = IntersectionArg::Stable)]
+    pub intersection: IntersectionArg,
     /// Device and validation.
     #[command(flatten)]
     pub device: DeviceArgs,
@@ -94,7 +137,7 @@ impl Default for RenderArgs {
             .command
             .and_then(|c| match c {
                 Command::Render(r) => Some(r),
-                Command::Info(_) => None,
+                _ => None,
             })
             .expect("`render` with no flags parses")
     }

@@ -43,7 +43,28 @@ pub struct ErrorStats {
     pub id_mismatch: usize,
     /// `id_mismatch / max(covered_pixels, 1)`.
     pub id_mismatch_fraction: f64,
+    /// 99th percentile of [`FLOOR_FACTOR`] times the reference's float32 depth floor
+    /// ([`ReferenceFrame::depth_floor`]): the relative depth error float32 cannot avoid here.
+    pub depth_floor_p99: f64,
+    /// 99th percentile of [`FLOOR_FACTOR`] times the float32 normal floor, in degrees.
+    pub normal_floor_p99: f64,
+    /// Relative depth error with each pixel's error divided by how far its float32 floor
+    /// exceeds the strict bound (`max(1, FLOOR_FACTOR floor / 1e-6)`); equal to the raw error
+    /// wherever the problem is well conditioned. The bounds are checked on these.
+    pub depth_cond_p99: f64,
+    /// Largest floor-scaled relative depth error.
+    pub depth_cond_max: f64,
+    /// Normal angle error scaled the same way against the strict 0.01 degree bound.
+    pub normal_cond_p99: f64,
+    /// Largest floor-scaled normal angle error, in degrees.
+    pub normal_cond_max: f64,
 }
+
+/// How many times its float32 floor a pixel's error may be before the excess counts against a
+/// bound. The floor is a first-order estimate of one rounding of the inputs; 2 allows for the
+/// arithmetic on top of it. Where the floor is below the strict bound (every well-conditioned
+/// pixel) it changes nothing.
+pub const FLOOR_FACTOR: f64 = 2.0;
 
 /// Largest acceptable errors; [`ErrorStats::check`] compares against them.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -85,6 +106,11 @@ pub fn compare(gpu: &Frame, reference: &ReferenceFrame) -> Result<ErrorStats> {
     let mut depth_rel = Vec::new();
     let mut depth_ulp = Vec::new();
     let mut normal_deg = Vec::new();
+    let mut depth_floor = Vec::new();
+    let mut normal_floor = Vec::new();
+    let mut depth_cond = Vec::new();
+    let mut normal_cond = Vec::new();
+    let strict = Bounds::STRICT;
     for k in 0..pixels {
         let ref_id = reference.id[k];
         let gpu_id = gpu.id[k];
@@ -110,11 +136,19 @@ pub fn compare(gpu: &Frame, reference: &ReferenceFrame) -> Result<ErrorStats> {
         }
         let want = reference.depth[k];
         let error = (gpu.depth[k] as f64 - want).abs();
-        depth_rel.push(or_infinite(error / want.abs()));
+        let relative = or_infinite(error / want.abs());
+        depth_rel.push(relative);
         depth_ulp.push(or_infinite(error / f32_ulp(want)));
         let [x, y, z] = gpu.normal[k];
         let got = DVec3::new(x as f64, y as f64, z as f64);
-        normal_deg.push(or_infinite(angle_deg(got, reference.normal[k])));
+        let angle = or_infinite(angle_deg(got, reference.normal[k]));
+        normal_deg.push(angle);
+        let floor_d = FLOOR_FACTOR * reference.depth_floor[k];
+        let floor_n = FLOOR_FACTOR * reference.normal_floor_deg[k];
+        depth_floor.push(floor_d);
+        normal_floor.push(floor_n);
+        depth_cond.push(relative / (floor_d / strict.depth_rel_p99).max(1.0));
+        normal_cond.push(angle / (floor_n / strict.normal_deg_p99).max(1.0));
     }
     let covered = stats.covered_pixels.max(1) as f64;
     stats.coverage_mismatch_fraction = stats.coverage_mismatch as f64 / covered;
@@ -125,6 +159,12 @@ pub fn compare(gpu: &Frame, reference: &ReferenceFrame) -> Result<ErrorStats> {
     stats.depth_ulp_p99 = percentile(&mut depth_ulp, 0.99);
     stats.normal_deg_max = maximum(&normal_deg);
     stats.normal_deg_p99 = percentile(&mut normal_deg, 0.99);
+    stats.depth_floor_p99 = percentile(&mut depth_floor, 0.99);
+    stats.normal_floor_p99 = percentile(&mut normal_floor, 0.99);
+    stats.depth_cond_max = maximum(&depth_cond);
+    stats.depth_cond_p99 = percentile(&mut depth_cond, 0.99);
+    stats.normal_cond_max = maximum(&normal_cond);
+    stats.normal_cond_p99 = percentile(&mut normal_cond, 0.99);
     Ok(stats)
 }
 
@@ -147,6 +187,8 @@ fn check_sizes(gpu: &Frame, reference: &ReferenceFrame) -> Result<()> {
         ("reference normal", reference.normal.len()),
         ("reference id", reference.id.len()),
         ("reference ambiguous", reference.ambiguous.len()),
+        ("reference depth floor", reference.depth_floor.len()),
+        ("reference normal floor", reference.normal_floor_deg.len()),
     ];
     for (name, len) in lengths {
         if len != n {
@@ -198,7 +240,8 @@ fn percentile(values: &mut [f64], p: f64) -> f64 {
 
 impl ErrorStats {
     /// `Ok` when every statistic is within `bounds`; otherwise a message naming each broken
-    /// bound with the measured value.
+    /// bound with the measured value. Depth and normal errors are checked after scaling by the
+    /// float32 floor (the `*_cond_*` fields), which leaves well-conditioned pixels unchanged.
     pub fn check(&self, bounds: &Bounds) -> Result<(), String> {
         let checks = [
             (
@@ -207,23 +250,23 @@ impl ErrorStats {
                 bounds.coverage_fraction,
             ),
             (
-                "depth relative error p99",
-                self.depth_rel_p99,
+                "depth relative error p99 (beyond float32 floor)",
+                self.depth_cond_p99,
                 bounds.depth_rel_p99,
             ),
             (
-                "depth relative error max",
-                self.depth_rel_max,
+                "depth relative error max (beyond float32 floor)",
+                self.depth_cond_max,
                 bounds.depth_rel_max,
             ),
             (
-                "normal angle p99 (deg)",
-                self.normal_deg_p99,
+                "normal angle p99 (deg, beyond float32 floor)",
+                self.normal_cond_p99,
                 bounds.normal_deg_p99,
             ),
             (
-                "normal angle max (deg)",
-                self.normal_deg_max,
+                "normal angle max (deg, beyond float32 floor)",
+                self.normal_cond_max,
                 bounds.normal_deg_max,
             ),
             (
@@ -251,8 +294,9 @@ impl fmt::Display for ErrorStats {
         write!(
             f,
             "{} px, {} covered, {} ambiguous, {} compared | coverage mismatch {} ({:.2e}) | \
-             depth rel p99 {:.2e} max {:.2e}, p99 {:.2} ulp | normal p99 {:.2e} max {:.2e} deg | \
-             id mismatch {} ({:.2e})",
+             depth rel p99 {:.2e} max {:.2e}, p99 {:.2} ulp (f32 floor {:.1e}; beyond it p99 \
+             {:.2e} max {:.2e}) | normal p99 {:.2e} max {:.2e} deg (f32 floor {:.1e}; beyond it \
+             p99 {:.2e} max {:.2e}) | id mismatch {} ({:.2e})",
             self.pixels,
             self.covered_pixels,
             self.ambiguous_pixels,
@@ -262,8 +306,14 @@ impl fmt::Display for ErrorStats {
             self.depth_rel_p99,
             self.depth_rel_max,
             self.depth_ulp_p99,
+            self.depth_floor_p99,
+            self.depth_cond_p99,
+            self.depth_cond_max,
             self.normal_deg_p99,
             self.normal_deg_max,
+            self.normal_floor_p99,
+            self.normal_cond_p99,
+            self.normal_cond_max,
             self.id_mismatch,
             self.id_mismatch_fraction,
         )
@@ -292,6 +342,8 @@ mod tests {
             normal: vec![DVec3::ZERO; n],
             id: vec![NO_INSTANCE; n],
             ambiguous: vec![false; n],
+            depth_floor: vec![0.0; n],
+            normal_floor_deg: vec![0.0; n],
         };
         (gpu, reference)
     }

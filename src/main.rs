@@ -5,7 +5,10 @@ use std::time::Instant;
 
 use clap::Parser;
 
-use ellipsoid_splat::cli::{self, Cli, Command, DeviceArgs, RenderArgs};
+use ellipsoid_splat::cli::{self, Cli, Command, DeviceArgs, RenderArgs, StressArgs};
+use ellipsoid_splat::renderer::Intersection;
+use ellipsoid_splat::report::Progress;
+use ellipsoid_splat::stress::{run_point, sweep_points, write_report, Extent, StressResult};
 use ellipsoid_splat::gpu::{Context, ContextOptions};
 use ellipsoid_splat::{output, OffscreenRenderer, Result};
 
@@ -14,6 +17,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         None => render(&RenderArgs::default()),
         Some(Command::Render(args)) => render(&args),
+        Some(Command::Stress(args)) => return stress(&args),
         Some(Command::Info(args)) => info(&args),
     };
     match result {
@@ -42,6 +46,7 @@ fn render(args: &RenderArgs) -> Result<()> {
 
     let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
     let setup = start.elapsed() - loaded;
+    renderer.set_intersection(args.intersection.into());
     renderer.upload(&scene)?;
     let (frame, timing) = renderer.render_uploaded(&camera)?;
     renderer.context().check_validation()?;
@@ -71,6 +76,68 @@ fn render(args: &RenderArgs) -> Result<()> {
         timing.gpu_wall.as_secs_f64() * 1e3,
     );
     Ok(())
+}
+
+/// Runs the stability sweep; exit status 1 when a stable-method point breaks a bound, 2 on
+/// an error.
+fn stress(args: &StressArgs) -> ExitCode {
+    match run_stress(args) {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(1),
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run_stress(args: &StressArgs) -> Result<bool> {
+    let extent = if args.quick { Extent::Reduced } else { Extent::Full };
+    let points = sweep_points(extent);
+    let mut methods = vec![Intersection::Stable];
+    if !args.no_baseline {
+        methods.push(Intersection::Textbook);
+    }
+    let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
+    let progress = Progress::new((points.len() * methods.len()) as u64, "stress");
+    let mut results = Vec::new();
+    for point in &points {
+        for &method in &methods {
+            progress.inc(&format!("{} {} {}", point.sweep, point.case, point.parameter));
+            results.push(run_point(&mut renderer, point, method)?);
+        }
+    }
+    progress.finish();
+    renderer.context().check_validation()?;
+    renderer.finish()?;
+    let table = write_report(&results, extent.size(), &args.out)?;
+    println!("{table}");
+    let broken: Vec<&StressResult> = results
+        .iter()
+        .filter(|r| r.method == Intersection::Stable && r.broken.is_some())
+        .collect();
+    let baseline_broken = results
+        .iter()
+        .filter(|r| r.method == Intersection::Textbook && r.broken.is_some())
+        .count();
+    println!(
+        "stable: {} of {} points within every bound; textbook baseline: {} of {} points break a bound",
+        results.iter().filter(|r| r.method == Intersection::Stable).count() - broken.len(),
+        points.len(),
+        baseline_broken,
+        if args.no_baseline { 0 } else { points.len() },
+    );
+    for r in &broken {
+        println!(
+            "BROKEN {} {} {}: {}",
+            r.sweep,
+            r.case,
+            r.parameter,
+            r.broken.as_deref().unwrap_or_default()
+        );
+    }
+    println!("wrote {}/stress.csv and stress_*.png", args.out.display());
+    Ok(broken.is_empty())
 }
 
 fn info(args: &DeviceArgs) -> Result<()> {

@@ -33,6 +33,10 @@ pub const HAIR: f64 = 1e-3;
 /// is then a matter of rounding, so the pixel is ambiguous.
 pub const DEPTH_TIE: f64 = 1e-6;
 
+/// Unit roundoff of float32 (2^-24): the relative precision of every stored or computed value
+/// in a float32 pipeline.
+pub const F32_ROUNDOFF: f64 = 1.0 / 16_777_216.0;
+
 /// Side of the square screen tiles ellipsoids are binned into, in pixels.
 const TILE: u32 = 16;
 
@@ -66,6 +70,16 @@ pub struct ReferenceFrame {
     /// sees the surface (or the reverse); or when the two nearest visible depths at the centre
     /// tie within [`DEPTH_TIE`]. Coverage and ID comparisons skip these pixels.
     pub ambiguous: Vec<bool>,
+    /// The float32 floor of the relative depth error at this pixel: the change in depth caused
+    /// by moving the sample point by what float32 screen coordinates resolve
+    /// (`F32_ROUNDOFF (W + H)` pixels) and the surface by what float32 positions relative to
+    /// the eye resolve (`F32_ROUNDOFF (|c - eye| + largest radius)`), to first order. It is
+    /// large only where the problem is ill-conditioned: grazing rims, features thinner than a
+    /// pixel, surfaces much nearer the eye than the size of their ellipsoid. 0 where nothing is
+    /// visible or the pixel is ambiguous.
+    pub depth_floor: Vec<f64>,
+    /// The float32 floor of the normal angle error at this pixel, in degrees (same model).
+    pub normal_floor_deg: Vec<f64>,
 }
 
 impl ReferenceFrame {
@@ -168,6 +182,8 @@ pub fn render_reference(scene: &Scene, camera: &Camera) -> Result<ReferenceFrame
         normal: vec![DVec3::ZERO; pixels],
         id: vec![NO_INSTANCE; pixels],
         ambiguous: vec![false; pixels],
+        depth_floor: vec![0.0; pixels],
+        normal_floor_deg: vec![0.0; pixels],
     };
 
     let context = Context::new(scene, camera);
@@ -180,14 +196,20 @@ pub fn render_reference(scene: &Scene, camera: &Camera) -> Result<ReferenceFrame
         .zip(frame.normal.chunks_mut(band_len))
         .zip(frame.id.chunks_mut(band_len))
         .zip(frame.ambiguous.chunks_mut(band_len))
+        .zip(frame.depth_floor.chunks_mut(band_len))
+        .zip(frame.normal_floor_deg.chunks_mut(band_len))
         .enumerate()
-        .map(|(tile_row, (((depth, normal), id), ambiguous))| Band {
-            tile_row: tile_row as u32,
-            depth,
-            normal,
-            id,
-            ambiguous,
-        })
+        .map(
+            |(tile_row, (((((depth, normal), id), ambiguous), depth_floor), normal_floor))| Band {
+                tile_row: tile_row as u32,
+                depth,
+                normal,
+                id,
+                ambiguous,
+                depth_floor,
+                normal_floor,
+            },
+        )
         .collect();
     let threads = thread::available_parallelism()
         .map_or(1, |n| n.get())
@@ -214,6 +236,8 @@ struct Prepared {
     /// renderer and [`intersect`] agree to the bit.
     to_parameter: DMat3,
     center: DVec3,
+    /// Largest semi-axis.
+    extent: f64,
     /// No point of the ellipsoid is nearer than this view depth: the front-to-back sort key.
     min_depth: f64,
 }
@@ -225,6 +249,8 @@ struct Band<'a> {
     normal: &'a mut [DVec3],
     id: &'a mut [u32],
     ambiguous: &'a mut [bool],
+    depth_floor: &'a mut [f64],
+    normal_floor: &'a mut [f64],
 }
 
 /// Everything the band workers share, read-only.
@@ -235,6 +261,14 @@ struct Context<'a> {
     bins: TileBins,
     /// NDC offsets of one [`HAIR`] in x and in y.
     hair_ndc: (f64, f64),
+}
+
+/// The result of sampling one pixel.
+struct PixelSample {
+    centre: Trace,
+    ambiguous: bool,
+    depth_floor: f64,
+    normal_floor_deg: f64,
 }
 
 /// What a ray sees across a list of ellipsoids.
@@ -270,6 +304,7 @@ impl<'a> Context<'a> {
             .map(|e| Prepared {
                 to_parameter: e.to_parameter(),
                 center: e.center,
+                extent: e.bounding_radius(),
                 min_depth: (e.center - camera.eye).dot(basis.forward) - e.bounding_radius(),
             })
             .collect();
@@ -307,35 +342,75 @@ impl<'a> Context<'a> {
                 let j = band.tile_row * TILE + row;
                 for i in i0..i1 {
                     let index = row as usize * width as usize + i as usize;
-                    let (centre, ambiguous) = self.pixel(i, j, &candidates);
-                    if let Some((id, hit)) = centre.best {
+                    let sample = self.pixel(i, j, &candidates);
+                    if let Some((id, hit)) = sample.centre.best {
                         band.depth[index] = hit.depth;
                         band.normal[index] = hit.normal;
                         band.id[index] = id;
                     }
-                    band.ambiguous[index] = ambiguous;
+                    band.ambiguous[index] = sample.ambiguous;
+                    band.depth_floor[index] = sample.depth_floor;
+                    band.normal_floor[index] = sample.normal_floor_deg;
                 }
             }
         }
     }
 
-    /// The centre sample of pixel `(i, j)` and whether the pixel is ambiguous.
-    fn pixel(&self, i: u32, j: u32, candidates: &[u32]) -> (Trace, bool) {
+    /// The centre sample of pixel `(i, j)`, whether the pixel is ambiguous, and its float32
+    /// error floors (from the same four neighbour samples).
+    fn pixel(&self, i: u32, j: u32, candidates: &[u32]) -> PixelSample {
         let centre = self.trace(&self.camera.ray(i, j), candidates, true);
+        let mut sample = PixelSample {
+            centre,
+            ambiguous: true,
+            depth_floor: 0.0,
+            normal_floor_deg: 0.0,
+        };
         if centre.tied() {
-            return (centre, true);
+            return sample;
         }
         let (x, y) = self.camera.pixel_ndc(i, j);
         let (hx, hy) = self.hair_ndc;
         let key = centre.key();
-        let ambiguous = [(x - hx, y), (x + hx, y), (x, y - hy), (x, y + hy)]
-            .into_iter()
-            .any(|(sx, sy)| {
-                self.trace(&self.camera.ray_at_ndc(sx, sy), candidates, false)
-                    .key()
-                    != key
-            });
-        (centre, ambiguous)
+        let mut neighbours = [None; 4];
+        for (slot, (sx, sy)) in neighbours
+            .iter_mut()
+            .zip([(x - hx, y), (x + hx, y), (x, y - hy), (x, y + hy)])
+        {
+            let trace = self.trace(&self.camera.ray_at_ndc(sx, sy), candidates, false);
+            if trace.key() != key {
+                return sample;
+            }
+            *slot = trace.best.map(|(_, hit)| hit);
+        }
+        sample.ambiguous = false;
+        if let (Some((id, hit)), [Some(x0), Some(x1), Some(y0), Some(y1)]) = (centre.best, neighbours) {
+            if !hit.cap {
+                let e = &self.prepared[id as usize];
+                // Gradients per pixel from central differences over 2 HAIR.
+                let depth_grad = ((x1.depth - x0.depth).powi(2) + (y1.depth - y0.depth).powi(2)).sqrt() / (2.0 * HAIR);
+                let turn = |a: DVec3, b: DVec3| a.cross(b).length().atan2(a.dot(b));
+                let normal_grad = (turn(x0.normal, x1.normal).powi(2) + turn(y0.normal, y1.normal).powi(2)).sqrt() / (2.0 * HAIR);
+                // What float32 resolves: screen position, and surface position relative to the eye.
+                let scale = (e.center - self.camera.eye).length() + e.extent;
+                let position = F32_ROUNDOFF * scale;
+                let shift_px = F32_ROUNDOFF * (self.camera.width + self.camera.height) as f64
+                    + position / self.pixel_size_at(hit.depth);
+                sample.depth_floor = (depth_grad * shift_px + position) / hit.depth;
+                sample.normal_floor_deg = (normal_grad * shift_px).to_degrees();
+            }
+        }
+        sample
+    }
+
+    /// World size of one pixel (vertically) at view depth `depth`.
+    fn pixel_size_at(&self, depth: f64) -> f64 {
+        let (_, sy) = self.camera.ndc_scale();
+        let per_unit = 2.0 * sy / self.camera.height as f64;
+        match self.camera.projection {
+            Projection::Perspective { .. } => depth * per_unit,
+            Projection::Orthographic { .. } => per_unit,
+        }
     }
 
     /// Nearest visible hit along `ray` among `candidates` (sorted front to back); with

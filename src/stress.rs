@@ -46,15 +46,16 @@ pub struct StressResult {
 }
 
 impl StressResult {
-    /// Largest ratio of a measured error to its bound (1 = at the bound).
+    /// Largest ratio of a checked error to its bound (1 = at the bound); depth and normal
+    /// errors beyond the float32 floor, as [`ErrorStats::check`] judges them.
     pub fn worst_ratio(&self, bounds: &Bounds) -> f64 {
         let s = &self.stats;
         [
             s.coverage_mismatch_fraction / bounds.coverage_fraction,
-            s.depth_rel_p99 / bounds.depth_rel_p99,
-            s.depth_rel_max / bounds.depth_rel_max,
-            s.normal_deg_p99 / bounds.normal_deg_p99,
-            s.normal_deg_max / bounds.normal_deg_max,
+            s.depth_cond_p99 / bounds.depth_rel_p99,
+            s.depth_cond_max / bounds.depth_rel_max,
+            s.normal_cond_p99 / bounds.normal_deg_p99,
+            s.normal_cond_max / bounds.normal_deg_max,
             s.id_mismatch_fraction / bounds.id_mismatch_fraction,
         ]
         .into_iter()
@@ -73,7 +74,8 @@ pub enum Extent {
 }
 
 impl Extent {
-    fn size(self) -> (u32, u32) {
+    /// Size of the images this extent renders.
+    pub fn size(self) -> (u32, u32) {
         match self {
             Extent::Full => (256, 192),
             Extent::Reduced => (96, 72),
@@ -127,6 +129,16 @@ fn framing_camera(scene: &Scene, dir: DVec3, fov: f64, size: (u32, u32)) -> Came
     let distance = r / half * 1.05;
     let near = (distance - r).max(distance * 1e-4) * 0.5;
     perspective(c + dir.normalize() * distance, c, fov, near, size)
+}
+
+/// Nearest and farthest view depth any ellipsoid of `scene` reaches.
+fn depth_extent(scene: &Scene, camera: &Camera) -> (f64, f64) {
+    let f = camera.basis().forward;
+    scene.ellipsoids.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), e| {
+        let depth = camera.view_depth(e.center);
+        let half = (e.to_world().transpose() * f).length();
+        (lo.min(depth - half), hi.max(depth + half))
+    })
 }
 
 /// Every sweep point of the stress test.
@@ -227,21 +239,36 @@ pub fn sweep_points(extent: Extent) -> Vec<StressPoint> {
         });
     }
 
-    // Near-plane cuts through the cloud at several fields of view, and a camera inside one
-    // large ellipsoid at several depths.
+    // Near-plane cuts through the cloud at several fields of view: the plane swept from the
+    // nearest to the farthest view depth the ellipsoids reach.
     for fov in [45.0, 120.0, 170.0] {
         for cut in extent.pick(&[0.05, 0.25, 0.5, 0.75, 0.95]) {
             let scene = cloud();
             let mut camera = framing_camera(&scene, view, fov, size);
-            let (c, r) = scene.bounding_sphere().expect("cloud is not empty");
-            let d = (c - camera.eye).length();
-            camera.near = (d - r) + cut * 2.0 * r;
+            let (nearest, farthest) = depth_extent(&scene, &camera);
+            camera.near = nearest + cut * (farthest - nearest);
             points.push(StressPoint {
                 sweep: "near",
                 case: format!("cut, fov {fov}"),
                 parameter: cut,
                 scene,
                 camera,
+            });
+        }
+    }
+    // The eye in the middle of the cloud: ellipsoids behind, beside (crossing the eye plane)
+    // and in front, some cut by the near plane, at wide fields of view.
+    for fov in [90.0, 170.0] {
+        for near in extent.pick(&[1e-3, 1e-2, 0.1, 0.3]) {
+            let scene = cloud();
+            let (c, _) = scene.bounding_sphere().expect("cloud is not empty");
+            let eye = c + DVec3::new(0.05, -0.1, 0.02);
+            points.push(StressPoint {
+                sweep: "near",
+                case: format!("eye in cloud, fov {fov}"),
+                parameter: near,
+                scene,
+                camera: perspective(eye, eye + view, fov, near, size),
             });
         }
     }
@@ -347,4 +374,148 @@ pub fn run_point(renderer: &mut OffscreenRenderer, point: &StressPoint, method: 
         stats,
         broken,
     })
+}
+
+/// Columns of `stress.csv`.
+pub const CSV_HEADER: &[&str] = &[
+    "sweep",
+    "case",
+    "parameter",
+    "method",
+    "width",
+    "height",
+    "covered_pixels",
+    "ambiguous_pixels",
+    "compared_pixels",
+    "coverage_mismatch",
+    "coverage_fraction",
+    "depth_rel_p99",
+    "depth_rel_max",
+    "depth_f32_floor_p99",
+    "depth_beyond_floor_p99",
+    "depth_beyond_floor_max",
+    "normal_deg_p99",
+    "normal_deg_max",
+    "normal_f32_floor_p99",
+    "normal_beyond_floor_p99",
+    "normal_beyond_floor_max",
+    "id_mismatch",
+    "worst_over_bound",
+    "pass",
+    "broken",
+];
+
+/// Name of a method in tables and plots.
+pub fn method_name(method: Intersection) -> &'static str {
+    match method {
+        Intersection::Stable => "stable",
+        Intersection::Textbook => "textbook",
+    }
+}
+
+impl StressResult {
+    /// One CSV row in [`CSV_HEADER`] order.
+    pub fn csv_row(&self, width: u32, height: u32) -> Vec<String> {
+        let s = &self.stats;
+        let e = |v: f64| format!("{v:.4e}");
+        vec![
+            self.sweep.to_string(),
+            self.case.clone(),
+            format!("{}", self.parameter),
+            method_name(self.method).to_string(),
+            width.to_string(),
+            height.to_string(),
+            s.covered_pixels.to_string(),
+            s.ambiguous_pixels.to_string(),
+            s.compared_pixels.to_string(),
+            s.coverage_mismatch.to_string(),
+            e(s.coverage_mismatch_fraction),
+            e(s.depth_rel_p99),
+            e(s.depth_rel_max),
+            e(s.depth_floor_p99),
+            e(s.depth_cond_p99),
+            e(s.depth_cond_max),
+            e(s.normal_deg_p99),
+            e(s.normal_deg_max),
+            e(s.normal_floor_p99),
+            e(s.normal_cond_p99),
+            e(s.normal_cond_max),
+            s.id_mismatch.to_string(),
+            e(self.worst_ratio(&Bounds::STRICT)),
+            if self.broken.is_none() { "yes" } else { "no" }.to_string(),
+            self.broken.clone().unwrap_or_default(),
+        ]
+    }
+}
+
+/// Sweeps whose parameter is plotted on a linear axis (fractions); the rest are logarithmic.
+fn linear_sweep(sweep: &str) -> bool {
+    sweep == "near"
+}
+
+/// Writes `stress.csv`, one `stress_<sweep>.png` per sweep (worst error over bound against the
+/// swept parameter, one line per case and method) into `dir`, and returns the printed table.
+pub fn write_report(results: &[StressResult], size: (u32, u32), dir: &std::path::Path) -> Result<String> {
+    use crate::report::{fmt_sci, format_table, line_chart, write_csv, Axis, Series, Threshold};
+
+    std::fs::create_dir_all(dir).map_err(|source| crate::Error::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let rows: Vec<Vec<String>> = results.iter().map(|r| r.csv_row(size.0, size.1)).collect();
+    write_csv(&dir.join("stress.csv"), CSV_HEADER, &rows)?;
+
+    let mut sweeps: Vec<&'static str> = results.iter().map(|r| r.sweep).collect();
+    sweeps.dedup();
+    for sweep in &sweeps {
+        let mut series: Vec<Series> = Vec::new();
+        for r in results.iter().filter(|r| r.sweep == *sweep) {
+            let name = format!("{} ({})", r.case, method_name(r.method));
+            // Floored so perfect points stay on the log axis.
+            let point = (r.parameter, r.worst_ratio(&Bounds::STRICT).max(1e-3));
+            match series.iter_mut().find(|s| s.name == name) {
+                Some(s) => s.points.push(point),
+                None => series.push(Series::new(name, vec![point])),
+            }
+        }
+        let x = if linear_sweep(sweep) {
+            Axis::linear(format!("{sweep} parameter"))
+        } else {
+            Axis::log(format!("{sweep} parameter"))
+        };
+        line_chart(
+            &dir.join(format!("stress_{sweep}.png")),
+            &format!("stress sweep '{sweep}': worst error / bound (floored at 1e-3)"),
+            &x,
+            &Axis::log("worst error / bound"),
+            &series,
+            &[Threshold::new(1.0, "bound")],
+        )?;
+    }
+
+    let header = [
+        "sweep", "case", "parameter", "method", "covered", "cov.mis", "depth p99", "beyond f32",
+        "normal p99", "beyond f32", "worst/bound", "pass",
+    ];
+    let table: Vec<Vec<String>> = results
+        .iter()
+        .map(|r| {
+            let s = &r.stats;
+            vec![
+                r.sweep.to_string(),
+                r.case.clone(),
+                fmt_sci(r.parameter),
+                method_name(r.method).to_string(),
+                s.covered_pixels.to_string(),
+                s.coverage_mismatch.to_string(),
+                fmt_sci(s.depth_rel_p99),
+                fmt_sci(s.depth_cond_p99),
+                fmt_sci(s.normal_deg_p99),
+                fmt_sci(s.normal_cond_p99),
+                fmt_sci(r.worst_ratio(&Bounds::STRICT)),
+                if r.broken.is_none() { "yes" } else { "NO" }.to_string(),
+            ]
+        })
+        .collect();
+    Ok(format_table(&header, &table))
 }
