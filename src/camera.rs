@@ -93,7 +93,10 @@ impl Camera {
     pub fn validate(&self) -> Result<()> {
         for (name, v) in [("eye", self.eye), ("target", self.target), ("up", self.up)] {
             if !v.is_finite() {
-                return Err(Error::invalid(format!("camera {name}"), format!("not finite: {v}")));
+                return Err(Error::invalid(
+                    format!("camera {name}"),
+                    format!("not finite: {v}"),
+                ));
             }
         }
         let f = self.target - self.eye;
@@ -103,10 +106,16 @@ impl Camera {
         let f = f.normalize();
         let up = self.up.normalize_or_zero();
         if up == DVec3::ZERO || f.cross(up).length() < 1e-9 {
-            return Err(Error::invalid("camera up", "is zero or parallel to the view direction"));
+            return Err(Error::invalid(
+                "camera up",
+                "is zero or parallel to the view direction",
+            ));
         }
         if !(self.near.is_finite() && self.near > 0.0) {
-            return Err(Error::invalid("camera near", format!("must be > 0, got {}", self.near)));
+            return Err(Error::invalid(
+                "camera near",
+                format!("must be > 0, got {}", self.near),
+            ));
         }
         if self.width == 0 || self.height == 0 || self.width > 16384 || self.height > 16384 {
             return Err(Error::invalid(

@@ -23,7 +23,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Render a scene to PNG (and optionally depth, normal and ID images).
-    Render(RenderArgs),
+    Render(Box<RenderArgs>),
     /// Numerical-stability sweep: every point rendered on the GPU and by the float64
     /// reference; writes a CSV table and plots, exits non-zero if a bound breaks.
     Stress(StressArgs),
@@ -136,7 +136,7 @@ impl Default for RenderArgs {
         Cli::parse_from(["ellipsoid-splat", "render"])
             .command
             .and_then(|c| match c {
-                Command::Render(r) => Some(r),
+                Command::Render(r) => Some(*r),
                 _ => None,
             })
             .expect("`render` with no flags parses")
@@ -163,8 +163,12 @@ fn parse_vec3(text: &str) -> std::result::Result<DVec3, String> {
 /// Loads or generates the scene named by `--scene`.
 pub fn load_scene(spec: &str) -> Result<Scene> {
     let count = |text: &str, what: &str| {
-        text.parse::<usize>()
-            .map_err(|_| Error::invalid("--scene", format!("{what} count '{text}' is not a whole number")))
+        text.parse::<usize>().map_err(|_| {
+            Error::invalid(
+                "--scene",
+                format!("{what} count '{text}' is not a whole number"),
+            )
+        })
     };
     if spec == "tensor-field" {
         return Ok(scene::tensor_field(40));
@@ -172,7 +176,10 @@ pub fn load_scene(spec: &str) -> Result<Scene> {
     if let Some(n) = spec.strip_prefix("tensor-field:") {
         let n = count(n, "tensor-field")?;
         if n == 0 || n > 256 {
-            return Err(Error::invalid("--scene", "tensor-field:N needs 1 <= N <= 256"));
+            return Err(Error::invalid(
+                "--scene",
+                "tensor-field:N needs 1 <= N <= 256",
+            ));
         }
         return Ok(scene::tensor_field(n));
     }

@@ -277,8 +277,7 @@ impl ErrorStats {
         ];
         let broken: Vec<String> = checks
             .iter()
-            // Written so that a NaN measurement breaks the bound.
-            .filter(|(_, measured, bound)| !(measured <= bound))
+            .filter(|(_, measured, bound)| measured.is_nan() || measured > bound)
             .map(|(name, measured, bound)| format!("{name} {measured:.3e} > {bound:.3e}"))
             .collect();
         if broken.is_empty() {

@@ -31,7 +31,10 @@ impl Ellipsoid {
         color: Option<[f32; 3]>,
     ) -> Result<Self> {
         if !center.is_finite() {
-            return Err(Error::invalid("ellipsoid centre", format!("not finite: {center}")));
+            return Err(Error::invalid(
+                "ellipsoid centre",
+                format!("not finite: {center}"),
+            ));
         }
         if !radii.is_finite() || radii.min_element() <= 0.0 {
             return Err(Error::invalid(
@@ -74,7 +77,10 @@ impl Ellipsoid {
         if cols.iter().any(|c| !c.is_finite()) {
             return Err(Error::invalid("tensor", "has a non-finite entry"));
         }
-        let asym = (t - t.transpose()).to_cols_array().iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let asym = (t - t.transpose())
+            .to_cols_array()
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()));
         let scale = t.to_cols_array().iter().fold(0.0f64, |m, v| m.max(v.abs()));
         if asym > 1e-9 * scale.max(f64::MIN_POSITIVE) {
             return Err(Error::invalid("tensor", "is not symmetric"));
@@ -147,15 +153,13 @@ pub fn symmetric_eigen(m: DMat3) -> (DVec3, DMat3) {
             let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
             let c = 1.0 / (t * t + 1.0).sqrt();
             let s = t * c;
-            for k in 0..3 {
-                let akp = a[k][p];
-                let akq = a[k][q];
-                a[k][p] = c * akp - s * akq;
-                a[k][q] = s * akp + c * akq;
+            for row in a.iter_mut() {
+                let (akp, akq) = (row[p], row[q]);
+                row[p] = c * akp - s * akq;
+                row[q] = s * akp + c * akq;
             }
-            for k in 0..3 {
-                let apk = a[p][k];
-                let aqk = a[q][k];
+            let (row_p, row_q) = (a[p], a[q]);
+            for (k, (apk, aqk)) in row_p.into_iter().zip(row_q).enumerate() {
                 a[p][k] = c * apk - s * aqk;
                 a[q][k] = s * apk + c * aqk;
             }

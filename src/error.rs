@@ -17,7 +17,9 @@ pub enum Error {
         result: vk::Result,
     },
     /// The Vulkan loader (`libvulkan.so.1`) could not be opened.
-    #[error("cannot load the Vulkan library: {0} (on Debian: apt-get install mesa-vulkan-drivers)")]
+    #[error(
+        "cannot load the Vulkan library: {0} (on Debian: apt-get install mesa-vulkan-drivers)"
+    )]
     Loader(String),
     /// No usable physical device or a missing capability.
     #[error("no suitable Vulkan device: {0}")]

@@ -3,14 +3,14 @@
 
 pub mod camera;
 pub mod cli;
+pub mod compare;
 pub mod ellipsoid;
 pub mod error;
 pub mod frame;
+pub mod reference;
+pub mod report;
 pub mod scene;
 pub mod stress;
-pub mod reference;
-pub mod compare;
-pub mod report;
 
 pub use camera::{Camera, Projection};
 pub use ellipsoid::Ellipsoid;

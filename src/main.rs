@@ -6,10 +6,10 @@ use std::time::Instant;
 use clap::Parser;
 
 use ellipsoid_splat::cli::{self, Cli, Command, DeviceArgs, RenderArgs, StressArgs};
+use ellipsoid_splat::gpu::{Context, ContextOptions};
 use ellipsoid_splat::renderer::Intersection;
 use ellipsoid_splat::report::Progress;
 use ellipsoid_splat::stress::{run_point, sweep_points, write_report, Extent, StressResult};
-use ellipsoid_splat::gpu::{Context, ContextOptions};
 use ellipsoid_splat::{output, OffscreenRenderer, Result};
 
 fn main() -> ExitCode {
@@ -92,7 +92,11 @@ fn stress(args: &StressArgs) -> ExitCode {
 }
 
 fn run_stress(args: &StressArgs) -> Result<bool> {
-    let extent = if args.quick { Extent::Reduced } else { Extent::Full };
+    let extent = if args.quick {
+        Extent::Reduced
+    } else {
+        Extent::Full
+    };
     let points = sweep_points(extent);
     let mut methods = vec![Intersection::Stable];
     if !args.no_baseline {
@@ -103,7 +107,10 @@ fn run_stress(args: &StressArgs) -> Result<bool> {
     let mut results = Vec::new();
     for point in &points {
         for &method in &methods {
-            progress.inc(&format!("{} {} {}", point.sweep, point.case, point.parameter));
+            progress.inc(&format!(
+                "{} {} {}",
+                point.sweep, point.case, point.parameter
+            ));
             results.push(run_point(&mut renderer, point, method)?);
         }
     }
@@ -155,7 +162,17 @@ fn info(args: &DeviceArgs) -> Result<()> {
     );
     println!("timestamp period:  {} ns", info.timestamp_period);
     println!("max storage range: {} bytes", info.max_storage_buffer_range);
-    println!("features used:     dynamicRendering, pipelineStatisticsQuery={}", info.pipeline_statistics);
-    println!("validation:        {}", if args.validation { "on (core + synchronization)" } else { "off" });
+    println!(
+        "features used:     dynamicRendering, pipelineStatisticsQuery={}",
+        info.pipeline_statistics
+    );
+    println!(
+        "validation:        {}",
+        if args.validation {
+            "on (core + synchronization)"
+        } else {
+            "off"
+        }
+    );
     context.check_validation()
 }

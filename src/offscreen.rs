@@ -11,7 +11,9 @@ use crate::error::{Error, Result, VkCall};
 use crate::frame::Frame;
 use crate::gpu::image::full_range;
 use crate::gpu::{Context, ContextOptions, GpuBuffer, GpuImage};
-use crate::renderer::{EllipsoidRenderer, Intersection, Material, TargetFormats, ID_FORMAT, NORMAL_FORMAT};
+use crate::renderer::{
+    EllipsoidRenderer, Intersection, Material, TargetFormats, ID_FORMAT, NORMAL_FORMAT,
+};
 use crate::scene::Scene;
 
 const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
@@ -85,16 +87,18 @@ impl OffscreenRenderer {
             .queue_family_index(family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
         // SAFETY: valid create info; owned by `self`, destroyed in `Drop`.
-        self.command_pool = unsafe { device.create_command_pool(&info, None) }.call("vkCreateCommandPool")?;
+        self.command_pool =
+            unsafe { device.create_command_pool(&info, None) }.call("vkCreateCommandPool")?;
         let info = vk::CommandBufferAllocateInfo::default()
             .command_pool(self.command_pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
         // SAFETY: allocated from our pool; freed with it.
-        self.command_buffer = unsafe { device.allocate_command_buffers(&info) }
-            .call("vkAllocateCommandBuffers")?[0];
+        self.command_buffer =
+            unsafe { device.allocate_command_buffers(&info) }.call("vkAllocateCommandBuffers")?[0];
         // SAFETY: valid create info; owned by `self`.
-        self.fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }.call("vkCreateFence")?;
+        self.fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
+            .call("vkCreateFence")?;
         let formats = TargetFormats {
             color: COLOR_FORMAT,
             depth: DEPTH_FORMAT,
@@ -120,12 +124,17 @@ impl OffscreenRenderer {
     }
 
     fn renderer_mut(&mut self) -> &mut EllipsoidRenderer {
-        self.renderer.as_mut().expect("renderer exists after construction")
+        self.renderer
+            .as_mut()
+            .expect("renderer exists after construction")
     }
 
     /// Uploads the scene's instances (replacing the previous scene).
     pub fn upload(&mut self, scene: &Scene) -> Result<()> {
-        let renderer = self.renderer.as_mut().expect("renderer exists after construction");
+        let renderer = self
+            .renderer
+            .as_mut()
+            .expect("renderer exists after construction");
         let (device, allocator) = self.context.device_and_allocator();
         renderer.upload(device, allocator, scene)
     }
@@ -160,7 +169,11 @@ impl OffscreenRenderer {
     }
 
     fn ensure_targets(&mut self, extent: vk::Extent2D) -> Result<()> {
-        if self.targets.as_ref().is_some_and(|t| t.color.extent() == extent) {
+        if self
+            .targets
+            .as_ref()
+            .is_some_and(|t| t.color.extent() == extent)
+        {
             return Ok(());
         }
         let (device, allocator) = self.context.device_and_allocator();
@@ -210,7 +223,9 @@ impl OffscreenRenderer {
             }
         };
         let mut it = made.into_iter();
-        let (Some(color), Some(depth), Some(normal), Some(id)) = (it.next(), it.next(), it.next(), it.next()) else {
+        let (Some(color), Some(depth), Some(normal), Some(id)) =
+            (it.next(), it.next(), it.next(), it.next())
+        else {
             unreachable!("four targets were made");
         };
         self.targets = Some(Targets {
@@ -226,8 +241,14 @@ impl OffscreenRenderer {
     fn record(&mut self, camera: &Camera, extent: vk::Extent2D) -> Result<()> {
         let device = self.context.device();
         let cmd = self.command_buffer;
-        let targets = self.targets.as_ref().expect("targets exist after ensure_targets");
-        let renderer = self.renderer.as_mut().expect("renderer exists after construction");
+        let targets = self
+            .targets
+            .as_ref()
+            .expect("targets exist after ensure_targets");
+        let renderer = self
+            .renderer
+            .as_mut()
+            .expect("renderer exists after construction");
         let colors = [&targets.color, &targets.normal, &targets.id];
         // SAFETY: the command buffer is not pending (every submit is waited for); all recorded
         // handles are owned by `self` and live until the submission completes.
@@ -235,8 +256,11 @@ impl OffscreenRenderer {
             device
                 .reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
                 .call("vkResetCommandBuffer")?;
-            let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-            device.begin_command_buffer(cmd, &begin).call("vkBeginCommandBuffer")?;
+            let begin = vk::CommandBufferBeginInfo::default()
+                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            device
+                .begin_command_buffer(cmd, &begin)
+                .call("vkBeginCommandBuffer")?;
 
             // Attachments to render layouts. The previous frame's copy read them: wait for it.
             let mut barriers: Vec<vk::ImageMemoryBarrier> = colors
@@ -302,7 +326,10 @@ impl OffscreenRenderer {
                 .load_op(vk::AttachmentLoadOp::CLEAR)
                 .store_op(vk::AttachmentStoreOp::STORE)
                 .clear_value(vk::ClearValue {
-                    depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 },
+                    depth_stencil: vk::ClearDepthStencilValue {
+                        depth: 0.0,
+                        stencil: 0,
+                    },
                 });
             let rendering = vk::RenderingInfo::default()
                 .render_area(vk::Rect2D {
@@ -415,7 +442,8 @@ impl OffscreenRenderer {
             device
                 .queue_submit(queue, &[submit], self.fence)
                 .call("vkQueueSubmit")?;
-            let waited = device.wait_for_fences(&[self.fence], true, FRAME_TIMEOUT.as_nanos() as u64);
+            let waited =
+                device.wait_for_fences(&[self.fence], true, FRAME_TIMEOUT.as_nanos() as u64);
             if waited == Err(vk::Result::TIMEOUT) {
                 return Err(Error::Vulkan {
                     call: "vkWaitForFences (frame took longer than 300 s)",
@@ -429,7 +457,10 @@ impl OffscreenRenderer {
     }
 
     fn read_frame(&self, camera: &Camera) -> Result<Frame> {
-        let targets = self.targets.as_ref().expect("targets exist after ensure_targets");
+        let targets = self
+            .targets
+            .as_ref()
+            .expect("targets exist after ensure_targets");
         let bytes = targets.readback.mapped().ok_or_else(|| Error::Allocation {
             what: "readback",
             reason: "not host-visible".into(),
@@ -454,7 +485,11 @@ impl OffscreenRenderer {
             frame.color.push(word(offsets[0], i));
             // Reversed-Z stores near / view depth; 0 (the clear value) is infinitely far.
             let z = f32::from_ne_bytes(word(offsets[1], i));
-            frame.depth.push(if z > 0.0 { (near / z as f64) as f32 } else { f32::INFINITY });
+            frame.depth.push(if z > 0.0 {
+                (near / z as f64) as f32
+            } else {
+                f32::INFINITY
+            });
             let n = |k: usize| f32::from_ne_bytes(word(offsets[2], 4 * i + k));
             frame.normal.push([n(0), n(1), n(2)]);
             frame.id.push(u32::from_ne_bytes(word(offsets[3], i)));
@@ -482,7 +517,9 @@ impl OffscreenRenderer {
         if live != 0 {
             return Err(Error::Allocation {
                 what: "shutdown",
-                reason: format!("{live} allocation(s) still live after every resource was destroyed"),
+                reason: format!(
+                    "{live} allocation(s) still live after every resource was destroyed"
+                ),
             });
         }
         Ok(())

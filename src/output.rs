@@ -3,7 +3,10 @@
 
 use std::path::Path;
 
-use exr::prelude::{AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes, SmallVec, WritableImage};
+use exr::prelude::{
+    AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes, SmallVec,
+    WritableImage,
+};
 
 use crate::error::{Error, Result};
 use crate::frame::Frame;
@@ -18,8 +21,14 @@ fn encode_error(path: &Path, reason: impl ToString) -> Error {
 /// sRGB colour as an 8-bit RGBA PNG.
 pub fn write_color_png(frame: &Frame, path: &Path) -> Result<()> {
     let bytes: Vec<u8> = frame.color.iter().flatten().copied().collect();
-    image::save_buffer(path, &bytes, frame.width, frame.height, image::ExtendedColorType::Rgba8)
-        .map_err(|e| encode_error(path, e))
+    image::save_buffer(
+        path,
+        &bytes,
+        frame.width,
+        frame.height,
+        image::ExtendedColorType::Rgba8,
+    )
+    .map_err(|e| encode_error(path, e))
 }
 
 fn write_exr(path: &Path, frame: &Frame, channels: Vec<AnyChannel<FlatSamples>>) -> Result<()> {
@@ -45,9 +54,16 @@ pub fn write_depth_exr(frame: &Frame, path: &Path) -> Result<()> {
 /// World-space unit normal as float32 EXR channels `R, G, B`; background is 0.
 pub fn write_normal_exr(frame: &Frame, path: &Path) -> Result<()> {
     let channel = |name: &str, k: usize| {
-        AnyChannel::new(name, FlatSamples::F32(frame.normal.iter().map(|n| n[k]).collect()))
+        AnyChannel::new(
+            name,
+            FlatSamples::F32(frame.normal.iter().map(|n| n[k]).collect()),
+        )
     };
-    write_exr(path, frame, vec![channel("R", 0), channel("G", 1), channel("B", 2)])
+    write_exr(
+        path,
+        frame,
+        vec![channel("R", 0), channel("G", 1), channel("B", 2)],
+    )
 }
 
 /// Instance IDs, lossless: `.exr` writes a 32-bit unsigned channel `ID`; `.png` packs each ID
@@ -58,8 +74,14 @@ pub fn write_id_image(frame: &Frame, path: &Path) -> Result<()> {
         .is_some_and(|e| e.eq_ignore_ascii_case("png"));
     if is_png {
         let bytes: Vec<u8> = frame.id.iter().flat_map(|id| id.to_le_bytes()).collect();
-        image::save_buffer(path, &bytes, frame.width, frame.height, image::ExtendedColorType::Rgba8)
-            .map_err(|e| encode_error(path, e))
+        image::save_buffer(
+            path,
+            &bytes,
+            frame.width,
+            frame.height,
+            image::ExtendedColorType::Rgba8,
+        )
+        .map_err(|e| encode_error(path, e))
     } else {
         let id = AnyChannel::new("ID", FlatSamples::U32(frame.id.clone()));
         write_exr(path, frame, vec![id])

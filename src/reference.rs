@@ -11,8 +11,9 @@
 //! where the answer jumps (a silhouette, the rim of a cap, the curve where two ellipsoids meet) or
 //! two ellipsoids tie in depth there. Comparisons skip those pixels for coverage and IDs.
 //!
-//! Speed comes from binning bounding spheres into screen tiles, visiting each tile's ellipsoids
-//! front to back with an early exit, and rendering bands of tiles on all cores.
+//! Speed comes from binning bounding spheres (clipped to the near plane) into screen tiles,
+//! visiting each tile's ellipsoids front to back with an early exit, and rendering bands of
+//! tiles on all cores.
 
 use std::sync::{Mutex, PoisonError};
 use std::thread;
@@ -72,8 +73,9 @@ pub struct ReferenceFrame {
     pub ambiguous: Vec<bool>,
     /// The float32 floor of the relative depth error at this pixel: the change in depth caused
     /// by moving the sample point by what float32 screen coordinates resolve
-    /// (`F32_ROUNDOFF (W + H)` pixels) and the surface by what float32 positions relative to
-    /// the eye resolve (`F32_ROUNDOFF (|c - eye| + largest radius)`), to first order. It is
+    /// (`F32_ROUNDOFF (W + H)` pixels) and the surface by what float32 view-space positions
+    /// resolve (across the view: `F32_ROUNDOFF (lateral offset of the centre + largest radius)`;
+    /// along it: `F32_ROUNDOFF (centre depth + largest radius)`), to first order. It is
     /// large only where the problem is ill-conditioned: grazing rims, features thinner than a
     /// pixel, surfaces much nearer the eye than the size of their ellipsoid. 0 where nothing is
     /// visible or the pixel is ambiguous.
@@ -126,7 +128,7 @@ fn hit_unit_sphere(o: DVec3, d: DVec3, m: &DMat3, near: f64, forward: DVec3) -> 
     // perpendicular to d: no difference of two huge squares when the eye is far away.
     let o_perp = o - (b / a) * d;
     let k = o_perp.length();
-    if !(k <= 1.0) {
+    if k.is_nan() || k > 1.0 {
         return None;
     }
     // Half the chord, in parameter-space length; (1-k)(1+k) keeps precision near the rim.
@@ -137,7 +139,7 @@ fn hit_unit_sphere(o: DVec3, d: DVec3, m: &DMat3, near: f64, forward: DVec3) -> 
     // q = -(b + sign(b) sqrt(disc)) adds like signs; the roots are q/a and c/q.
     let q = -(b + sqrt_disc.copysign(b));
     let (t_in, t_out) = if q == 0.0 {
-        // b = 0 and a grazing ray through the origin's own tangent point: a double root at 0.
+        // b = 0 and disc = 0: the ray starts on the sphere and grazes it, a double root at 0.
         (0.0, 0.0)
     } else {
         let (t1, t2) = (q / a, c / q);
@@ -305,7 +307,14 @@ impl<'a> Context<'a> {
                 to_parameter: e.to_parameter(),
                 center: e.center,
                 extent: e.bounding_radius(),
-                min_depth: (e.center - camera.eye).dot(basis.forward) - e.bounding_radius(),
+                min_depth: {
+                    let (z, r) = (
+                        (e.center - camera.eye).dot(basis.forward),
+                        e.bounding_radius(),
+                    );
+                    // Slightly low, so rounding never sorts an ellipsoid behind its own hit.
+                    (z - r) - 1e-9 * (z.abs() + r)
+                },
             })
             .collect();
         let bins = TileBins::build(scene, camera, &basis);
@@ -373,9 +382,10 @@ impl<'a> Context<'a> {
         let (hx, hy) = self.hair_ndc;
         let key = centre.key();
         let mut neighbours = [None; 4];
-        for (slot, (sx, sy)) in neighbours
-            .iter_mut()
-            .zip([(x - hx, y), (x + hx, y), (x, y - hy), (x, y + hy)])
+        for (slot, (sx, sy)) in
+            neighbours
+                .iter_mut()
+                .zip([(x - hx, y), (x + hx, y), (x, y - hy), (x, y + hy)])
         {
             let trace = self.trace(&self.camera.ray_at_ndc(sx, sy), candidates, false);
             if trace.key() != key {
@@ -384,19 +394,31 @@ impl<'a> Context<'a> {
             *slot = trace.best.map(|(_, hit)| hit);
         }
         sample.ambiguous = false;
-        if let (Some((id, hit)), [Some(x0), Some(x1), Some(y0), Some(y1)]) = (centre.best, neighbours) {
+        if let (Some((id, hit)), [Some(x0), Some(x1), Some(y0), Some(y1)]) =
+            (centre.best, neighbours)
+        {
             if !hit.cap {
                 let e = &self.prepared[id as usize];
                 // Gradients per pixel from central differences over 2 HAIR.
-                let depth_grad = ((x1.depth - x0.depth).powi(2) + (y1.depth - y0.depth).powi(2)).sqrt() / (2.0 * HAIR);
+                let depth_grad = ((x1.depth - x0.depth).powi(2) + (y1.depth - y0.depth).powi(2))
+                    .sqrt()
+                    / (2.0 * HAIR);
                 let turn = |a: DVec3, b: DVec3| a.cross(b).length().atan2(a.dot(b));
-                let normal_grad = (turn(x0.normal, x1.normal).powi(2) + turn(y0.normal, y1.normal).powi(2)).sqrt() / (2.0 * HAIR);
-                // What float32 resolves: screen position, and surface position relative to the eye.
-                let scale = (e.center - self.camera.eye).length() + e.extent;
-                let position = F32_ROUNDOFF * scale;
+                let normal_grad = (turn(x0.normal, x1.normal).powi(2)
+                    + turn(y0.normal, y1.normal).powi(2))
+                .sqrt()
+                    / (2.0 * HAIR);
+                // What float32 resolves: screen position, and the surface's position relative to
+                // the eye in view axes -- across the view by the centre's lateral offset, along
+                // it by its depth (each plus the ellipsoid's size).
+                let rel = e.center - self.camera.eye;
+                let along = rel.dot(self.forward);
+                let across = (rel - along * self.forward).length();
+                let lateral = F32_ROUNDOFF * (across + e.extent);
+                let axial = F32_ROUNDOFF * (along.abs() + e.extent);
                 let shift_px = F32_ROUNDOFF * (self.camera.width + self.camera.height) as f64
-                    + position / self.pixel_size_at(hit.depth);
-                sample.depth_floor = (depth_grad * shift_px + position) / hit.depth;
+                    + lateral / self.pixel_size_at(hit.depth);
+                sample.depth_floor = (depth_grad * shift_px + axial) / hit.depth;
                 sample.normal_floor_deg = (normal_grad * shift_px).to_degrees();
             }
         }
@@ -526,8 +548,9 @@ impl TileBins {
     }
 }
 
-/// The tiles that may see any of `e`: a conservative screen rectangle of its bounding sphere,
-/// widened by a pixel; `None` when it is entirely behind the near plane or off screen.
+/// The tiles that may see any of `e`: the screen rectangle of its bounding sphere's part in front
+/// of the near plane, widened by a pixel; `None` when nothing of it is in front of the near plane
+/// or on screen.
 fn tile_range(
     e: &Ellipsoid,
     camera: &Camera,
@@ -546,12 +569,6 @@ fn tile_range(
     if z + radius < camera.near {
         return None;
     }
-    let full = TileRange {
-        x0: 0,
-        x1: tiles_x - 1,
-        y0: 0,
-        y1: tiles_y - 1,
-    };
     let (sx, sy) = camera.ndc_scale();
     // The rectangle in NDC: (x_min, x_max, y_min, y_max).
     let ndc = match camera.projection {
@@ -562,12 +579,8 @@ fn tile_range(
             (y + radius) / sy,
         ),
         Projection::Perspective { .. } => {
-            // A sphere reaching the eye plane projects onto an unbounded region.
-            if z <= radius * (1.0 + 1e-6) {
-                return Some(full);
-            }
-            let (x0, x1) = tangent_slopes(x, z, radius);
-            let (y0, y1) = tangent_slopes(y, z, radius);
+            let (x0, x1) = clipped_slopes(x, z, radius, camera.near)?;
+            let (y0, y1) = clipped_slopes(y, z, radius, camera.near)?;
             (x0 / sx, x1 / sx, y0 / sy, y1 / sy)
         }
     };
@@ -590,13 +603,43 @@ fn tile_range(
     })
 }
 
-/// Slopes `s` (lateral / forward) of the two planes through the eye that touch a sphere at
-/// lateral offset `x`, forward distance `z > r`, radius `r`: the exact extent of its perspective
-/// projection along that axis. Roots of `s^2 (z^2 - r^2) - 2 x z s + x^2 - r^2 = 0`.
-fn tangent_slopes(x: f64, z: f64, r: f64) -> (f64, f64) {
-    let denom = (z - r) * (z + r);
-    let root = r * (x * x + denom).sqrt();
-    ((x * z - root) / denom, (x * z + root) / denom)
+/// Range of slopes `lateral / forward` over the part of a sphere in front of the near plane,
+/// along one screen axis: the exact extent of its perspective projection, also when it crosses
+/// the near plane or the eye plane or holds the eye (after Mara & McGuire 2013).
+///
+/// Slopes depend only on the lateral and forward coordinates, so the problem is the disc of
+/// centre `(x, z)` and radius `r` clipped to `Z >= near`. Over that convex set the extremes of
+/// `X / Z` lie where lines through the eye touch the arc (tangent points that survive the clip)
+/// or at the corners where the circle meets the near line. `None` when the clipped disc is empty.
+fn clipped_slopes(x: f64, z: f64, r: f64, near: f64) -> Option<(f64, f64)> {
+    let mut lo = f64::INFINITY;
+    let mut hi = f64::NEG_INFINITY;
+    let mut take = |px: f64, pz: f64| {
+        let slope = px / pz;
+        lo = lo.min(slope);
+        hi = hi.max(slope);
+    };
+    let height = (z - near).abs();
+    if height < r {
+        let half_chord = ((r - height) * (r + height)).sqrt();
+        take(x - half_chord, near);
+        take(x + half_chord, near);
+    }
+    let d2 = x * x + z * z;
+    let d = d2.sqrt();
+    if d > r {
+        // Tangent points from the eye: C (1 - r^2/d^2) +- perp(C) r sqrt(d^2 - r^2) / d^2.
+        let along = 1.0 - (r / d) * (r / d);
+        let across = r * ((d - r) * (d + r)).sqrt() / d2;
+        for sign in [-1.0, 1.0] {
+            let tx = x * along - sign * across * z;
+            let tz = z * along + sign * across * x;
+            if tz >= near {
+                take(tx, tz);
+            }
+        }
+    }
+    (lo <= hi).then_some((lo, hi))
 }
 
 #[cfg(test)]
@@ -893,11 +936,19 @@ mod tests {
     #[test]
     fn tiled_render_matches_brute_force_perspective() {
         let mut rng = Rng(7);
-        let scene = Scene::new((0..300).map(|_| rng.ellipsoid(4.0, 0.05, 0.6)).collect());
+        let mut scene = Scene::new((0..300).map(|_| rng.ellipsoid(4.0, 0.05, 0.6)).collect());
         // The eye sits inside the cloud, so some ellipsoids cross the eye plane or the near
         // plane, and some are behind.
         let cam = perspective(DVec3::new(0.2, 0.1, 1.5), DVec3::ZERO, 70.0, 0.05, 83, 61);
+        // One more crosses the eye plane beside the eye and is cut open by the near plane.
+        let b = cam.basis();
+        scene
+            .ellipsoids
+            .push(sphere(cam.eye + 0.2 * b.forward + 0.3 * b.right, 0.32));
         matches_brute_force(&cam, &scene);
+        let frame = render_reference(&scene, &cam).unwrap();
+        let caps = frame.depth.iter().filter(|&&d| d == cam.near).count();
+        assert!(caps > 100, "only {caps} cap pixels");
     }
 
     #[test]
@@ -919,39 +970,51 @@ mod tests {
     }
 
     #[test]
+    fn clipped_slopes_bound_the_clipped_disc_tightly() {
+        let mut rng = Rng(3);
+        for _ in 0..2000 {
+            let (x, z, r) = (
+                rng.range(-3.0, 3.0),
+                rng.range(-2.0, 3.0),
+                rng.range(0.01, 2.0),
+            );
+            let near = rng.range(0.01, 1.0);
+            let Some((lo, hi)) = clipped_slopes(x, z, r, near) else {
+                assert!(z + r <= near + 1e-12, "({x}, {z}, {r}, {near})");
+                continue;
+            };
+            // Sample the clipped disc's boundary: the arc and the chord on the near line.
+            let (mut seen_lo, mut seen_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+            let steps = 20_000;
+            for k in 0..steps {
+                let a = k as f64 / steps as f64 * std::f64::consts::TAU;
+                let (px, pz) = (x + r * a.cos(), z + r * a.sin());
+                let (px, pz) = if pz >= near {
+                    (px, pz)
+                } else {
+                    // Project onto the chord, which lies inside the clipped disc.
+                    let w = (r * r - (near - z).powi(2)).max(0.0).sqrt();
+                    (px.clamp(x - w, x + w), near)
+                };
+                let s = px / pz;
+                assert!(s >= lo - 1e-9 * (1.0 + s.abs()) && s <= hi + 1e-9 * (1.0 + s.abs()));
+                seen_lo = seen_lo.min(s);
+                seen_hi = seen_hi.max(s);
+            }
+            // Tight: the sampled extremes come close to the bounds.
+            let tol = 1e-3 * (1.0 + lo.abs().max(hi.abs()));
+            assert!(
+                seen_lo - lo < tol && hi - seen_hi < tol,
+                "({x}, {z}, {r}, {near})"
+            );
+        }
+    }
+
+    #[test]
     fn invalid_camera_is_rejected() {
         let mut cam = perspective(DVec3::Z * 5.0, DVec3::ZERO, 45.0, 0.1, 8, 8);
         cam.near = -1.0;
         let err = render_reference(&Scene::default(), &cam).unwrap_err();
         assert!(err.to_string().contains("near"), "{err}");
-    }
-}
-
-#[cfg(test)]
-mod throwaway_bench {
-    use super::*;
-
-    #[test]
-    #[ignore]
-    fn bench_reference_1080p() {
-        for (count, radius) in [(10_000usize, 0.05f64), (100_000, 0.025), (1_000_000, 0.012)] {
-            let scene = crate::scene::random_cloud(count, 1, 1.0, radius);
-            let (c, r) = scene.bounding_sphere().unwrap();
-            let cam = Camera::framing(c, r, 1920, 1080).unwrap();
-            let t = std::time::Instant::now();
-            let frame = render_reference(&scene, &cam).unwrap();
-            let dt = t.elapsed();
-            let covered = frame.id.iter().filter(|&&i| i != NO_INSTANCE).count();
-            let amb = frame.ambiguous.iter().filter(|&&a| a).count();
-            println!("{count} ellipsoids: {dt:?}, covered {covered}, ambiguous {amb}");
-            // Camera inside the cloud.
-            let mut inside = cam;
-            inside.eye = c + DVec3::new(0.1, 0.05, 0.3);
-            inside.near = 1e-3;
-            let t = std::time::Instant::now();
-            let frame = render_reference(&scene, &inside).unwrap();
-            let covered = frame.id.iter().filter(|&&i| i != NO_INSTANCE).count();
-            println!("  inside: {:?}, covered {covered}", t.elapsed());
-        }
     }
 }

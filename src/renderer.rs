@@ -101,7 +101,11 @@ pub struct EllipsoidRenderer {
 impl EllipsoidRenderer {
     /// Creates the descriptor and pipeline layouts; pipelines are built on first use of each
     /// variant (projection kind x intersection), so a scene pays only for what it draws.
-    pub fn new(device: &ash::Device, allocator: &mut Allocator, formats: TargetFormats) -> Result<Self> {
+    pub fn new(
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        formats: TargetFormats,
+    ) -> Result<Self> {
         let mut renderer = Self {
             set_layout: vk::DescriptorSetLayout::null(),
             pipeline_layout: vk::PipelineLayout::null(),
@@ -144,22 +148,24 @@ impl EllipsoidRenderer {
             .set_layouts(&layouts)
             .push_constant_ranges(&ranges);
         // SAFETY: as above.
-        self.pipeline_layout = unsafe { device.create_pipeline_layout(&info, None) }
-            .call("vkCreatePipelineLayout")?;
+        self.pipeline_layout =
+            unsafe { device.create_pipeline_layout(&info, None) }.call("vkCreatePipelineLayout")?;
 
         let sizes = [vk::DescriptorPoolSize::default()
             .ty(vk::DescriptorType::STORAGE_BUFFER)
             .descriptor_count(1)];
-        let info = vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes);
+        let info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(1)
+            .pool_sizes(&sizes);
         // SAFETY: as above.
-        self.descriptor_pool = unsafe { device.create_descriptor_pool(&info, None) }
-            .call("vkCreateDescriptorPool")?;
+        self.descriptor_pool =
+            unsafe { device.create_descriptor_pool(&info, None) }.call("vkCreateDescriptorPool")?;
         let info = vk::DescriptorSetAllocateInfo::default()
             .descriptor_pool(self.descriptor_pool)
             .set_layouts(&layouts);
         // SAFETY: the pool has room for exactly this set; freed with the pool.
-        self.descriptor_set = unsafe { device.allocate_descriptor_sets(&info) }
-            .call("vkAllocateDescriptorSets")?[0];
+        self.descriptor_set =
+            unsafe { device.allocate_descriptor_sets(&info) }.call("vkAllocateDescriptorSets")?[0];
         Ok(())
     }
 
@@ -176,9 +182,15 @@ impl EllipsoidRenderer {
     /// Replaces the instance data with `scene`. Positions are stored relative to a scene origin
     /// chosen at the centre of the data's bounds, so float32 keeps its precision where the data
     /// is, however far that is from the world origin. The GPU must not be using the old buffer.
-    pub fn upload(&mut self, device: &ash::Device, allocator: &mut Allocator, scene: &Scene) -> Result<()> {
-        let count = u32::try_from(scene.len())
-            .map_err(|_| Error::invalid("scene", format!("{} ellipsoids exceed u32", scene.len())))?;
+    pub fn upload(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        scene: &Scene,
+    ) -> Result<()> {
+        let count = u32::try_from(scene.len()).map_err(|_| {
+            Error::invalid("scene", format!("{} ellipsoids exceed u32", scene.len()))
+        })?;
         let bytes = INSTANCE_BYTES * scene.len();
         self.origin = scene
             .bounds()
@@ -205,7 +217,10 @@ impl EllipsoidRenderer {
                 data.extend_from_slice(&v.to_ne_bytes());
             }
         }
-        let reuse = self.instances.as_ref().is_some_and(|b| b.size() >= bytes.max(1) as u64);
+        let reuse = self
+            .instances
+            .as_ref()
+            .is_some_and(|b| b.size() >= bytes.max(1) as u64);
         if !reuse {
             if let Some(old) = self.instances.take() {
                 old.destroy(device, allocator);
@@ -251,7 +266,12 @@ impl EllipsoidRenderer {
     /// Records the draw into `cmd`, which must be inside a dynamic-rendering pass whose
     /// attachments match the `TargetFormats` and whose viewport is the camera's image size.
     /// Sets viewport and scissor itself. Records nothing if the scene is empty.
-    pub fn record(&mut self, device: &ash::Device, cmd: vk::CommandBuffer, camera: &Camera) -> Result<()> {
+    pub fn record(
+        &mut self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        camera: &Camera,
+    ) -> Result<()> {
         camera.validate()?;
         if self.count == 0 {
             return Ok(());
@@ -312,13 +332,34 @@ impl EllipsoidRenderer {
         let eye = glam::DVec3::new(rel.dot(b.right), rel.dot(b.up), rel.dot(b.forward)).as_vec3();
         let m = &self.material;
         let values: [f32; PUSH_BYTES / 4] = [
-            eye.x, eye.y, eye.z, camera.near as f32,
-            b.right.x as f32, b.right.y as f32, b.right.z as f32, sx as f32,
-            b.up.x as f32, b.up.y as f32, b.up.z as f32, sy as f32,
-            b.forward.x as f32, b.forward.y as f32, b.forward.z as f32, 0.0,
-            2.0 / camera.width as f32, 2.0 / camera.height as f32, QUAD_MARGIN_PX, 0.0,
-            m.ambient, m.diffuse, m.specular, m.shininess,
-            m.specular_color[0], m.specular_color[1], m.specular_color[2], 0.0,
+            eye.x,
+            eye.y,
+            eye.z,
+            camera.near as f32,
+            b.right.x as f32,
+            b.right.y as f32,
+            b.right.z as f32,
+            sx as f32,
+            b.up.x as f32,
+            b.up.y as f32,
+            b.up.z as f32,
+            sy as f32,
+            b.forward.x as f32,
+            b.forward.y as f32,
+            b.forward.z as f32,
+            0.0,
+            2.0 / camera.width as f32,
+            2.0 / camera.height as f32,
+            QUAD_MARGIN_PX,
+            0.0,
+            m.ambient,
+            m.diffuse,
+            m.specular,
+            m.shininess,
+            m.specular_color[0],
+            m.specular_color[1],
+            m.specular_color[2],
+            0.0,
         ];
         values.iter().flat_map(|v| v.to_ne_bytes()).collect()
     }
@@ -380,11 +421,20 @@ fn build_pipeline(
         formats.aux_outputs,
         variant.intersection == Intersection::Textbook,
     ];
-    let spec_data: Vec<u8> = flags.iter().flat_map(|&v| (v as u32).to_ne_bytes()).collect();
-    let entries: Vec<vk::SpecializationMapEntry> = (0..flags.len() as u32)
-        .map(|i| vk::SpecializationMapEntry { constant_id: i, offset: 4 * i, size: 4 })
+    let spec_data: Vec<u8> = flags
+        .iter()
+        .flat_map(|&v| (v as u32).to_ne_bytes())
         .collect();
-    let spec = vk::SpecializationInfo::default().map_entries(&entries).data(&spec_data);
+    let entries: Vec<vk::SpecializationMapEntry> = (0..flags.len() as u32)
+        .map(|i| vk::SpecializationMapEntry {
+            constant_id: i,
+            offset: 4 * i,
+            size: 4,
+        })
+        .collect();
+    let spec = vk::SpecializationInfo::default()
+        .map_entries(&entries)
+        .data(&spec_data);
     let stages = [
         vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::VERTEX)
@@ -446,10 +496,11 @@ fn build_pipeline(
         .push_next(&mut rendering);
     // SAFETY: every pointer in `info` refers to locals alive for the call; the pipeline is owned
     // by the renderer.
-    let pipelines = unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
-        .map_err(|(_, result)| Error::Vulkan {
-            call: "vkCreateGraphicsPipelines",
-            result,
-        })?;
+    let pipelines =
+        unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
+            .map_err(|(_, result)| Error::Vulkan {
+                call: "vkCreateGraphicsPipelines",
+                result,
+            })?;
     Ok(pipelines[0])
 }

@@ -87,7 +87,11 @@ impl Extent {
         match self {
             Extent::Full => values.to_vec(),
             Extent::Reduced => {
-                let mut v = vec![values[0], values[values.len() / 2], values[values.len() - 1]];
+                let mut v = vec![
+                    values[0],
+                    values[values.len() / 2],
+                    values[values.len() - 1],
+                ];
                 v.dedup();
                 v
             }
@@ -112,8 +116,16 @@ fn cloud() -> Scene {
 }
 
 fn perspective(eye: DVec3, target: DVec3, fov: f64, near: f64, (w, h): (u32, u32)) -> Camera {
-    Camera::new(eye, target, DVec3::Y, Projection::Perspective { fov_y_deg: fov }, near, w, h)
-        .expect("sweep camera is valid")
+    Camera::new(
+        eye,
+        target,
+        DVec3::Y,
+        Projection::Perspective { fov_y_deg: fov },
+        near,
+        w,
+        h,
+    )
+    .expect("sweep camera is valid")
 }
 
 /// Distance from `e`'s centre to its surface along unit direction `dir`.
@@ -134,11 +146,14 @@ fn framing_camera(scene: &Scene, dir: DVec3, fov: f64, size: (u32, u32)) -> Came
 /// Nearest and farthest view depth any ellipsoid of `scene` reaches.
 fn depth_extent(scene: &Scene, camera: &Camera) -> (f64, f64) {
     let f = camera.basis().forward;
-    scene.ellipsoids.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), e| {
-        let depth = camera.view_depth(e.center);
-        let half = (e.to_world().transpose() * f).length();
-        (lo.min(depth - half), hi.max(depth + half))
-    })
+    scene
+        .ellipsoids
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), e| {
+            let depth = camera.view_depth(e.center);
+            let half = (e.to_world().transpose() * f).length();
+            (lo.min(depth - half), hi.max(depth + half))
+        })
 }
 
 /// Every sweep point of the stress test.
@@ -153,8 +168,18 @@ pub fn sweep_points(extent: Extent) -> Vec<StressPoint> {
         let e = base_ellipsoid(DVec3::new(0.3, -0.2, 0.1), 1.0);
         let s = surface_distance(&e, view);
         let d = k * s;
-        let fov = if d > 1.2 { (2.0 * (1.3 / (d * d - 1.0).sqrt()).atan()).to_degrees() } else { 160.0 };
-        let camera = perspective(e.center + view * d, e.center, fov.min(160.0), 0.5 * (d - s), size);
+        let fov = if d > 1.2 {
+            (2.0 * (1.3 / (d * d - 1.0).sqrt()).atan()).to_degrees()
+        } else {
+            160.0
+        };
+        let camera = perspective(
+            e.center + view * d,
+            e.center,
+            fov.min(160.0),
+            0.5 * (d - s),
+            size,
+        );
         points.push(StressPoint {
             sweep: "distance",
             case: "ellipsoid 1:0.6:0.35".into(),
@@ -172,8 +197,16 @@ pub fn sweep_points(extent: Extent) -> Vec<StressPoint> {
         ] {
             // The needle's long axis is x; the pancake's thin axis is z.
             for (view_name, angle) in [("face-on", 0.0f64), ("45deg", 45.0), ("edge-on", 90.0)] {
-                let axis = if shape == "needle" { DVec3::X } else { DVec3::Z };
-                let across = if shape == "needle" { DVec3::Z } else { DVec3::X };
+                let axis = if shape == "needle" {
+                    DVec3::X
+                } else {
+                    DVec3::Z
+                };
+                let across = if shape == "needle" {
+                    DVec3::Z
+                } else {
+                    DVec3::X
+                };
                 // Face-on looks along the pancake's thin axis / across the needle.
                 let a = angle.to_radians();
                 let dir = if shape == "needle" {
@@ -360,7 +393,11 @@ pub fn sweep_points(extent: Extent) -> Vec<StressPoint> {
 }
 
 /// Renders `point` with `method` on the GPU and by the reference, and measures the error.
-pub fn run_point(renderer: &mut OffscreenRenderer, point: &StressPoint, method: Intersection) -> Result<StressResult> {
+pub fn run_point(
+    renderer: &mut OffscreenRenderer,
+    point: &StressPoint,
+    method: Intersection,
+) -> Result<StressResult> {
     renderer.set_intersection(method);
     let frame = renderer.render(&point.scene, &point.camera)?;
     let reference = render_reference(&point.scene, &point.camera)?;
@@ -448,6 +485,21 @@ impl StressResult {
     }
 }
 
+/// What a sweep's parameter measures.
+pub fn parameter_label(sweep: &str) -> &'static str {
+    match sweep {
+        "distance" => "eye-centre distance / centre-surface distance along the line of sight",
+        "aspect" => "aspect ratio (largest / smallest semi-axis)",
+        "offset" => "distance of scene and camera from the world origin",
+        "fov" => "vertical field of view (degrees)",
+        "near" => "near-plane position: cut fraction, eye-in-cloud near, or inside fraction",
+        "size" => "projected size (pixels)",
+        "scale" => "scale of scene and camera",
+        "coincident" => "gap between the surfaces / distance",
+        _ => "parameter",
+    }
+}
+
 /// Sweeps whose parameter is plotted on a linear axis (fractions); the rest are logarithmic.
 fn linear_sweep(sweep: &str) -> bool {
     sweep == "near"
@@ -455,7 +507,11 @@ fn linear_sweep(sweep: &str) -> bool {
 
 /// Writes `stress.csv`, one `stress_<sweep>.png` per sweep (worst error over bound against the
 /// swept parameter, one line per case and method) into `dir`, and returns the printed table.
-pub fn write_report(results: &[StressResult], size: (u32, u32), dir: &std::path::Path) -> Result<String> {
+pub fn write_report(
+    results: &[StressResult],
+    size: (u32, u32),
+    dir: &std::path::Path,
+) -> Result<String> {
     use crate::report::{fmt_sci, format_table, line_chart, write_csv, Axis, Series, Threshold};
 
     std::fs::create_dir_all(dir).map_err(|source| crate::Error::Io {
@@ -479,9 +535,9 @@ pub fn write_report(results: &[StressResult], size: (u32, u32), dir: &std::path:
             }
         }
         let x = if linear_sweep(sweep) {
-            Axis::linear(format!("{sweep} parameter"))
+            Axis::linear(parameter_label(sweep))
         } else {
-            Axis::log(format!("{sweep} parameter"))
+            Axis::log(parameter_label(sweep))
         };
         line_chart(
             &dir.join(format!("stress_{sweep}.png")),
@@ -494,8 +550,18 @@ pub fn write_report(results: &[StressResult], size: (u32, u32), dir: &std::path:
     }
 
     let header = [
-        "sweep", "case", "parameter", "method", "covered", "cov.mis", "depth p99", "beyond f32",
-        "normal p99", "beyond f32", "worst/bound", "pass",
+        "sweep",
+        "case",
+        "parameter",
+        "method",
+        "covered",
+        "cov.mis",
+        "depth p99",
+        "beyond f32",
+        "normal p99",
+        "beyond f32",
+        "worst/bound",
+        "pass",
     ];
     let table: Vec<Vec<String>> = results
         .iter()

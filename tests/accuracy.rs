@@ -9,7 +9,16 @@ use ellipsoid_splat::{Camera, Ellipsoid, Projection, Scene};
 use glam::{DQuat, DVec3, EulerRot};
 
 fn perspective(eye: DVec3, target: DVec3, fov_y_deg: f64, near: f64, w: u32, h: u32) -> Camera {
-    Camera::new(eye, target, DVec3::Y, Projection::Perspective { fov_y_deg }, near, w, h).unwrap()
+    Camera::new(
+        eye,
+        target,
+        DVec3::Y,
+        Projection::Perspective { fov_y_deg },
+        near,
+        w,
+        h,
+    )
+    .unwrap()
 }
 
 #[test]
@@ -28,9 +37,22 @@ fn rotated_ellipsoid_matches_reference() {
 
 #[test]
 fn sphere_matches_reference() {
-    let e = Ellipsoid::new(DVec3::new(0.0, 0.0, -3.0), DVec3::splat(1.0), DQuat::IDENTITY, None).unwrap();
+    let e = Ellipsoid::new(
+        DVec3::new(0.0, 0.0, -3.0),
+        DVec3::splat(1.0),
+        DQuat::IDENTITY,
+        None,
+    )
+    .unwrap();
     let scene = Scene::new(vec![e]);
-    let camera = perspective(DVec3::new(0.0, 0.5, 2.0), DVec3::new(0.0, 0.0, -3.0), 30.0, 0.5, 256, 256);
+    let camera = perspective(
+        DVec3::new(0.0, 0.5, 2.0),
+        DVec3::new(0.0, 0.0, -3.0),
+        30.0,
+        0.5,
+        256,
+        256,
+    );
     assert_matches_reference(&scene, &camera, &Bounds::STRICT, 5_000);
 }
 
@@ -39,7 +61,11 @@ fn overlapping_random_cloud_matches_reference() {
     let scene = random_cloud(300, 7, 3.0, 0.8);
     let camera = perspective(DVec3::new(4.0, 3.0, 9.0), DVec3::ZERO, 50.0, 0.5, 320, 240);
     let stats = assert_matches_reference(&scene, &camera, &Bounds::STRICT, 20_000);
-    assert!(stats.id_mismatch == 0, "visible instance differs at {} pixels", stats.id_mismatch);
+    assert!(
+        stats.id_mismatch == 0,
+        "visible instance differs at {} pixels",
+        stats.id_mismatch
+    );
 }
 
 #[test]

@@ -11,7 +11,10 @@ use ellipsoid_splat::stress::{run_point, sweep_points, Extent};
 fn run_sweep(sweep: &str) {
     let mut renderer = common::validated_renderer();
     let mut failures = Vec::new();
-    let points: Vec<_> = sweep_points(Extent::Reduced).into_iter().filter(|p| p.sweep == sweep).collect();
+    let points: Vec<_> = sweep_points(Extent::Reduced)
+        .into_iter()
+        .filter(|p| p.sweep == sweep)
+        .collect();
     assert!(!points.is_empty(), "sweep {sweep} has no points");
     for point in &points {
         let result = run_point(&mut renderer, point, Intersection::Stable).expect("render");
@@ -24,12 +27,22 @@ fn run_sweep(sweep: &str) {
             result.stats
         );
         if let Some(broken) = result.broken {
-            failures.push(format!("{} {} {}: {broken}", point.sweep, point.case, point.parameter));
+            failures.push(format!(
+                "{} {} {}: {broken}",
+                point.sweep, point.case, point.parameter
+            ));
         }
     }
-    renderer.context().check_validation().expect("no validation messages");
+    renderer
+        .context()
+        .check_validation()
+        .expect("no validation messages");
     renderer.finish().expect("clean shutdown");
-    assert!(failures.is_empty(), "bounds broken:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "bounds broken:\n{}",
+        failures.join("\n")
+    );
 }
 
 #[test]

@@ -53,7 +53,8 @@ impl GpuBuffer {
             }
         };
         // SAFETY: memory and offset come from an allocation made for these requirements.
-        let bound = unsafe { device.bind_buffer_memory(buffer, allocation.memory(), allocation.offset()) };
+        let bound =
+            unsafe { device.bind_buffer_memory(buffer, allocation.memory(), allocation.offset()) };
         if let Err(result) = bound {
             // SAFETY: nothing uses the buffer yet.
             unsafe { device.destroy_buffer(buffer, None) };
@@ -99,7 +100,10 @@ impl GpuBuffer {
             reason: "buffer is not host-visible".into(),
         })?;
         if bytes.len() > dst.len() {
-            return Err(Error::invalid(name, format!("{} bytes do not fit in {}", bytes.len(), dst.len())));
+            return Err(Error::invalid(
+                name,
+                format!("{} bytes do not fit in {}", bytes.len(), dst.len()),
+            ));
         }
         dst[..bytes.len()].copy_from_slice(bytes);
         Ok(())
@@ -118,7 +122,10 @@ impl GpuBuffer {
 impl Drop for GpuBuffer {
     fn drop(&mut self) {
         if self.allocation.is_some() {
-            eprintln!("ellipsoid-splat: buffer '{}' dropped without destroy(): leaked", self.name);
+            eprintln!(
+                "ellipsoid-splat: buffer '{}' dropped without destroy(): leaked",
+                self.name
+            );
         }
     }
 }

@@ -319,10 +319,13 @@ fn device_name(instance: &ash::Instance, pd: vk::PhysicalDevice) -> String {
 
 /// Picks a device with Vulkan 1.3 and a graphics queue: the one named by `wanted` (or
 /// `ELLIPSOID_SPLAT_DEVICE`), else a discrete GPU, integrated, virtual, then CPU (lavapipe).
-fn choose_device(instance: &ash::Instance, wanted: Option<&str>) -> Result<(vk::PhysicalDevice, u32)> {
+fn choose_device(
+    instance: &ash::Instance,
+    wanted: Option<&str>,
+) -> Result<(vk::PhysicalDevice, u32)> {
     // SAFETY: plain query on a valid instance.
-    let devices = unsafe { instance.enumerate_physical_devices() }
-        .call("vkEnumeratePhysicalDevices")?;
+    let devices =
+        unsafe { instance.enumerate_physical_devices() }.call("vkEnumeratePhysicalDevices")?;
     let env = std::env::var("ELLIPSOID_SPLAT_DEVICE").ok();
     let wanted = wanted.map(str::to_owned).or(env);
     let mut candidates = Vec::new();
@@ -404,13 +407,20 @@ fn create_device(
     Ok((device, pipeline_statistics))
 }
 
-fn device_info(instance: &ash::Instance, pd: vk::PhysicalDevice, pipeline_statistics: bool) -> DeviceInfo {
+fn device_info(
+    instance: &ash::Instance,
+    pd: vk::PhysicalDevice,
+    pipeline_statistics: bool,
+) -> DeviceInfo {
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
     let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
     // SAFETY: `pd` belongs to `instance`; the chain points at locals.
     unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
     let props = props2.properties;
-    let text = |s: Result<&CStr, _>| s.map(|c: &CStr| c.to_string_lossy().into_owned()).unwrap_or_default();
+    let text = |s: Result<&CStr, _>| {
+        s.map(|c: &CStr| c.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    };
     let driver_text = format!(
         "{} ({})",
         text(driver.driver_name_as_c_str()),

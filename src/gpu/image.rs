@@ -69,7 +69,9 @@ impl GpuImage {
             let _ = allocator.free(allocation);
         };
         // SAFETY: memory and offset come from an allocation made for these requirements.
-        if let Err(result) = unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) } {
+        if let Err(result) =
+            unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) }
+        {
             cleanup(device, allocator, allocation);
             return Err(Error::Vulkan {
                 call: "vkBindImageMemory",
@@ -138,7 +140,10 @@ impl GpuImage {
 impl Drop for GpuImage {
     fn drop(&mut self) {
         if self.allocation.is_some() {
-            eprintln!("ellipsoid-splat: image '{}' dropped without destroy(): leaked", self.name);
+            eprintln!(
+                "ellipsoid-splat: image '{}' dropped without destroy(): leaked",
+                self.name
+            );
         }
     }
 }

@@ -72,7 +72,12 @@ unsafe extern "system" fn on_message(
     // SAFETY: the layer passes a valid callback-data struct for the duration of the call;
     // `user_data` is the `Mutex` inside the `Arc` that the context keeps alive until after the
     // messenger (and the instance, for the chained create info) is destroyed.
-    let (data, log) = unsafe { (&*data, &*(user_data as *const Mutex<Vec<ValidationMessage>>)) };
+    let (data, log) = unsafe {
+        (
+            &*data,
+            &*(user_data as *const Mutex<Vec<ValidationMessage>>),
+        )
+    };
     let text = |p: *const std::ffi::c_char| {
         if p.is_null() {
             String::new()

@@ -11,7 +11,8 @@ use ellipsoid_splat::{Camera, Frame, OffscreenRenderer, Scene};
 
 /// A renderer on a device with validation and synchronization validation on.
 pub fn validated_renderer() -> OffscreenRenderer {
-    OffscreenRenderer::new(&ContextOptions::validated()).expect("validated Vulkan device (lavapipe)")
+    OffscreenRenderer::new(&ContextOptions::validated())
+        .expect("validated Vulkan device (lavapipe)")
 }
 
 /// Renders `scene` on the GPU under validation and returns the frame; fails the test on any
@@ -19,14 +20,24 @@ pub fn validated_renderer() -> OffscreenRenderer {
 pub fn render_gpu(scene: &Scene, camera: &Camera) -> Frame {
     let mut renderer = validated_renderer();
     let frame = renderer.render(scene, camera).expect("GPU render");
-    renderer.context().check_validation().expect("no validation messages");
-    renderer.finish().expect("clean shutdown: no leaks, no validation messages");
+    renderer
+        .context()
+        .check_validation()
+        .expect("no validation messages");
+    renderer
+        .finish()
+        .expect("clean shutdown: no leaks, no validation messages");
     frame
 }
 
 /// GPU against reference; asserts `bounds` and that the scene covers at least
 /// `min_covered` pixels (so the comparison is not vacuous). Returns the statistics.
-pub fn assert_matches_reference(scene: &Scene, camera: &Camera, bounds: &Bounds, min_covered: usize) -> ErrorStats {
+pub fn assert_matches_reference(
+    scene: &Scene,
+    camera: &Camera,
+    bounds: &Bounds,
+    min_covered: usize,
+) -> ErrorStats {
     let frame = render_gpu(scene, camera);
     let reference = render_reference(scene, camera).expect("reference render");
     let stats = compare(&frame, &reference).expect("same size");
