@@ -9,7 +9,7 @@
 // Outputs beyond colour only when the pipeline has those attachments.
 layout(constant_id = 1) const bool AUX_OUTPUTS = true;
 
-layout(location = 0) noperspective in vec3 v_ray;
+layout(location = 0) in vec3 v_ray;
 layout(location = 1) flat in vec4 v_k;
 layout(location = 2) flat in vec4 v_depth;
 layout(location = 3) flat in vec4 v_misc;

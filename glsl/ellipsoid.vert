@@ -10,7 +10,10 @@
 // projected centre mapped into the frame, so no large nearly-equal numbers are ever subtracted.
 #include "ellipsoid_common.glsl"
 
-layout(location = 0) noperspective out vec3 v_ray;
+// Smooth, not `noperspective`: every vertex has w = 1, so both interpolate the same, and
+// lavapipe (Mesa 22.3.6) mis-interpolates noperspective attributes of clipped primitives
+// (measured: 79 wrong pixels in tests/accuracy.rs every_footprint_covers_exactly).
+layout(location = 0) out vec3 v_ray;
 layout(location = 1) flat out vec4 v_k;             // k0, k1, k2, r: q = k1 ray.xy / (k0 + k2 ray.z)
 layout(location = 2) flat out vec4 v_depth;         // xyz: g = frame vector with depth = cz + g.p; w: cz
 layout(location = 3) flat out vec4 v_misc;          // u = 1/|e~|, |e~|, r^2 = 1 - u^2, depth scale (see the fragment stage)
@@ -43,8 +46,28 @@ void frame_from_z(vec3 z, out vec3 x, out vec3 y) {
     y = vec3(b, s + z.y * z.y * a, -z.y);
 }
 
+const float PI = 3.14159265358979;
+const float SQRT2 = 1.41421356237310;
+
+// Axes (semi-axis vectors) of the ellipse with support function h(n)^2 = n^T S n, S =
+// [s00 s01; s01 s11], det = det S computed as accurately as the caller can. The small axis is
+// det / l1 plus a few roundings of l1, so thin ellipses are never underestimated.
+void ellipse_axes(float s00, float s01, float s11, float det, out vec2 axis1, out vec2 axis2) {
+    float l1 = 0.5 * (s00 + s11) + length(vec2(0.5 * (s00 - s11), s01));
+    float l2 = max(det / l1, 0.0) + 4.0 * 1.2e-7 * l1;
+    float phi = 0.5 * atan(2.0 * s01, s00 - s11);
+    vec2 d = vec2(cos(phi), sin(phi));
+    axis1 = sqrt(l1) * d;
+    axis2 = sqrt(l2) * vec2(-d.y, d.x);
+}
+
+vec2 normalize_or(vec2 v, vec2 fallback) {
+    float len = length(v);
+    return len > 0.0 ? v / len : fallback;
+}
+
 void cull() {
-    gl_Position = vec4(-2.0, -2.0, 0.0, 1.0); // all four corners equal: zero area, outside
+    gl_Position = vec4(-2.0, -2.0, 0.0, 1.0); // all corners equal: zero area, outside
 }
 
 void main() {
@@ -85,23 +108,56 @@ void main() {
     frame_from_z(fz, fx, fy);
     mat3 to_frame = transpose(mat3(fx, fy, fz));
 
-    // Screen rectangle in NDC (x right, y up as in the pixel contract), and the mode.
-    vec4 rect = vec4(-1.0, -1.0, 1.0, 1.0);
+    // The footprint: a convex polygon on the screen plane (slope units x/z, y/z for
+    // perspective; world units for orthographic) that contains the silhouette. By default the
+    // polygon circumscribes an ellipse around the whole screen.
     bool offset_mode = true; // ray attribute = pixel offset from the projected centre
+    bool bounded = false;
     float u = 0.0, rr = 1.0, depth_scale = 1.0;
+    vec2 centre = vec2(0.0);
+    vec2 axis1 = vec2(sx, 0.0) * SQRT2, axis2 = vec2(0.0, sy) * SQRT2;
     if (ORTHOGRAPHIC) {
-        vec3 h = vec3(length(a_r), length(a_u), 0.0);
-        rect = vec4((c.x - h.x) / sx, (c.y - h.y) / sy, (c.x + h.x) / sx, (c.y + h.y) / sy);
         v_k = vec4(1.0, 1.0, 0.0, 1.0);
+        centre = c.xy;
+        if (BOUNDS == BOUNDS_AXIS_RECT) {
+            axis1 = vec2(length(a_r), 0.0);
+            axis2 = vec2(0.0, length(a_u));
+        } else {
+            // Support function h(n)^2 = n^T S n of the projected ellipse.
+            vec3 ru = cross(a_r, a_u);
+            ellipse_axes(dot(a_r, a_r), dot(a_r, a_u), dot(a_u, a_u), dot(ru, ru), axis1, axis2);
+        }
+        bounded = true;
     } else if (c.z > half_z) {
         // Wholly in front of the eye plane: the silhouette is a bounded conic.
-        vec2 kx = tangent_slopes(a_r, a_f, c.x, c.z, half_z);
-        vec2 ky = tangent_slopes(a_u, a_f, c.y, c.z, half_z);
-        rect = vec4(kx.x / sx, ky.x / sy, kx.y / sx, ky.y / sy);
         u = 1.0 / eye_dist;
         rr = sqrt(r2);
         depth_scale = c.z;
         v_k = vec4(1.0, rr * c.z, c.z * u, rr);
+        if (BOUNDS == BOUNDS_AXIS_RECT) {
+            vec2 kx = tangent_slopes(a_r, a_f, c.x, c.z, half_z);
+            vec2 ky = tangent_slopes(a_u, a_f, c.y, c.z, half_z);
+            centre = 0.5 * vec2(kx.x + kx.y, ky.x + ky.y);
+            axis1 = vec2(0.5 * (kx.y - kx.x), 0.0);
+            axis2 = vec2(0.0, 0.5 * (ky.y - ky.x));
+            bounded = true;
+        } else if (BOUNDS == BOUNDS_TIGHT) {
+            // Tangent lines n.x = k of the conic satisfy lead k^2 - 2 (n.beta) k + C(n) = 0, so
+            // the conic's centre is beta / lead and its squared support function is
+            // n^T S n with S lead^2 = Gram(w) - Gram(x), w_i = cz a_i - c_i a_f,
+            // x_i = a_i x a_f: the cancellation-free form of the discriminant.
+            float lead = (half_z - c.z) * (half_z + c.z);
+            vec2 beta = vec2(dot(a_r, a_f) - c.x * c.z, dot(a_u, a_f) - c.y * c.z);
+            vec3 w_r = c.z * a_r - c.x * a_f, w_u = c.z * a_u - c.y * a_f;
+            vec3 x_r = cross(a_r, a_f), x_u = cross(a_u, a_f);
+            float inv2 = 1.0 / (lead * lead);
+            float s00 = (dot(w_r, w_r) - dot(x_r, x_r)) * inv2;
+            float s01 = (dot(w_r, w_u) - dot(x_r, x_u)) * inv2;
+            float s11 = (dot(w_u, w_u) - dot(x_u, x_u)) * inv2;
+            centre = beta / lead;
+            ellipse_axes(s00, s01, s11, s00 * s11 - s01 * s01, axis1, axis2);
+            bounded = true;
+        }
     } else {
         // Crosses the eye plane: full screen, ray attribute = pixel direction.
         offset_mode = false;
@@ -118,16 +174,48 @@ void main() {
         v_flags |= FLAG_MAY_CAP;
     }
 
+    // This vertex's corner of the n-gon that circumscribes the unit circle, mapped onto the
+    // ellipse (any affine image keeps it circumscribing, with the same area ratio). The strip
+    // visits corners 0, 1, n-1, 2, n-2, ...
+    int i = gl_VertexIndex;
+    int k = i == 0 ? 0 : ((i & 1) != 0 ? (i + 1) / 2 : CORNERS - i / 2);
+    float theta = (2.0 * float(k) + 1.0) * PI / float(CORNERS);
+    float rho = 1.0 / cos(PI / float(CORNERS));
     // Grow by a sliver of a pixel so float rounding never drops a covered pixel centre.
-    vec2 margin = cam.viewport.z * cam.viewport.xy;
-    rect = clamp(rect + vec4(-margin, margin), -1.0, 1.0);
-    if (!(rect.x < rect.z && rect.y < rect.w)) {
-        cull(); // off screen (or NaN from a degenerate instance)
-        return;
+    float margin = cam.viewport.z * cam.viewport.y * sy;
+    if (bounded) {
+        axis1 += margin * normalize_or(axis1, vec2(1.0, 0.0));
+        axis2 += margin * normalize_or(axis2, vec2(0.0, 1.0));
+    }
+    vec2 corner = centre + rho * (cos(theta) * axis1 + sin(theta) * axis2);
+    if (BOUNDS == BOUNDS_WORLD_QUAD && !ORTHOGRAPHIC && offset_mode) {
+        // Gumhold's quad: the square around the silhouette circle in the silhouette plane,
+        // projected (it inflates under perspective). Off the eye's side: full screen.
+        vec2 q = rho * (1.0 + 1e-4) * rr * vec2(cos(theta), sin(theta));
+        vec3 p = fx * q.x + fy * q.y - fz * u;
+        vec3 x = c + vec3(dot(a_r, p), dot(a_u, p), dot(a_f, p));
+        bounded = x.z > 1e-6 * c.z;
+        corner = bounded ? x.xy / x.z : rho * (cos(theta) * axis1 + sin(theta) * axis2);
     }
 
-    int corner = gl_VertexIndex & 3;
-    vec2 ndc = vec2((corner & 1) != 0 ? rect.z : rect.x, (corner & 2) != 0 ? rect.w : rect.y);
+    // Off screen: cull. Reaching far past the screen: use the screen's polygon instead, so no
+    // vertex carries huge coordinates into the interpolation.
+    vec2 reach = rho * sqrt(axis1 * axis1 + axis2 * axis2) / vec2(sx, sy);
+    vec2 mid = centre / vec2(sx, sy);
+    if (bounded && BOUNDS != BOUNDS_WORLD_QUAD) {
+        if (any(greaterThan(abs(mid) - reach, vec2(1.0)))) {
+            cull();
+            return;
+        }
+        if (any(greaterThan(abs(mid) + reach, vec2(4.0)))) {
+            corner = rho * (cos(theta) * vec2(sx, 0.0) + sin(theta) * vec2(0.0, sy)) * SQRT2;
+        }
+    }
+    if (any(isnan(corner))) {
+        cull(); // degenerate instance
+        return;
+    }
+    vec2 ndc = corner / vec2(sx, sy);
 
     vec3 s;
     if (ORTHOGRAPHIC) {

@@ -12,7 +12,7 @@ use crate::frame::Frame;
 use crate::gpu::image::full_range;
 use crate::gpu::{Context, ContextOptions, GpuBuffer, GpuImage};
 use crate::renderer::{
-    EllipsoidRenderer, Intersection, Material, TargetFormats, ID_FORMAT, NORMAL_FORMAT,
+    EllipsoidRenderer, Footprint, Intersection, Material, TargetFormats, ID_FORMAT, NORMAL_FORMAT,
 };
 use crate::scene::Scene;
 
@@ -121,6 +121,11 @@ impl OffscreenRenderer {
     /// Chooses the intersection formulation for the following frames.
     pub fn set_intersection(&mut self, intersection: Intersection) {
         self.renderer_mut().intersection = intersection;
+    }
+
+    /// Chooses the screen polygon drawn per instance for the following frames.
+    pub fn set_footprint(&mut self, footprint: Footprint) {
+        self.renderer_mut().footprint = footprint;
     }
 
     fn renderer_mut(&mut self) -> &mut EllipsoidRenderer {

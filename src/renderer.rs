@@ -69,11 +69,50 @@ pub enum Intersection {
     Textbook,
 }
 
+/// The screen-space polygon each instance is drawn as.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Footprint {
+    /// The oriented rectangle around the projected ellipse: at most 4/pi of the covered
+    /// pixels, for any shape and orientation (the shipped default).
+    #[default]
+    OrientedRect,
+    /// A hexagon around the projected ellipse (area ratio 1.10; 6 vertices).
+    Hexagon,
+    /// An octagon around the projected ellipse (area ratio 1.05; 8 vertices).
+    Octagon,
+    /// The axis-aligned bounding rectangle of the projected ellipse (loose for thin glyphs at
+    /// 45 degrees).
+    AxisRect,
+    /// Gumhold's square around the silhouette circle in the silhouette plane, projected.
+    WorldQuad,
+}
+
+impl Footprint {
+    /// Vertices per instance (a triangle strip over the polygon).
+    pub fn vertices(self) -> u32 {
+        match self {
+            Footprint::Hexagon => 6,
+            Footprint::Octagon => 8,
+            _ => 4,
+        }
+    }
+
+    /// The `BOUNDS` specialization constant.
+    fn bounds_mode(self) -> u32 {
+        match self {
+            Footprint::OrientedRect | Footprint::Hexagon | Footprint::Octagon => 0,
+            Footprint::AxisRect => 1,
+            Footprint::WorldQuad => 2,
+        }
+    }
+}
+
 /// What a pipeline is specialised for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct Variant {
     orthographic: bool,
     intersection: Intersection,
+    footprint: Footprint,
 }
 
 /// Normal attachment format when `aux_outputs` is set.
@@ -96,6 +135,8 @@ pub struct EllipsoidRenderer {
     pub material: Material,
     /// Intersection formulation used from the next `record` on.
     pub intersection: Intersection,
+    /// Screen polygon per instance used from the next `record` on.
+    pub footprint: Footprint,
 }
 
 impl EllipsoidRenderer {
@@ -118,6 +159,7 @@ impl EllipsoidRenderer {
             origin: DVec3::ZERO,
             material: Material::default(),
             intersection: Intersection::default(),
+            footprint: Footprint::default(),
         };
         // On failure, `destroy` releases whatever was created (null handles are skipped).
         match renderer.create_objects(device) {
@@ -280,6 +322,7 @@ impl EllipsoidRenderer {
         let variant = Variant {
             orthographic: matches!(camera.projection, Projection::Orthographic { .. }),
             intersection: self.intersection,
+            footprint: self.footprint,
         };
         let pipeline = self.pipeline(device, variant)?;
         let viewport = vk::Viewport {
@@ -318,7 +361,7 @@ impl EllipsoidRenderer {
                 0,
                 &push,
             );
-            device.cmd_draw(cmd, 4, self.count, 0, 0);
+            device.cmd_draw(cmd, self.footprint.vertices(), self.count, 0, 0);
         }
         Ok(())
     }
@@ -415,17 +458,17 @@ fn build_pipeline(
     vert: vk::ShaderModule,
     frag: vk::ShaderModule,
 ) -> Result<vk::Pipeline> {
-    // Specialization constants (VkBool32 each): 0 = ORTHOGRAPHIC, 1 = AUX_OUTPUTS, 2 = TEXTBOOK.
-    let flags = [
-        variant.orthographic,
-        formats.aux_outputs,
-        variant.intersection == Intersection::Textbook,
+    // Specialization constants, 4 bytes each: 0 = ORTHOGRAPHIC, 1 = AUX_OUTPUTS, 2 = TEXTBOOK
+    // (VkBool32), 3 = BOUNDS, 4 = CORNERS (int).
+    let values: [u32; 5] = [
+        variant.orthographic as u32,
+        formats.aux_outputs as u32,
+        (variant.intersection == Intersection::Textbook) as u32,
+        variant.footprint.bounds_mode(),
+        variant.footprint.vertices(),
     ];
-    let spec_data: Vec<u8> = flags
-        .iter()
-        .flat_map(|&v| (v as u32).to_ne_bytes())
-        .collect();
-    let entries: Vec<vk::SpecializationMapEntry> = (0..flags.len() as u32)
+    let spec_data: Vec<u8> = values.iter().flat_map(|v| v.to_ne_bytes()).collect();
+    let entries: Vec<vk::SpecializationMapEntry> = (0..values.len() as u32)
         .map(|i| vk::SpecializationMapEntry {
             constant_id: i,
             offset: 4 * i,

@@ -2,8 +2,11 @@
 
 mod common;
 
-use common::assert_matches_reference;
+use common::{assert_matches_reference, validated_renderer};
+use ellipsoid_splat::compare::compare;
 use ellipsoid_splat::compare::Bounds;
+use ellipsoid_splat::reference::render_reference;
+use ellipsoid_splat::renderer::Footprint;
 use ellipsoid_splat::scene::random_cloud;
 use ellipsoid_splat::{Camera, Ellipsoid, Projection, Scene};
 use glam::{DQuat, DVec3, EulerRot};
@@ -89,4 +92,55 @@ fn small_tensor_field_matches_reference() {
     let scene = ellipsoid_splat::scene::tensor_field(6);
     let camera = Camera::framing(DVec3::ZERO, 5.5, 320, 200).unwrap();
     assert_matches_reference(&scene, &camera, &Bounds::STRICT, 8_000);
+}
+
+/// Every footprint polygon must contain every covered pixel centre (same fragment shader, so
+/// the same accuracy), in perspective (near-plane cuts included) and orthographic views.
+#[test]
+fn every_footprint_covers_exactly() {
+    let scene = random_cloud(250, 3, 3.0, 0.9);
+    let mut thin = random_cloud(60, 4, 3.0, 0.9);
+    for e in &mut thin.ellipsoids {
+        e.radii.y *= 0.02; // needles and blades at every angle
+    }
+    let perspective_cam = perspective(DVec3::new(3.0, 2.5, 7.0), DVec3::ZERO, 55.0, 0.5, 256, 160);
+    let mut cut_cam = perspective_cam;
+    cut_cam.near = 6.5;
+    let mut ortho_cam = perspective_cam;
+    ortho_cam.projection = Projection::Orthographic { height: 8.0 };
+    let mut renderer = validated_renderer();
+    for footprint in [
+        Footprint::OrientedRect,
+        Footprint::Hexagon,
+        Footprint::Octagon,
+        Footprint::AxisRect,
+        Footprint::WorldQuad,
+    ] {
+        renderer.set_footprint(footprint);
+        for (name, scene, camera) in [
+            ("cloud", &scene, &perspective_cam),
+            ("thin", &thin, &perspective_cam),
+            ("cut", &scene, &cut_cam),
+            ("ortho", &scene, &ortho_cam),
+        ] {
+            let frame = renderer.render(scene, camera).expect("render");
+            let stats = compare(&frame, &render_reference(scene, camera).unwrap()).unwrap();
+            println!("{footprint:?} {name}: {stats}");
+            assert!(
+                stats.covered_pixels > 1_000,
+                "{footprint:?} {name}: too little coverage"
+            );
+            assert!(
+                stats.check(&Bounds::STRICT).is_ok(),
+                "{footprint:?} {name}: {:?}\n{stats}",
+                stats.check(&Bounds::STRICT)
+            );
+            assert_eq!(stats.coverage_mismatch, 0, "{footprint:?} {name}: {stats}");
+        }
+    }
+    renderer
+        .context()
+        .check_validation()
+        .expect("no validation messages");
+    renderer.finish().expect("clean shutdown");
 }

@@ -7,7 +7,10 @@ use ellipsoid_splat::gpu::{Context, ContextOptions};
 #[test]
 fn invalid_usage_is_reported() {
     let context = Context::new(&ContextOptions::validated()).expect("validated device");
-    assert!(context.check_validation().is_ok(), "a fresh device is clean");
+    assert!(
+        context.check_validation().is_ok(),
+        "a fresh device is clean"
+    );
     // A buffer with no usage flags breaks VUID-VkBufferCreateInfo-usage-requiredbitmask; the
     // driver itself accepts it, so the call is harmless apart from the report.
     let info = vk::BufferCreateInfo::default()
@@ -23,9 +26,14 @@ fn invalid_usage_is_reported() {
     }
     let failures = context.validation_failures();
     assert!(
-        failures.iter().any(|m| m.id_name.contains("VUID-VkBufferCreateInfo-usage")),
+        failures
+            .iter()
+            .any(|m| m.id_name.contains("VUID-VkBufferCreateInfo-usage")),
         "the validation layer did not report the invalid buffer usage: {failures:?}"
     );
     let err = context.check_validation().unwrap_err();
-    assert!(err.to_string().contains("validation layer reported"), "{err}");
+    assert!(
+        err.to_string().contains("validation layer reported"),
+        "{err}"
+    );
 }

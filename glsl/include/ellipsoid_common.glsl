@@ -33,6 +33,12 @@ layout(std430, set = 0, binding = 0) readonly buffer Instances {
 // Chosen when the pipeline is built (src/renderer.rs `Variant`).
 layout(constant_id = 0) const bool ORTHOGRAPHIC = false;
 layout(constant_id = 2) const bool TEXTBOOK = false;
+// Footprint of an instance on screen (the `impostor*` methods of `bench`).
+const int BOUNDS_TIGHT = 0;      // n-gon around the projected ellipse (4 corners: its oriented box)
+const int BOUNDS_AXIS_RECT = 1;  // the projected ellipse's axis-aligned bounding rectangle
+const int BOUNDS_WORLD_QUAD = 2; // Gumhold's square in the silhouette plane
+layout(constant_id = 3) const int BOUNDS = BOUNDS_TIGHT;
+layout(constant_id = 4) const int CORNERS = 4;
 
 // Per-instance flags passed to the fragment stage.
 const uint FLAG_EYE_INSIDE = 1u;  // the eye is inside the ellipsoid: show the exit-side cap
