@@ -41,7 +41,7 @@ pub enum IntersectionArg {
     Textbook,
 }
 
-impl From<IntersectionArg> for crate::renderer::Intersection {
+impl From<IntersectionArg> for crate::draw::Intersection {
     fn from(value: IntersectionArg) -> Self {
         match value {
             IntersectionArg::Stable => Self::Stable,

@@ -4,6 +4,7 @@
 pub mod camera;
 pub mod cli;
 pub mod compare;
+pub mod draw;
 pub mod ellipsoid;
 pub mod error;
 pub mod frame;
@@ -18,8 +19,11 @@ pub use error::{Error, Result};
 pub use frame::{Frame, NO_INSTANCE};
 pub use scene::Scene;
 pub mod gpu;
+pub mod icosphere;
+pub mod instances;
 pub mod offscreen;
 pub mod output;
+mod pipeline;
 pub mod renderer;
 
 pub use offscreen::OffscreenRenderer;

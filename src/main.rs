@@ -6,8 +6,8 @@ use std::time::Instant;
 use clap::Parser;
 
 use ellipsoid_splat::cli::{self, Cli, Command, DeviceArgs, RenderArgs, StressArgs};
+use ellipsoid_splat::draw::Intersection;
 use ellipsoid_splat::gpu::{Context, ContextOptions};
-use ellipsoid_splat::renderer::Intersection;
 use ellipsoid_splat::report::Progress;
 use ellipsoid_splat::stress::{run_point, sweep_points, write_report, Extent, StressResult};
 use ellipsoid_splat::{output, OffscreenRenderer, Result};

@@ -7,13 +7,12 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::camera::Camera;
+use crate::draw::{DrawConfig, Footprint, Intersection};
 use crate::error::{Error, Result, VkCall};
 use crate::frame::Frame;
 use crate::gpu::image::full_range;
 use crate::gpu::{Context, ContextOptions, GpuBuffer, GpuImage};
-use crate::renderer::{
-    EllipsoidRenderer, Footprint, Intersection, Material, TargetFormats, ID_FORMAT, NORMAL_FORMAT,
-};
+use crate::renderer::{EllipsoidRenderer, Material, TargetFormats, ID_FORMAT, NORMAL_FORMAT};
 use crate::scene::Scene;
 
 const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
@@ -120,12 +119,17 @@ impl OffscreenRenderer {
 
     /// Chooses the intersection formulation for the following frames.
     pub fn set_intersection(&mut self, intersection: Intersection) {
-        self.renderer_mut().intersection = intersection;
+        self.renderer_mut().config.intersection = intersection;
     }
 
     /// Chooses the screen polygon drawn per instance for the following frames.
     pub fn set_footprint(&mut self, footprint: Footprint) {
-        self.renderer_mut().footprint = footprint;
+        self.renderer_mut().config.footprint = footprint;
+    }
+
+    /// Chooses the whole draw configuration (a `bench` method) for the following frames.
+    pub fn set_config(&mut self, config: DrawConfig) {
+        self.renderer_mut().config = config;
     }
 
     fn renderer_mut(&mut self) -> &mut EllipsoidRenderer {
@@ -244,7 +248,7 @@ impl OffscreenRenderer {
     }
 
     fn record(&mut self, camera: &Camera, extent: vk::Extent2D) -> Result<()> {
-        let device = self.context.device();
+        let (device, allocator) = self.context.device_and_allocator();
         let cmd = self.command_buffer;
         let targets = self
             .targets
@@ -345,7 +349,7 @@ impl OffscreenRenderer {
                 .color_attachments(&color_attachments)
                 .depth_attachment(&depth_attachment);
             device.cmd_begin_rendering(cmd, &rendering);
-            renderer.record(device, cmd, camera)?;
+            renderer.record(device, allocator, cmd, camera)?;
             device.cmd_end_rendering(cmd);
 
             // Attachments to transfer source, then copy into the readback buffer.

@@ -7,12 +7,14 @@ use gpu_allocator::vulkan::Allocator;
 use gpu_allocator::MemoryLocation;
 
 use crate::camera::{Camera, Projection};
+use crate::draw::{DrawConfig, Geometry};
 use crate::error::{Error, Result, VkCall};
-use crate::gpu::{shaders, GpuBuffer};
+use crate::gpu::GpuBuffer;
+use crate::icosphere::icosphere;
+use crate::instances::pack_instances;
+use crate::pipeline::{create_pipeline, PipelineKey};
 use crate::scene::Scene;
 
-/// Bytes per instance on the GPU (`Instance` in `glsl/include/ellipsoid_common.glsl`).
-pub const INSTANCE_BYTES: usize = 48;
 /// Bytes of camera push constants (`CameraPush` in the shader).
 const PUSH_BYTES: usize = 112;
 /// How far the screen quad reaches beyond the exact silhouette bounds, in pixels.
@@ -58,63 +60,6 @@ pub struct TargetFormats {
     pub aux_outputs: bool,
 }
 
-/// How the fragment shader intersects the pixel's ray with the ellipsoid.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Intersection {
-    /// Gumhold's closed form in the silhouette frame: no cancellation at any distance.
-    #[default]
-    Stable,
-    /// The textbook quadratic `b^2 - ac` in parameter space, in float32: the baseline that
-    /// shows what the stable form buys (it loses hits and normals at large distance/radius).
-    Textbook,
-}
-
-/// The screen-space polygon each instance is drawn as.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Footprint {
-    /// The oriented rectangle around the projected ellipse: at most 4/pi of the covered
-    /// pixels, for any shape and orientation (the shipped default).
-    #[default]
-    OrientedRect,
-    /// A hexagon around the projected ellipse (area ratio 1.10; 6 vertices).
-    Hexagon,
-    /// An octagon around the projected ellipse (area ratio 1.05; 8 vertices).
-    Octagon,
-    /// The axis-aligned bounding rectangle of the projected ellipse (loose for thin glyphs at
-    /// 45 degrees).
-    AxisRect,
-    /// Gumhold's square around the silhouette circle in the silhouette plane, projected.
-    WorldQuad,
-}
-
-impl Footprint {
-    /// Vertices per instance (a triangle strip over the polygon).
-    pub fn vertices(self) -> u32 {
-        match self {
-            Footprint::Hexagon => 6,
-            Footprint::Octagon => 8,
-            _ => 4,
-        }
-    }
-
-    /// The `BOUNDS` specialization constant.
-    fn bounds_mode(self) -> u32 {
-        match self {
-            Footprint::OrientedRect | Footprint::Hexagon | Footprint::Octagon => 0,
-            Footprint::AxisRect => 1,
-            Footprint::WorldQuad => 2,
-        }
-    }
-}
-
-/// What a pipeline is specialised for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-struct Variant {
-    orthographic: bool,
-    intersection: Intersection,
-    footprint: Footprint,
-}
-
 /// Normal attachment format when `aux_outputs` is set.
 pub const NORMAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 /// Instance-ID attachment format when `aux_outputs` is set.
@@ -127,16 +72,23 @@ pub struct EllipsoidRenderer {
     descriptor_pool: vk::DescriptorPool,
     descriptor_set: vk::DescriptorSet,
     formats: TargetFormats,
-    pipelines: Vec<(Variant, vk::Pipeline)>,
+    pipelines: Vec<(PipelineKey, vk::Pipeline)>,
     instances: Option<GpuBuffer>,
+    /// Icosphere vertex and index buffers by level, made on first use.
+    meshes: Vec<(u32, MeshBuffers)>,
     count: u32,
     origin: DVec3,
     /// Shading parameters, applied at the next `record`.
     pub material: Material,
-    /// Intersection formulation used from the next `record` on.
-    pub intersection: Intersection,
-    /// Screen polygon per instance used from the next `record` on.
-    pub footprint: Footprint,
+    /// How the next `record` draws (the shipped renderer by default).
+    pub config: DrawConfig,
+}
+
+/// One icosphere level on the GPU.
+struct MeshBuffers {
+    vertices: GpuBuffer,
+    indices: GpuBuffer,
+    index_count: u32,
 }
 
 impl EllipsoidRenderer {
@@ -158,8 +110,8 @@ impl EllipsoidRenderer {
             count: 0,
             origin: DVec3::ZERO,
             material: Material::default(),
-            intersection: Intersection::default(),
-            footprint: Footprint::default(),
+            meshes: Vec::new(),
+            config: DrawConfig::default(),
         };
         // On failure, `destroy` releases whatever was created (null handles are skipped).
         match renderer.create_objects(device) {
@@ -211,14 +163,110 @@ impl EllipsoidRenderer {
         Ok(())
     }
 
-    /// The pipeline for `variant`, built now if this is its first use.
-    fn pipeline(&mut self, device: &ash::Device, variant: Variant) -> Result<vk::Pipeline> {
-        if let Some((_, p)) = self.pipelines.iter().find(|(v, _)| *v == variant) {
+    /// The pipeline for `key`, built now if this is its first use.
+    fn pipeline(&mut self, device: &ash::Device, key: PipelineKey) -> Result<vk::Pipeline> {
+        if let Some((_, p)) = self.pipelines.iter().find(|(k, _)| *k == key) {
             return Ok(*p);
         }
-        let pipeline = create_pipeline(device, self.pipeline_layout, self.formats, variant)?;
-        self.pipelines.push((variant, pipeline));
+        let pipeline = create_pipeline(device, self.pipeline_layout, self.formats, key)?;
+        self.pipelines.push((key, pipeline));
         Ok(pipeline)
+    }
+
+    /// Uploads icosphere `level` if it is not on the GPU yet.
+    fn ensure_mesh(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        level: u32,
+    ) -> Result<()> {
+        if level > 4 {
+            return Err(Error::invalid(
+                "mesh level",
+                format!("{level} is outside 0..=4"),
+            ));
+        }
+        if self.meshes.iter().any(|(l, _)| *l == level) {
+            return Ok(());
+        }
+        let mesh = icosphere(level);
+        let vertex_bytes: Vec<u8> = mesh
+            .positions
+            .iter()
+            .flatten()
+            .flat_map(|v| v.to_ne_bytes())
+            .collect();
+        let index_bytes: Vec<u8> = mesh.indices.iter().flat_map(|v| v.to_ne_bytes()).collect();
+        let mut vertices = GpuBuffer::new(
+            device,
+            allocator,
+            "icosphere vertices",
+            vertex_bytes.len() as u64,
+            vk::BufferUsageFlags::VERTEX_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let mut indices = match GpuBuffer::new(
+            device,
+            allocator,
+            "icosphere indices",
+            index_bytes.len() as u64,
+            vk::BufferUsageFlags::INDEX_BUFFER,
+            MemoryLocation::CpuToGpu,
+        ) {
+            Ok(b) => b,
+            Err(e) => {
+                vertices.destroy(device, allocator);
+                return Err(e);
+            }
+        };
+        if let Err(e) = vertices
+            .write(&vertex_bytes)
+            .and_then(|_| indices.write(&index_bytes))
+        {
+            vertices.destroy(device, allocator);
+            indices.destroy(device, allocator);
+            return Err(e);
+        }
+        self.meshes.push((
+            level,
+            MeshBuffers {
+                vertices,
+                indices,
+                index_count: mesh.indices.len() as u32,
+            },
+        ));
+        Ok(())
+    }
+
+    /// Creates what `config` needs with `camera` (pipeline, mesh buffers) ahead of `record`, so
+    /// recording itself allocates nothing. `record` calls it too.
+    pub fn prepare(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        camera: &Camera,
+    ) -> Result<()> {
+        let orthographic = matches!(camera.projection, Projection::Orthographic { .. });
+        if orthographic && self.config.geometry != Geometry::Impostor {
+            return Err(Error::invalid(
+                "draw configuration",
+                format!(
+                    "{:?} supports perspective cameras only",
+                    self.config.geometry
+                ),
+            ));
+        }
+        if let Geometry::Mesh(level) = self.config.geometry {
+            self.ensure_mesh(device, allocator, level)?;
+        }
+        self.pipeline(
+            device,
+            PipelineKey {
+                orthographic,
+                config: self.config,
+            },
+        )?;
+        Ok(())
     }
 
     /// Replaces the instance data with `scene`. Positions are stored relative to a scene origin
@@ -230,35 +278,11 @@ impl EllipsoidRenderer {
         allocator: &mut Allocator,
         scene: &Scene,
     ) -> Result<()> {
-        let count = u32::try_from(scene.len()).map_err(|_| {
-            Error::invalid("scene", format!("{} ellipsoids exceed u32", scene.len()))
-        })?;
-        let bytes = INSTANCE_BYTES * scene.len();
-        self.origin = scene
-            .bounds()
-            .map(|(lo, hi)| (lo + hi) * 0.5)
-            .unwrap_or(DVec3::ZERO);
-        let mut data = Vec::with_capacity(bytes);
-        for e in &scene.ellipsoids {
-            let c = (e.center - self.origin).as_vec3();
-            let q = e.rotation.as_quat();
-            let r = e.radii.as_vec3();
-            if !(r.is_finite() && r.min_element() > 0.0) {
-                return Err(Error::invalid(
-                    "ellipsoid radii",
-                    format!("{} does not fit float32 as a positive number", e.radii),
-                ));
-            }
-            let color = e.color.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u32);
-            let packed = color[0] | (color[1] << 8) | (color[2] << 16) | (255 << 24);
-            for v in [c.x, c.y, c.z] {
-                data.extend_from_slice(&v.to_ne_bytes());
-            }
-            data.extend_from_slice(&packed.to_ne_bytes());
-            for v in [q.x, q.y, q.z, q.w, r.x, r.y, r.z, 0.0] {
-                data.extend_from_slice(&v.to_ne_bytes());
-            }
-        }
+        let packed = pack_instances(scene)?;
+        let bytes = packed.bytes.len();
+        self.origin = packed.origin;
+        let count = packed.len() as u32;
+        let data = packed.bytes;
         let reuse = self
             .instances
             .as_ref()
@@ -311,6 +335,7 @@ impl EllipsoidRenderer {
     pub fn record(
         &mut self,
         device: &ash::Device,
+        allocator: &mut Allocator,
         cmd: vk::CommandBuffer,
         camera: &Camera,
     ) -> Result<()> {
@@ -318,13 +343,13 @@ impl EllipsoidRenderer {
         if self.count == 0 {
             return Ok(());
         }
+        self.prepare(device, allocator, camera)?;
         let push = self.push_constants(camera);
-        let variant = Variant {
+        let key = PipelineKey {
             orthographic: matches!(camera.projection, Projection::Orthographic { .. }),
-            intersection: self.intersection,
-            footprint: self.footprint,
+            config: self.config,
         };
-        let pipeline = self.pipeline(device, variant)?;
+        let pipeline = self.pipeline(device, key)?;
         let viewport = vk::Viewport {
             x: 0.0,
             y: 0.0,
@@ -361,7 +386,27 @@ impl EllipsoidRenderer {
                 0,
                 &push,
             );
-            device.cmd_draw(cmd, self.footprint.vertices(), self.count, 0, 0);
+            match self.config.geometry {
+                Geometry::Impostor => {
+                    device.cmd_draw(cmd, self.config.footprint.vertices(), self.count, 0, 0)
+                }
+                Geometry::BoxProxy => device.cmd_draw(cmd, 36, self.count, 0, 0),
+                Geometry::Mesh(level) => {
+                    let (_, mesh) = self
+                        .meshes
+                        .iter()
+                        .find(|(l, _)| *l == level)
+                        .expect("prepare uploaded the mesh");
+                    device.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.handle()], &[0]);
+                    device.cmd_bind_index_buffer(
+                        cmd,
+                        mesh.indices.handle(),
+                        0,
+                        vk::IndexType::UINT32,
+                    );
+                    device.cmd_draw_indexed(cmd, mesh.index_count, self.count, 0, 0, 0);
+                }
+            }
         }
         Ok(())
     }
@@ -412,6 +457,10 @@ impl EllipsoidRenderer {
         if let Some(buffer) = self.instances.take() {
             buffer.destroy(device, allocator);
         }
+        for (_, mesh) in self.meshes.drain(..) {
+            mesh.vertices.destroy(device, allocator);
+            mesh.indices.destroy(device, allocator);
+        }
         // SAFETY: all handles were created by `self` from `device` (or are null, which Vulkan
         // ignores); the caller guarantees no pending work uses them.
         unsafe {
@@ -423,127 +472,4 @@ impl EllipsoidRenderer {
             device.destroy_descriptor_set_layout(self.set_layout, None);
         }
     }
-}
-
-/// Builds the impostor pipeline for one projection kind.
-fn create_pipeline(
-    device: &ash::Device,
-    layout: vk::PipelineLayout,
-    formats: TargetFormats,
-    variant: Variant,
-) -> Result<vk::Pipeline> {
-    let vert = shaders::create_module(device, shaders::ELLIPSOID_VERT)?;
-    let frag = match shaders::create_module(device, shaders::ELLIPSOID_FRAG) {
-        Ok(m) => m,
-        Err(e) => {
-            // SAFETY: just created, unused.
-            unsafe { device.destroy_shader_module(vert, None) };
-            return Err(e);
-        }
-    };
-    let result = build_pipeline(device, layout, formats, variant, vert, frag);
-    // SAFETY: modules are no longer needed once pipeline creation returned.
-    unsafe {
-        device.destroy_shader_module(vert, None);
-        device.destroy_shader_module(frag, None);
-    }
-    result
-}
-
-fn build_pipeline(
-    device: &ash::Device,
-    layout: vk::PipelineLayout,
-    formats: TargetFormats,
-    variant: Variant,
-    vert: vk::ShaderModule,
-    frag: vk::ShaderModule,
-) -> Result<vk::Pipeline> {
-    // Specialization constants, 4 bytes each: 0 = ORTHOGRAPHIC, 1 = AUX_OUTPUTS, 2 = TEXTBOOK
-    // (VkBool32), 3 = BOUNDS, 4 = CORNERS (int).
-    let values: [u32; 5] = [
-        variant.orthographic as u32,
-        formats.aux_outputs as u32,
-        (variant.intersection == Intersection::Textbook) as u32,
-        variant.footprint.bounds_mode(),
-        variant.footprint.vertices(),
-    ];
-    let spec_data: Vec<u8> = values.iter().flat_map(|v| v.to_ne_bytes()).collect();
-    let entries: Vec<vk::SpecializationMapEntry> = (0..values.len() as u32)
-        .map(|i| vk::SpecializationMapEntry {
-            constant_id: i,
-            offset: 4 * i,
-            size: 4,
-        })
-        .collect();
-    let spec = vk::SpecializationInfo::default()
-        .map_entries(&entries)
-        .data(&spec_data);
-    let stages = [
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::VERTEX)
-            .module(vert)
-            .name(c"main")
-            .specialization_info(&spec),
-        vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::FRAGMENT)
-            .module(frag)
-            .name(c"main")
-            .specialization_info(&spec),
-    ];
-    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
-    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
-        .topology(vk::PrimitiveTopology::TRIANGLE_STRIP);
-    let viewport = vk::PipelineViewportStateCreateInfo::default()
-        .viewport_count(1)
-        .scissor_count(1);
-    let raster = vk::PipelineRasterizationStateCreateInfo::default()
-        .polygon_mode(vk::PolygonMode::FILL)
-        .cull_mode(vk::CullModeFlags::NONE)
-        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
-        .line_width(1.0);
-    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-    // Reversed-Z: larger is nearer, cleared to 0 (infinitely far).
-    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(true)
-        .depth_write_enable(true)
-        .depth_compare_op(vk::CompareOp::GREATER);
-    let attachment_count = if formats.aux_outputs { 3 } else { 1 };
-    let blend_attachments = vec![
-        vk::PipelineColorBlendAttachmentState::default()
-            .color_write_mask(vk::ColorComponentFlags::RGBA);
-        attachment_count
-    ];
-    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
-    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
-    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-    let color_formats: Vec<vk::Format> = if formats.aux_outputs {
-        vec![formats.color, NORMAL_FORMAT, ID_FORMAT]
-    } else {
-        vec![formats.color]
-    };
-    let mut rendering = vk::PipelineRenderingCreateInfo::default()
-        .color_attachment_formats(&color_formats)
-        .depth_attachment_format(formats.depth);
-    let info = vk::GraphicsPipelineCreateInfo::default()
-        .stages(&stages)
-        .vertex_input_state(&vertex_input)
-        .input_assembly_state(&assembly)
-        .viewport_state(&viewport)
-        .rasterization_state(&raster)
-        .multisample_state(&multisample)
-        .depth_stencil_state(&depth)
-        .color_blend_state(&blend)
-        .dynamic_state(&dynamic)
-        .layout(layout)
-        .push_next(&mut rendering);
-    // SAFETY: every pointer in `info` refers to locals alive for the call; the pipeline is owned
-    // by the renderer.
-    let pipelines =
-        unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
-            .map_err(|(_, result)| Error::Vulkan {
-                call: "vkCreateGraphicsPipelines",
-                result,
-            })?;
-    Ok(pipelines[0])
 }

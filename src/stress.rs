@@ -6,11 +6,11 @@ use glam::{DQuat, DVec3, EulerRot};
 
 use crate::camera::{Camera, Projection};
 use crate::compare::{compare, Bounds, ErrorStats};
+use crate::draw::Intersection;
 use crate::ellipsoid::Ellipsoid;
 use crate::error::Result;
 use crate::offscreen::OffscreenRenderer;
 use crate::reference::render_reference;
-use crate::renderer::Intersection;
 use crate::scene::{random_cloud, Scene};
 
 /// One scene and camera of a sweep.

@@ -5,7 +5,7 @@
 mod common;
 
 use ellipsoid_splat::compare::Bounds;
-use ellipsoid_splat::renderer::Intersection;
+use ellipsoid_splat::draw::Intersection;
 use ellipsoid_splat::stress::{run_point, sweep_points, Extent};
 
 fn run_sweep(sweep: &str) {

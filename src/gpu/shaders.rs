@@ -9,6 +9,18 @@ pub const ELLIPSOID_VERT: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/elli
 /// The ellipsoid impostor fragment shader.
 pub const ELLIPSOID_FRAG: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/ellipsoid.frag.spv"));
 
+/// The `impostor-flat-depth` fragment shader (no depth write).
+pub const ELLIPSOID_FLAT_DEPTH_FRAG: &[u8] =
+    include_bytes!(concat!(env!("OUT_DIR"), "/ellipsoid_flat_depth.frag.spv"));
+/// The `flat-fill` fragment shader.
+pub const FLAT_FILL_FRAG: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/flat_fill.frag.spv"));
+/// Icosphere vertex shader (`mesh-L*`).
+pub const MESH_VERT: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/mesh.vert.spv"));
+/// Icosphere fragment shader (`mesh-L*`).
+pub const MESH_FRAG: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/mesh.frag.spv"));
+/// Oriented-box proxy vertex shader (`box-proxy`).
+pub const BOX_VERT: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/box.vert.spv"));
+
 /// Creates a shader module from SPIR-V bytes; the caller owns and destroys it.
 pub fn create_module(device: &ash::Device, spirv: &[u8]) -> Result<vk::ShaderModule> {
     let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv))

@@ -1,0 +1,142 @@
+// The impostor fragment stage, shared by ellipsoid.frag and ellipsoid_flat_depth.frag.
+// Closed-form ray/ellipsoid hit in the silhouette frame (DESIGN.md section 3):
+//   p = (r q, -(u + alpha)) / (1 + u alpha),  alpha = sqrt(1 - |q|^2)
+// is both the hit point and the parameter-space normal, with no cancellation at any distance.
+// Handles near-plane caps and a camera inside the ellipsoid. Writes reversed-Z depth unless
+// FLAT_DEPTH is defined (then the quad's constant depth stands: a measured approximation).
+#include "ellipsoid_common.glsl"
+#include "shading.glsl"
+
+// Outputs beyond colour only when the pipeline has those attachments.
+layout(constant_id = 1) const bool AUX_OUTPUTS = true;
+// Herbison-Evans' modulus-normalised gradient instead of a unit normal (no square root).
+layout(constant_id = 5) const bool FAST_NORMAL = false;
+
+layout(location = 0) in vec3 v_ray;
+layout(location = 1) flat in vec4 v_k;
+layout(location = 2) flat in vec4 v_depth;
+layout(location = 3) flat in vec4 v_misc;
+layout(location = 4) flat in mat3 v_to_normal;
+layout(location = 7) flat in uint v_id;
+layout(location = 8) flat in uint v_flags;
+layout(location = 9) flat in vec3 v_color;
+
+layout(location = 0) out vec4 out_color;
+layout(location = 1) out vec4 out_normal;
+layout(location = 2) out uint out_id;
+#ifndef FLAT_DEPTH
+// Written depth never exceeds the quad's (reversed-Z: nearer is larger).
+layout(depth_less) out float gl_FragDepth;
+#endif
+
+// Textbook baseline: |O + t D|^2 = 1 in parameter space with the discriminant b^2 - ac, all in
+// float32. v_depth.xyz holds the centre relative to the eye, v_to_normal the world->parameter map.
+bool hit_textbook(out float depth, out vec3 normal, out bool cap) {
+    float near = cam.eye_near.w;
+    vec3 origin, dir;
+    pixel_ray(origin, dir);
+    mat3 m = v_to_normal;
+    vec3 o = m * (origin - v_depth.xyz);
+    vec3 d = m * dir;
+    float a = dot(d, d), b = dot(o, d), c = dot(o, o) - 1.0;
+    float disc = b * b - a * c;
+    if (disc < 0.0) {
+        return false;
+    }
+    float root = sqrt(disc);
+    depth = (-b - root) / a;
+    cap = false;
+    if (depth < near) {
+        if ((-b + root) / a < near) {
+            return false;
+        }
+        cap = true;
+    }
+    normal = transpose(m) * (o + depth * d);
+    return true;
+}
+
+// The closed form in the silhouette frame (see the top of this file).
+bool hit_stable(out float depth, out vec3 normal, out bool cap) {
+    float near = cam.eye_near.w;
+    vec3 g = v_depth.xyz;
+    float cz = v_depth.w;
+    cap = false;
+    depth = near;
+    normal = vec3(0.0);
+    if ((v_flags & FLAG_EYE_INSIDE) != 0u) {
+        // Eye inside: from O = (0, 0, -|e~|) along D the ray leaves the unit sphere once ahead;
+        // the pixel shows the cap wherever that exit lies beyond the near plane.
+        float eye_dist = v_misc.y;
+        vec3 o = vec3(0.0, 0.0, -eye_dist);
+        vec3 d = v_ray;
+        float dd = dot(d, d), b = dot(o, d), c0 = (1.0 - eye_dist) * (1.0 + eye_dist);
+        float s = sqrt(b * b + dd * c0);
+        float t = b > 0.0 ? c0 / (b + s) : (s - b) / dd;
+        // D has unit forward component in view space, so t is the exit's view depth.
+        cap = true;
+        return t >= near;
+    }
+    float den = v_k.x + v_k.z * v_ray.z;
+    if (!(den > 0.0)) {
+        return false; // the ray points away from the ellipsoid
+    }
+    vec2 q = v_k.y * v_ray.xy / den;
+    float qq = dot(q, q);
+    if (!(qq < 1.0)) {
+        return false;
+    }
+    float u = v_misc.x, r = v_k.w;
+    float alpha = sqrt(1.0 - qq);
+    vec3 p = vec3(r * q, -(u + alpha)) / (1.0 + u * alpha);
+    normal = v_to_normal * p;
+    // Perspective: the ray parameter t with unit forward step is the view depth, and from the
+    // eye at z = -|e~| it is t = r^2 scale / ((1 + u alpha) den) -- a product of positive
+    // factors, so no cancellation when the surface is much nearer than the centre.
+    // Orthographic rays start on the eye plane: depth = cz + g.p.
+    float r2 = v_misc.z, scale = v_misc.w;
+    depth = ORTHOGRAPHIC ? cz + dot(g, p) : r2 * scale / ((1.0 + u * alpha) * den);
+    if (depth < near) {
+        if ((v_flags & FLAG_MAY_CAP) == 0u) {
+            return false;
+        }
+        // Entered before the near plane: a cap if the ray leaves after it.
+        float exit_depth = ORTHOGRAPHIC ? cz + dot(g, vec3(q, alpha)) : r2 * scale / ((1.0 - u * alpha) * den);
+        cap = true;
+        return exit_depth >= near;
+    }
+    return true;
+}
+
+void main() {
+    float near = cam.eye_near.w;
+    float depth;
+    vec3 normal;
+    bool cap;
+    bool hit = TEXTBOOK ? hit_textbook(depth, normal, cap) : hit_stable(depth, normal, cap);
+    if (!hit) {
+        discard;
+    }
+    vec3 f = cam.forward.xyz;
+    vec3 n;
+    if (cap) {
+        n = -f;
+    } else if (FAST_NORMAL) {
+        n = normal / (abs(normal.x) + abs(normal.y) + abs(normal.z));
+    } else {
+        n = normalize(normal);
+    }
+#ifndef FLAT_DEPTH
+    gl_FragDepth = cap ? 1.0 : near / depth;
+#endif
+
+    // Direction to the eye for lighting: the pixel's ray reversed.
+    vec3 origin, dir;
+    pixel_ray(origin, dir);
+    vec3 to_eye = -normalize(dir);
+    out_color = vec4(shade(n, to_eye, v_color), 1.0);
+    if (AUX_OUTPUTS) {
+        out_normal = vec4(n, 0.0);
+        out_id = v_id;
+    }
+}

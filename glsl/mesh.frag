@@ -1,0 +1,26 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// `mesh-L*`: Blinn-Phong with the interpolated vertex normal; depth from the rasterizer.
+#include "ellipsoid_common.glsl"
+#include "shading.glsl"
+
+layout(constant_id = 1) const bool AUX_OUTPUTS = true;
+
+layout(location = 0) in vec3 v_normal;
+layout(location = 7) flat in uint v_id;
+layout(location = 9) flat in vec3 v_color;
+
+layout(location = 0) out vec4 out_color;
+layout(location = 1) out vec4 out_normal;
+layout(location = 2) out uint out_id;
+
+void main() {
+    vec3 n = normalize(v_normal);
+    vec3 origin, dir;
+    pixel_ray(origin, dir);
+    out_color = vec4(shade(n, -normalize(dir), v_color), 1.0);
+    if (AUX_OUTPUTS) {
+        out_normal = vec4(n, 0.0);
+        out_id = v_id;
+    }
+}

@@ -1,0 +1,24 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// `mesh-L*`: an icosphere per instance, the tessellation users pick instead of impostors.
+// Perspective only: clip = (x/sx, -y/sy, near, z) gives reversed-Z depth near / z directly.
+#include "ellipsoid_common.glsl"
+
+layout(location = 0) in vec3 in_position; // on the unit sphere: parameter-space point and normal
+
+layout(location = 0) out vec3 v_normal; // world, unnormalised
+layout(location = 7) flat out uint v_id;
+layout(location = 9) flat out vec3 v_color;
+
+void main() {
+    Instance inst = instances[gl_InstanceIndex];
+    mat3 R = quat_to_mat3(inst.rotation);
+    vec3 radii = inst.radii.xyz;
+    vec3 world = inst.center + R * (radii * in_position);
+    vec3 v = vec3(dot(world, cam.right_sx.xyz), dot(world, cam.up_sy.xyz), dot(world, cam.forward.xyz))
+        - cam.eye_near.xyz;
+    v_normal = R * (in_position / radii);
+    v_id = uint(gl_InstanceIndex);
+    v_color = srgb_to_linear(unpackUnorm4x8(inst.color).rgb);
+    gl_Position = vec4(v.x / cam.right_sx.w, -v.y / cam.up_sy.w, cam.eye_near.w, v.z);
+}

@@ -1,0 +1,207 @@
+//! What a draw does: which geometry stands in for each ellipsoid, which screen polygon bounds
+//! an impostor, how the ray is intersected and what the fragment stage computes. The shipped
+//! renderer is `DrawConfig::default()`; the other settings are the measured alternatives of
+//! `ellipsoid-splat bench` (see [`Method`]).
+
+/// How the fragment shader intersects the pixel's ray with the ellipsoid.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Intersection {
+    /// Gumhold's closed form in the silhouette frame: no cancellation at any distance.
+    #[default]
+    Stable,
+    /// The textbook quadratic `b^2 - ac` in parameter space, in float32: the baseline that
+    /// shows what the stable form buys (it loses hits and normals at large distance/radius).
+    Textbook,
+}
+
+/// The screen-space polygon each impostor is drawn as.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Footprint {
+    /// The oriented rectangle around the projected ellipse: 4/pi of its area for any shape
+    /// and orientation (the shipped default).
+    #[default]
+    OrientedRect,
+    /// A hexagon around the projected ellipse (area ratio 1.10; 6 vertices).
+    Hexagon,
+    /// An octagon around the projected ellipse (area ratio 1.05; 8 vertices).
+    Octagon,
+    /// The axis-aligned bounding rectangle of the projected ellipse (loose for thin glyphs at
+    /// 45 degrees).
+    AxisRect,
+    /// Gumhold's square around the silhouette circle in the silhouette plane, projected.
+    WorldQuad,
+}
+
+impl Footprint {
+    /// Vertices per instance (a triangle strip over the polygon).
+    pub fn vertices(self) -> u32 {
+        match self {
+            Footprint::Hexagon => 6,
+            Footprint::Octagon => 8,
+            _ => 4,
+        }
+    }
+
+    /// The `BOUNDS` specialization constant of `ellipsoid.vert`.
+    pub(crate) fn bounds_mode(self) -> u32 {
+        match self {
+            Footprint::OrientedRect | Footprint::Hexagon | Footprint::Octagon => 0,
+            Footprint::AxisRect => 1,
+            Footprint::WorldQuad => 2,
+        }
+    }
+}
+
+/// What the impostor's fragment stage computes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Shading {
+    /// Exact hit, unit normal and per-fragment depth.
+    #[default]
+    Exact,
+    /// Herbison-Evans' modulus-normalised gradient instead of a unit normal (no square root).
+    FastNormal,
+    /// No per-fragment depth: the quad's nearest-point depth stands.
+    FlatDepth,
+    /// No ray cast, no discard, no depth: the rasterizer's limit for the footprint.
+    FlatFill,
+}
+
+/// What stands in for each ellipsoid.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Geometry {
+    /// A screen-space polygon, ray-cast per pixel (the shipped renderer).
+    #[default]
+    Impostor,
+    /// The oriented bounding box as 12 triangles, ray-cast inside (textbook intersection).
+    BoxProxy,
+    /// An icosphere of subdivision level 0..=4 (20 ... 5120 triangles); perspective only.
+    Mesh(u32),
+}
+
+/// One complete way of drawing the ellipsoids.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct DrawConfig {
+    /// Stand-in geometry.
+    pub geometry: Geometry,
+    /// Screen polygon of an impostor.
+    pub footprint: Footprint,
+    /// Ray/ellipsoid intersection of an impostor.
+    pub intersection: Intersection,
+    /// Fragment work of an impostor.
+    pub shading: Shading,
+}
+
+/// The drawing methods compared by `ellipsoid-splat bench`; their names are the `method`
+/// column of `results.csv`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// The renderer as shipped.
+    Impostor,
+    /// Gumhold's world-space quad in the silhouette plane.
+    ImpostorWorldQuad,
+    /// The axis-aligned screen rectangle of the projected ellipse.
+    ImpostorAxisRect,
+    /// A hexagon around the projected ellipse.
+    ImpostorHexagon,
+    /// An octagon around the projected ellipse.
+    ImpostorOctagon,
+    /// The textbook intersection.
+    ImpostorTextbook,
+    /// Modulus-normalised gradient instead of a unit normal.
+    ImpostorFastNormal,
+    /// No per-fragment depth correction.
+    ImpostorFlatDepth,
+    /// Oriented bounding box, ray-cast inside.
+    BoxProxy,
+    /// Instanced icosphere of the given level.
+    Mesh(u32),
+    /// Tight quads with a trivial fragment shader.
+    FlatFill,
+}
+
+impl Method {
+    /// Every method, in the order of the tables.
+    pub const ALL: [Method; 15] = [
+        Method::Impostor,
+        Method::ImpostorWorldQuad,
+        Method::ImpostorAxisRect,
+        Method::ImpostorHexagon,
+        Method::ImpostorOctagon,
+        Method::ImpostorTextbook,
+        Method::ImpostorFastNormal,
+        Method::ImpostorFlatDepth,
+        Method::BoxProxy,
+        Method::Mesh(0),
+        Method::Mesh(1),
+        Method::Mesh(2),
+        Method::Mesh(3),
+        Method::Mesh(4),
+        Method::FlatFill,
+    ];
+
+    /// The name in `results.csv`.
+    pub fn name(self) -> String {
+        match self {
+            Method::Impostor => "impostor".into(),
+            Method::ImpostorWorldQuad => "impostor-world-quad".into(),
+            Method::ImpostorAxisRect => "impostor-axis-rect".into(),
+            Method::ImpostorHexagon => "impostor-hexagon".into(),
+            Method::ImpostorOctagon => "impostor-octagon".into(),
+            Method::ImpostorTextbook => "impostor-textbook".into(),
+            Method::ImpostorFastNormal => "impostor-fast-normal".into(),
+            Method::ImpostorFlatDepth => "impostor-flat-depth".into(),
+            Method::BoxProxy => "box-proxy".into(),
+            Method::Mesh(level) => format!("mesh-L{level}"),
+            Method::FlatFill => "flat-fill".into(),
+        }
+    }
+
+    /// The draw configuration that implements the method.
+    pub fn config(self) -> DrawConfig {
+        let base = DrawConfig::default();
+        match self {
+            Method::Impostor => base,
+            Method::ImpostorWorldQuad => DrawConfig {
+                footprint: Footprint::WorldQuad,
+                ..base
+            },
+            Method::ImpostorAxisRect => DrawConfig {
+                footprint: Footprint::AxisRect,
+                ..base
+            },
+            Method::ImpostorHexagon => DrawConfig {
+                footprint: Footprint::Hexagon,
+                ..base
+            },
+            Method::ImpostorOctagon => DrawConfig {
+                footprint: Footprint::Octagon,
+                ..base
+            },
+            Method::ImpostorTextbook => DrawConfig {
+                intersection: Intersection::Textbook,
+                ..base
+            },
+            Method::ImpostorFastNormal => DrawConfig {
+                shading: Shading::FastNormal,
+                ..base
+            },
+            Method::ImpostorFlatDepth => DrawConfig {
+                shading: Shading::FlatDepth,
+                ..base
+            },
+            Method::BoxProxy => DrawConfig {
+                geometry: Geometry::BoxProxy,
+                intersection: Intersection::Textbook,
+                ..base
+            },
+            Method::Mesh(level) => DrawConfig {
+                geometry: Geometry::Mesh(level),
+                ..base
+            },
+            Method::FlatFill => DrawConfig {
+                shading: Shading::FlatFill,
+                ..base
+            },
+        }
+    }
+}

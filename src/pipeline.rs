@@ -1,0 +1,186 @@
+//! Building the graphics pipeline for one [`DrawConfig`] and projection kind.
+
+use ash::vk;
+
+use crate::draw::{DrawConfig, Geometry, Intersection, Shading};
+use crate::error::{Error, Result};
+use crate::gpu::shaders;
+use crate::renderer::{TargetFormats, ID_FORMAT, NORMAL_FORMAT};
+
+/// What a pipeline is specialised for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct PipelineKey {
+    pub orthographic: bool,
+    pub config: DrawConfig,
+}
+
+/// The SPIR-V of the two stages for `config`.
+fn stage_code(config: &DrawConfig) -> (&'static [u8], &'static [u8]) {
+    match config.geometry {
+        Geometry::Mesh(_) => (shaders::MESH_VERT, shaders::MESH_FRAG),
+        Geometry::BoxProxy => (shaders::BOX_VERT, shaders::ELLIPSOID_FRAG),
+        Geometry::Impostor => (
+            shaders::ELLIPSOID_VERT,
+            match config.shading {
+                Shading::FlatDepth => shaders::ELLIPSOID_FLAT_DEPTH_FRAG,
+                Shading::FlatFill => shaders::FLAT_FILL_FRAG,
+                Shading::Exact | Shading::FastNormal => shaders::ELLIPSOID_FRAG,
+            },
+        ),
+    }
+}
+
+/// Creates the pipeline; the caller owns it.
+pub(crate) fn create_pipeline(
+    device: &ash::Device,
+    layout: vk::PipelineLayout,
+    formats: TargetFormats,
+    key: PipelineKey,
+) -> Result<vk::Pipeline> {
+    let (vert_code, frag_code) = stage_code(&key.config);
+    let vert = shaders::create_module(device, vert_code)?;
+    let frag = match shaders::create_module(device, frag_code) {
+        Ok(m) => m,
+        Err(e) => {
+            // SAFETY: just created, unused.
+            unsafe { device.destroy_shader_module(vert, None) };
+            return Err(e);
+        }
+    };
+    let result = build(device, layout, formats, key, vert, frag);
+    // SAFETY: modules are no longer needed once pipeline creation returned.
+    unsafe {
+        device.destroy_shader_module(vert, None);
+        device.destroy_shader_module(frag, None);
+    }
+    result
+}
+
+fn build(
+    device: &ash::Device,
+    layout: vk::PipelineLayout,
+    formats: TargetFormats,
+    key: PipelineKey,
+    vert: vk::ShaderModule,
+    frag: vk::ShaderModule,
+) -> Result<vk::Pipeline> {
+    let config = key.config;
+    // Specialization constants, 4 bytes each (glsl/include/ellipsoid_common.glsl and the
+    // fragment shaders): 0 ORTHOGRAPHIC, 1 AUX_OUTPUTS, 2 TEXTBOOK, 3 BOUNDS, 4 CORNERS,
+    // 5 FAST_NORMAL. Stages ignore the ones they do not declare.
+    let values: [u32; 6] = [
+        key.orthographic as u32,
+        formats.aux_outputs as u32,
+        (config.intersection == Intersection::Textbook) as u32,
+        config.footprint.bounds_mode(),
+        config.footprint.vertices(),
+        (config.shading == Shading::FastNormal) as u32,
+    ];
+    let spec_data: Vec<u8> = values.iter().flat_map(|v| v.to_ne_bytes()).collect();
+    let entries: Vec<vk::SpecializationMapEntry> = (0..values.len() as u32)
+        .map(|i| vk::SpecializationMapEntry {
+            constant_id: i,
+            offset: 4 * i,
+            size: 4,
+        })
+        .collect();
+    let spec = vk::SpecializationInfo::default()
+        .map_entries(&entries)
+        .data(&spec_data);
+    let stages = [
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::VERTEX)
+            .module(vert)
+            .name(c"main")
+            .specialization_info(&spec),
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::FRAGMENT)
+            .module(frag)
+            .name(c"main")
+            .specialization_info(&spec),
+    ];
+    // Meshes read unit-sphere positions; everything else builds its vertices from indices.
+    let bindings = [vk::VertexInputBindingDescription {
+        binding: 0,
+        stride: 12,
+        input_rate: vk::VertexInputRate::VERTEX,
+    }];
+    let attributes = [vk::VertexInputAttributeDescription {
+        location: 0,
+        binding: 0,
+        format: vk::Format::R32G32B32_SFLOAT,
+        offset: 0,
+    }];
+    let vertex_input = match config.geometry {
+        Geometry::Mesh(_) => vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(&bindings)
+            .vertex_attribute_descriptions(&attributes),
+        _ => vk::PipelineVertexInputStateCreateInfo::default(),
+    };
+    let topology = match config.geometry {
+        Geometry::Impostor => vk::PrimitiveTopology::TRIANGLE_STRIP,
+        Geometry::BoxProxy | Geometry::Mesh(_) => vk::PrimitiveTopology::TRIANGLE_LIST,
+    };
+    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(topology);
+    let viewport = vk::PipelineViewportStateCreateInfo::default()
+        .viewport_count(1)
+        .scissor_count(1);
+    // Closed meshes and boxes show only their front faces. Their triangles wind counter-
+    // clockwise seen from outside in a y-up view; the y flip into Vulkan's framebuffer makes
+    // that clockwise there.
+    let cull = match config.geometry {
+        Geometry::Impostor => vk::CullModeFlags::NONE,
+        Geometry::BoxProxy | Geometry::Mesh(_) => vk::CullModeFlags::BACK,
+    };
+    let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(cull)
+        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .line_width(1.0);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    // Reversed-Z: larger is nearer, cleared to 0 (infinitely far). Flat fill tests nothing.
+    let depth_on = config.shading != Shading::FlatFill || config.geometry != Geometry::Impostor;
+    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(depth_on)
+        .depth_write_enable(depth_on)
+        .depth_compare_op(vk::CompareOp::GREATER);
+    let attachment_count = if formats.aux_outputs { 3 } else { 1 };
+    let blend_attachments = vec![
+        vk::PipelineColorBlendAttachmentState::default()
+            .color_write_mask(vk::ColorComponentFlags::RGBA);
+        attachment_count
+    ];
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+    let color_formats: Vec<vk::Format> = if formats.aux_outputs {
+        vec![formats.color, NORMAL_FORMAT, ID_FORMAT]
+    } else {
+        vec![formats.color]
+    };
+    let mut rendering = vk::PipelineRenderingCreateInfo::default()
+        .color_attachment_formats(&color_formats)
+        .depth_attachment_format(formats.depth);
+    let info = vk::GraphicsPipelineCreateInfo::default()
+        .stages(&stages)
+        .vertex_input_state(&vertex_input)
+        .input_assembly_state(&assembly)
+        .viewport_state(&viewport)
+        .rasterization_state(&raster)
+        .multisample_state(&multisample)
+        .depth_stencil_state(&depth)
+        .color_blend_state(&blend)
+        .dynamic_state(&dynamic)
+        .layout(layout)
+        .push_next(&mut rendering);
+    // SAFETY: every pointer in `info` refers to locals alive for the call; the pipeline is owned
+    // by the caller.
+    let pipelines =
+        unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
+            .map_err(|(_, result)| Error::Vulkan {
+                call: "vkCreateGraphicsPipelines",
+                result,
+            })?;
+    Ok(pipelines[0])
+}

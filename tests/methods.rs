@@ -1,0 +1,94 @@
+//! Every `bench` method renders under validation, and each is as accurate as its design
+//! allows: the exact impostors match the reference, the approximations err where expected.
+
+mod common;
+
+use common::validated_renderer;
+use ellipsoid_splat::compare::{compare, Bounds};
+use ellipsoid_splat::draw::Method;
+use ellipsoid_splat::reference::render_reference;
+use ellipsoid_splat::scene::random_cloud;
+use ellipsoid_splat::{Camera, Projection, NO_INSTANCE};
+use glam::DVec3;
+
+#[test]
+fn every_method_renders_what_it_promises() {
+    let scene = random_cloud(150, 9, 3.0, 0.9);
+    let camera = Camera::new(
+        DVec3::new(3.0, 2.5, 8.0),
+        DVec3::ZERO,
+        DVec3::Y,
+        Projection::Perspective { fov_y_deg: 50.0 },
+        0.5,
+        240,
+        160,
+    )
+    .unwrap();
+    let reference = render_reference(&scene, &camera).unwrap();
+    let mut renderer = validated_renderer();
+    let mut mesh_mismatch = Vec::new();
+    for method in Method::ALL {
+        renderer.set_config(method.config());
+        let frame = renderer.render(&scene, &camera).expect("render");
+        let stats = compare(&frame, &reference).unwrap();
+        let name = method.name();
+        println!("{name:<22} {stats}");
+        assert!(stats.covered_pixels > 10_000);
+        match method {
+            Method::Impostor
+            | Method::ImpostorWorldQuad
+            | Method::ImpostorAxisRect
+            | Method::ImpostorHexagon
+            | Method::ImpostorOctagon
+            | Method::ImpostorFastNormal => {
+                assert_eq!(
+                    stats.check(&Bounds::STRICT),
+                    Ok(()),
+                    "{name} is exact: {stats}"
+                );
+            }
+            Method::ImpostorTextbook | Method::BoxProxy => {
+                // Near and moderately sized: the textbook quadratic still finds every hit.
+                assert_eq!(stats.coverage_mismatch, 0, "{name}: {stats}");
+                assert!(
+                    stats.depth_rel_p99 < 1e-4 && stats.normal_deg_p99 < 0.1,
+                    "{name}: {stats}"
+                );
+            }
+            Method::ImpostorFlatDepth => {
+                // Same coverage, but the quad's constant depth is measurably wrong.
+                assert_eq!(stats.coverage_mismatch, 0, "{name}: {stats}");
+                assert!(
+                    stats.depth_rel_p99 > 1e-3,
+                    "{name} should err in depth: {stats}"
+                );
+            }
+            Method::Mesh(level) => {
+                mesh_mismatch.push(stats.coverage_mismatch);
+                if level == 4 {
+                    assert!(
+                        stats.normal_deg_p99 < 1.0 && stats.depth_rel_p99 < 1e-3,
+                        "{stats}"
+                    );
+                }
+            }
+            Method::FlatFill => {
+                // The footprint contains the silhouette: every covered pixel is filled.
+                let missed = (0..reference.len())
+                    .filter(|&k| reference.id[k] != NO_INSTANCE && frame.id[k] == NO_INSTANCE)
+                    .count();
+                assert_eq!(missed, 0, "flat-fill leaves covered pixels empty");
+            }
+        }
+    }
+    // Finer tessellation, fewer silhouette pixels wrong.
+    assert!(
+        mesh_mismatch.windows(2).all(|w| w[1] < w[0]),
+        "{mesh_mismatch:?}"
+    );
+    renderer
+        .context()
+        .check_validation()
+        .expect("no validation messages");
+    renderer.finish().expect("clean shutdown");
+}
