@@ -27,8 +27,31 @@ pub enum Command {
     /// Numerical-stability sweep: every point rendered on the GPU and by the float64
     /// reference; writes a CSV table and plots, exits non-zero if a bound breaks.
     Stress(StressArgs),
+    /// Run time against error: every drawing method on the same scenes, timed and compared
+    /// with the float64 reference; writes results.csv and plots.
+    Bench(BenchArgs),
     /// Print the Vulkan device, driver and features used.
     Info(DeviceArgs),
+}
+
+/// Arguments of `bench`.
+#[derive(Debug, Clone, Args)]
+pub struct BenchArgs {
+    /// Directory for results.csv and the plots.
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    /// Fewer and smaller scenes: the whole run stays under 10 minutes on 2 cores.
+    #[arg(long)]
+    pub quick: bool,
+    /// Timed frames per method and scene (median reported).
+    #[arg(long, default_value_t = 15)]
+    pub frames: usize,
+    /// Comma-separated method names (default: all).
+    #[arg(long, value_delimiter = ',')]
+    pub methods: Vec<String>,
+    /// Device and validation.
+    #[command(flatten)]
+    pub device: DeviceArgs,
 }
 
 /// Ray/ellipsoid intersection formulation (`--intersection`).

@@ -343,6 +343,7 @@ mod tests {
             ambiguous: vec![false; n],
             depth_floor: vec![0.0; n],
             normal_floor_deg: vec![0.0; n],
+            layers: vec![0; n],
         };
         (gpu, reference)
     }

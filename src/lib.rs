@@ -1,6 +1,7 @@
 //! `ellipsoid-splat`: very many ellipsoids drawn exactly as ray-cast impostors in one instanced
 //! Vulkan draw.
 
+pub mod bench;
 pub mod camera;
 pub mod cli;
 pub mod compare;

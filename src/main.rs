@@ -5,7 +5,9 @@ use std::time::Instant;
 
 use clap::Parser;
 
-use ellipsoid_splat::cli::{self, Cli, Command, DeviceArgs, RenderArgs, StressArgs};
+use ellipsoid_splat::bench;
+use ellipsoid_splat::cli::{self, BenchArgs, Cli, Command, DeviceArgs, RenderArgs, StressArgs};
+use ellipsoid_splat::draw::Method;
 use ellipsoid_splat::draw::Intersection;
 use ellipsoid_splat::gpu::{Context, ContextOptions};
 use ellipsoid_splat::report::Progress;
@@ -18,6 +20,7 @@ fn main() -> ExitCode {
         None => render(&RenderArgs::default()),
         Some(Command::Render(args)) => render(&args),
         Some(Command::Stress(args)) => return stress(&args),
+        Some(Command::Bench(args)) => return bench(&args),
         Some(Command::Info(args)) => info(&args),
     };
     match result {
@@ -145,6 +148,72 @@ fn run_stress(args: &StressArgs) -> Result<bool> {
     }
     println!("wrote {}/stress.csv and stress_*.png", args.out.display());
     Ok(broken.is_empty())
+}
+
+/// Runs the time-versus-error benchmark; exit status 1 when a target is missed, 2 on error.
+fn bench(args: &BenchArgs) -> ExitCode {
+    match run_bench(args) {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(1),
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run_bench(args: &BenchArgs) -> Result<bool> {
+    let methods: Vec<Method> = if args.methods.is_empty() {
+        Method::ALL.to_vec()
+    } else {
+        args.methods
+            .iter()
+            .map(|name| {
+                Method::ALL.iter().copied().find(|m| m.name() == *name).ok_or_else(|| {
+                    ellipsoid_splat::Error::invalid(
+                        "--methods",
+                        format!(
+                            "unknown method '{name}'; known: {}",
+                            Method::ALL.map(|m| m.name()).join(", ")
+                        ),
+                    )
+                })
+            })
+            .collect::<Result<_>>()?
+    };
+    if args.frames == 0 {
+        return Err(ellipsoid_splat::Error::invalid("--frames", "must be at least 1"));
+    }
+    let specs = bench::cloud_specs(args.quick);
+    let scene_count = specs.len() + 1;
+    let mut scenes = std::iter::once_with(bench::tensor_field_scene)
+        .chain(specs.into_iter().map(|(count, size)| bench::frustum_cloud(count, size, 1)));
+    let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
+    let mut skipped = Vec::new();
+    let started = std::time::Instant::now();
+    let results = bench::run(&mut renderer, &mut scenes, scene_count, &methods, args.frames, &mut skipped)?;
+    let device = renderer.context().info().name.clone();
+    renderer.context().check_validation()?;
+    renderer.finish()?;
+    let (table, markdown) = bench::write_report(&results, &args.out)?;
+    println!("{table}");
+    println!("headline scene (Markdown):\n{markdown}");
+    if !skipped.is_empty() {
+        println!("skipped (vertex work over budget): {}", skipped.join(", "));
+    }
+    let checks = bench::check_targets(&results);
+    let mut all = true;
+    for c in &checks {
+        println!("[{}] {}: {}", if c.holds { "met" } else { "MISSED" }, c.target, c.measured);
+        all &= c.holds;
+    }
+    println!(
+        "{} results in {:.0} s on {device}; wrote {}/results.csv, time_vs_error.png, fill_efficiency.png, scaling.png",
+        results.len(),
+        started.elapsed().as_secs_f64(),
+        args.out.display()
+    );
+    Ok(all)
 }
 
 fn info(args: &DeviceArgs) -> Result<()> {

@@ -11,6 +11,7 @@ use crate::draw::{DrawConfig, Footprint, Intersection};
 use crate::error::{Error, Result, VkCall};
 use crate::frame::Frame;
 use crate::gpu::image::full_range;
+use crate::gpu::queries::{FrameQueries, QueryResults};
 use crate::gpu::{Context, ContextOptions, GpuBuffer, GpuImage};
 use crate::renderer::{EllipsoidRenderer, Material, TargetFormats, ID_FORMAT, NORMAL_FORMAT};
 use crate::scene::Scene;
@@ -50,15 +51,18 @@ pub struct OffscreenRenderer {
     command_pool: vk::CommandPool,
     command_buffer: vk::CommandBuffer,
     fence: vk::Fence,
+    queries: Option<FrameQueries>,
     // Declared last: dropped after the fields above have been destroyed by `Drop`.
     context: Context,
 }
 
-/// Wall time of the parts of one frame.
+/// Wall time of the parts of one frame, and what the GPU queries measured.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FrameTiming {
     /// Submit to fence signalled.
     pub gpu_wall: Duration,
+    /// Timestamps around the rendering pass, and fragment shader invocations in it.
+    pub gpu: QueryResults,
     /// Copying the readback into a [`Frame`].
     pub readback: Duration,
 }
@@ -73,6 +77,7 @@ impl OffscreenRenderer {
             command_pool: vk::CommandPool::null(),
             command_buffer: vk::CommandBuffer::null(),
             fence: vk::Fence::null(),
+            queries: None,
             context,
         };
         this.create_objects()?; // on error, Drop releases what exists
@@ -104,6 +109,9 @@ impl OffscreenRenderer {
             aux_outputs: true,
         };
         self.renderer = Some(EllipsoidRenderer::new(device, allocator, formats)?);
+        let info = self.context.info();
+        let (statistics, period) = (info.pipeline_statistics, info.timestamp_period);
+        self.queries = Some(FrameQueries::new(self.context.device(), statistics, period)?);
         Ok(())
     }
 
@@ -156,25 +164,46 @@ impl OffscreenRenderer {
 
     /// Renders the last uploaded scene and reads the frame back.
     pub fn render_uploaded(&mut self, camera: &Camera) -> Result<(Frame, FrameTiming)> {
+        let mut timing = self.draw(camera, true)?;
+        let start = Instant::now();
+        let frame = self.read_frame(camera)?;
+        timing.readback = start.elapsed();
+        Ok((frame, timing))
+    }
+
+    /// Renders the last uploaded scene without reading it back: the frame a benchmark times.
+    pub fn render_timed(&mut self, camera: &Camera) -> Result<FrameTiming> {
+        self.draw(camera, false)
+    }
+
+    /// Records, submits and waits for one frame; copies the targets out with `readback`.
+    fn draw(&mut self, camera: &Camera, readback: bool) -> Result<FrameTiming> {
         camera.validate()?;
         let extent = vk::Extent2D {
             width: camera.width,
             height: camera.height,
         };
         self.ensure_targets(extent)?;
-        self.record(camera, extent)?;
+        {
+            // Pipelines and meshes are made before recording, never inside a timed frame.
+            let renderer = self.renderer.as_mut().expect("renderer exists after construction");
+            let (device, allocator) = self.context.device_and_allocator();
+            renderer.set_aux_outputs(readback);
+            renderer.prepare(device, allocator, camera)?;
+        }
+        self.record(camera, extent, readback)?;
         let start = Instant::now();
         self.submit_and_wait()?;
         let gpu_wall = start.elapsed();
-        let start = Instant::now();
-        let frame = self.read_frame(camera)?;
-        Ok((
-            frame,
-            FrameTiming {
-                gpu_wall,
-                readback: start.elapsed(),
-            },
-        ))
+        let gpu = match &self.queries {
+            Some(q) => q.read(self.context.device())?,
+            None => QueryResults::default(),
+        };
+        Ok(FrameTiming {
+            gpu_wall,
+            gpu,
+            readback: Duration::ZERO,
+        })
     }
 
     fn ensure_targets(&mut self, extent: vk::Extent2D) -> Result<()> {
@@ -247,8 +276,9 @@ impl OffscreenRenderer {
         Ok(())
     }
 
-    fn record(&mut self, camera: &Camera, extent: vk::Extent2D) -> Result<()> {
+    fn record(&mut self, camera: &Camera, extent: vk::Extent2D, readback: bool) -> Result<()> {
         let (device, allocator) = self.context.device_and_allocator();
+        let queries = self.queries.as_ref();
         let cmd = self.command_buffer;
         let targets = self
             .targets
@@ -258,7 +288,13 @@ impl OffscreenRenderer {
             .renderer
             .as_mut()
             .expect("renderer exists after construction");
-        let colors = [&targets.color, &targets.normal, &targets.id];
+        // Timed frames draw colour and depth only, as a host would; read-back frames add the
+        // normal and ID targets.
+        let colors: Vec<&GpuImage> = if readback {
+            vec![&targets.color, &targets.normal, &targets.id]
+        } else {
+            vec![&targets.color]
+        };
         // SAFETY: the command buffer is not pending (every submit is waited for); all recorded
         // handles are owned by `self` and live until the submission completes.
         unsafe {
@@ -270,6 +306,9 @@ impl OffscreenRenderer {
             device
                 .begin_command_buffer(cmd, &begin)
                 .call("vkBeginCommandBuffer")?;
+            if let Some(q) = queries {
+                q.begin(device, cmd);
+            }
 
             // Attachments to render layouts. The previous frame's copy read them: wait for it.
             let mut barriers: Vec<vk::ImageMemoryBarrier> = colors
@@ -349,92 +388,103 @@ impl OffscreenRenderer {
                 .color_attachments(&color_attachments)
                 .depth_attachment(&depth_attachment);
             device.cmd_begin_rendering(cmd, &rendering);
+            if let Some(q) = queries {
+                q.begin_statistics(device, cmd);
+            }
             renderer.record(device, allocator, cmd, camera)?;
+            if let Some(q) = queries {
+                q.end_statistics(device, cmd);
+            }
             device.cmd_end_rendering(cmd);
+            if let Some(q) = queries {
+                q.end(device, cmd);
+            }
 
-            // Attachments to transfer source, then copy into the readback buffer.
-            let to_transfer = |image: vk::Image, aspect, old, src_access| {
-                vk::ImageMemoryBarrier::default()
-                    .src_access_mask(src_access)
-                    .dst_access_mask(vk::AccessFlags::TRANSFER_READ)
-                    .old_layout(old)
-                    .new_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
-                    .image(image)
-                    .subresource_range(full_range(aspect))
-            };
-            let mut barriers: Vec<vk::ImageMemoryBarrier> = colors
-                .iter()
-                .map(|t| {
-                    to_transfer(
-                        t.handle(),
-                        vk::ImageAspectFlags::COLOR,
-                        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                        vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
-                    )
-                })
-                .collect();
-            barriers.push(to_transfer(
-                targets.depth.handle(),
-                vk::ImageAspectFlags::DEPTH,
-                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
-            ));
-            device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
-                    | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
-                    | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::DependencyFlags::empty(),
-                &[],
-                &[],
-                &barriers,
-            );
-            let offsets = Targets::offsets(extent);
-            let images = [
-                (&targets.color, vk::ImageAspectFlags::COLOR, offsets[0]),
-                (&targets.depth, vk::ImageAspectFlags::DEPTH, offsets[1]),
-                (&targets.normal, vk::ImageAspectFlags::COLOR, offsets[2]),
-                (&targets.id, vk::ImageAspectFlags::COLOR, offsets[3]),
-            ];
-            for (image, aspect, offset) in images {
-                let region = vk::BufferImageCopy::default()
-                    .buffer_offset(offset)
-                    .image_subresource(vk::ImageSubresourceLayers {
-                        aspect_mask: aspect,
-                        mip_level: 0,
-                        base_array_layer: 0,
-                        layer_count: 1,
+            if readback {
+                // Attachments to transfer source, then copy into the readback buffer.
+                let to_transfer = |image: vk::Image, aspect, old, src_access| {
+                    vk::ImageMemoryBarrier::default()
+                        .src_access_mask(src_access)
+                        .dst_access_mask(vk::AccessFlags::TRANSFER_READ)
+                        .old_layout(old)
+                        .new_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+                        .image(image)
+                        .subresource_range(full_range(aspect))
+                };
+                let mut barriers: Vec<vk::ImageMemoryBarrier> = colors
+                    .iter()
+                    .map(|t| {
+                        to_transfer(
+                            t.handle(),
+                            vk::ImageAspectFlags::COLOR,
+                            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                            vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
+                        )
                     })
-                    .image_extent(vk::Extent3D {
-                        width: extent.width,
-                        height: extent.height,
-                        depth: 1,
-                    });
-                device.cmd_copy_image_to_buffer(
+                    .collect();
+                barriers.push(to_transfer(
+                    targets.depth.handle(),
+                    vk::ImageAspectFlags::DEPTH,
+                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                    vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                ));
+                device.cmd_pipeline_barrier(
                     cmd,
-                    image.handle(),
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    targets.readback.handle(),
-                    &[region],
+                    vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+                        | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
+                        | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS,
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::DependencyFlags::empty(),
+                    &[],
+                    &[],
+                    &barriers,
+                );
+                let offsets = Targets::offsets(extent);
+                let images = [
+                    (&targets.color, vk::ImageAspectFlags::COLOR, offsets[0]),
+                    (&targets.depth, vk::ImageAspectFlags::DEPTH, offsets[1]),
+                    (&targets.normal, vk::ImageAspectFlags::COLOR, offsets[2]),
+                    (&targets.id, vk::ImageAspectFlags::COLOR, offsets[3]),
+                ];
+                for (image, aspect, offset) in images {
+                    let region = vk::BufferImageCopy::default()
+                        .buffer_offset(offset)
+                        .image_subresource(vk::ImageSubresourceLayers {
+                            aspect_mask: aspect,
+                            mip_level: 0,
+                            base_array_layer: 0,
+                            layer_count: 1,
+                        })
+                        .image_extent(vk::Extent3D {
+                            width: extent.width,
+                            height: extent.height,
+                            depth: 1,
+                        });
+                    device.cmd_copy_image_to_buffer(
+                        cmd,
+                        image.handle(),
+                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                        targets.readback.handle(),
+                        &[region],
+                    );
+                }
+                // Make the copies visible to the host read after the fence.
+                let to_host = vk::BufferMemoryBarrier::default()
+                    .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
+                    .dst_access_mask(vk::AccessFlags::HOST_READ)
+                    .buffer(targets.readback.handle())
+                    .offset(0)
+                    .size(vk::WHOLE_SIZE);
+                device.cmd_pipeline_barrier(
+                    cmd,
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::PipelineStageFlags::HOST,
+                    vk::DependencyFlags::empty(),
+                    &[],
+                    &[to_host],
+                    &[],
                 );
             }
-            // Make the copies visible to the host read after the fence.
-            let to_host = vk::BufferMemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
-                .dst_access_mask(vk::AccessFlags::HOST_READ)
-                .buffer(targets.readback.handle())
-                .offset(0)
-                .size(vk::WHOLE_SIZE);
-            device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::PipelineStageFlags::HOST,
-                vk::DependencyFlags::empty(),
-                &[],
-                &[to_host],
-                &[],
-            );
             device.end_command_buffer(cmd).call("vkEndCommandBuffer")?;
         }
         Ok(())
@@ -539,6 +589,9 @@ impl OffscreenRenderer {
         let _ = self.context.wait_idle();
         let renderer = self.renderer.take();
         let targets = self.targets.take();
+        if let Some(mut q) = self.queries.take() {
+            q.destroy(self.context.device());
+        }
         let (pool, fence) = (self.command_pool, self.fence);
         let (device, allocator) = self.context.device_and_allocator();
         if let Some(r) = renderer {

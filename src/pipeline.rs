@@ -12,6 +12,8 @@ use crate::renderer::{TargetFormats, ID_FORMAT, NORMAL_FORMAT};
 pub(crate) struct PipelineKey {
     pub orthographic: bool,
     pub config: DrawConfig,
+    /// The pass has the normal and ID attachments (and the shaders write them).
+    pub aux_outputs: bool,
 }
 
 /// The SPIR-V of the two stages for `config`.
@@ -46,6 +48,10 @@ pub(crate) fn create_pipeline(
             unsafe { device.destroy_shader_module(vert, None) };
             return Err(e);
         }
+    };
+    let formats = TargetFormats {
+        aux_outputs: key.aux_outputs,
+        ..formats
     };
     let result = build(device, layout, formats, key, vert, frag);
     // SAFETY: modules are no longer needed once pipeline creation returned.

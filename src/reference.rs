@@ -82,6 +82,18 @@ pub struct ReferenceFrame {
     pub depth_floor: Vec<f64>,
     /// The float32 floor of the normal angle error at this pixel, in degrees (same model).
     pub normal_floor_deg: Vec<f64>,
+    /// How many ellipsoids the pixel centre's ray meets where they are visible by the
+    /// near-plane rules, hidden or not: the depth complexity. Its sum over the image is the
+    /// number of fragments an exact per-glyph footprint would shade.
+    pub layers: Vec<u32>,
+}
+
+impl ReferenceFrame {
+    /// Sum of [`ReferenceFrame::layers`]: pixel centres inside each ellipsoid's silhouette,
+    /// added up over all ellipsoids.
+    pub fn silhouette_pixels(&self) -> u64 {
+        self.layers.iter().map(|&n| n as u64).sum()
+    }
 }
 
 impl ReferenceFrame {
@@ -186,6 +198,7 @@ pub fn render_reference(scene: &Scene, camera: &Camera) -> Result<ReferenceFrame
         ambiguous: vec![false; pixels],
         depth_floor: vec![0.0; pixels],
         normal_floor_deg: vec![0.0; pixels],
+        layers: vec![0; pixels],
     };
 
     let context = Context::new(scene, camera);
@@ -200,16 +213,20 @@ pub fn render_reference(scene: &Scene, camera: &Camera) -> Result<ReferenceFrame
         .zip(frame.ambiguous.chunks_mut(band_len))
         .zip(frame.depth_floor.chunks_mut(band_len))
         .zip(frame.normal_floor_deg.chunks_mut(band_len))
+        .zip(frame.layers.chunks_mut(band_len))
         .enumerate()
         .map(
-            |(tile_row, (((((depth, normal), id), ambiguous), depth_floor), normal_floor))| Band {
-                tile_row: tile_row as u32,
-                depth,
-                normal,
-                id,
-                ambiguous,
-                depth_floor,
-                normal_floor,
+            |(tile_row, ((((((depth, normal), id), ambiguous), depth_floor), normal_floor), layers))| {
+                Band {
+                    tile_row: tile_row as u32,
+                    depth,
+                    normal,
+                    id,
+                    ambiguous,
+                    depth_floor,
+                    normal_floor,
+                    layers,
+                }
             },
         )
         .collect();
@@ -253,6 +270,7 @@ struct Band<'a> {
     ambiguous: &'a mut [bool],
     depth_floor: &'a mut [f64],
     normal_floor: &'a mut [f64],
+    layers: &'a mut [u32],
 }
 
 /// Everything the band workers share, read-only.
@@ -360,6 +378,7 @@ impl<'a> Context<'a> {
                     band.ambiguous[index] = sample.ambiguous;
                     band.depth_floor[index] = sample.depth_floor;
                     band.normal_floor[index] = sample.normal_floor_deg;
+                    band.layers[index] = self.layers(&self.camera.ray(i, j), &candidates);
                 }
             }
         }
@@ -433,6 +452,20 @@ impl<'a> Context<'a> {
             Projection::Perspective { .. } => depth * per_unit,
             Projection::Orthographic { .. } => per_unit,
         }
+    }
+
+    /// How many of `candidates` the ray meets where they are visible (surface or cap).
+    fn layers(&self, ray: &Ray, candidates: &[u32]) -> u32 {
+        let near = self.camera.near;
+        candidates
+            .iter()
+            .filter(|&&id| {
+                let e = &self.prepared[id as usize];
+                let m = &e.to_parameter;
+                hit_unit_sphere(*m * (ray.origin - e.center), *m * ray.direction, m, near, self.forward)
+                    .is_some()
+            })
+            .count() as u32
     }
 
     /// Nearest visible hit along `ray` among `candidates` (sorted front to back); with

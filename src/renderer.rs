@@ -264,6 +264,7 @@ impl EllipsoidRenderer {
             PipelineKey {
                 orthographic,
                 config: self.config,
+                aux_outputs: self.formats.aux_outputs,
             },
         )?;
         Ok(())
@@ -319,6 +320,12 @@ impl EllipsoidRenderer {
         Ok(())
     }
 
+    /// Whether the next passes have the normal and ID attachments (as `TargetFormats`
+    /// describes); a pass without them shades colour and depth only.
+    pub fn set_aux_outputs(&mut self, on: bool) {
+        self.formats.aux_outputs = on;
+    }
+
     /// Number of instances uploaded.
     pub fn count(&self) -> u32 {
         self.count
@@ -348,6 +355,7 @@ impl EllipsoidRenderer {
         let key = PipelineKey {
             orthographic: matches!(camera.projection, Projection::Orthographic { .. }),
             config: self.config,
+            aux_outputs: self.formats.aux_outputs,
         };
         let pipeline = self.pipeline(device, key)?;
         let viewport = vk::Viewport {

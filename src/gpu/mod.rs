@@ -3,6 +3,7 @@
 pub mod buffer;
 pub mod context;
 pub mod image;
+pub mod queries;
 pub mod shaders;
 pub mod validation;
 
