@@ -24,33 +24,41 @@ fn main() {
             continue; // includes are tracked above, compiled through their users
         }
         let name = src.file_name().expect("file has a name").to_string_lossy();
-        let spv = out.join(format!("{name}.spv"));
-        let result = Command::new(&tool)
-            .args(["-V", "--target-env", "vulkan1.2", "--spirv-val"])
-            .arg(format!("-I{}", glsl.join("include").display()))
-            .arg("-o")
-            .arg(&spv)
-            .arg(src)
-            .output();
-        match result {
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                panic!(
-                    "\n\nshader compiler `{tool}` not found.\n\
-                     Install it with:  sudo apt-get install glslang-tools\n\
-                     or point GLSLANG_VALIDATOR at a glslangValidator binary.\n"
-                );
+        // Fragment shaders are also built with COUNT_FRAGMENTS: the variant `bench` uses to
+        // count shaded pixels with an atomic (it needs fragmentStoresAndAtomics).
+        let mut builds = vec![(format!("{name}.spv"), None)];
+        if ext == "frag" {
+            builds.push((format!("{name}.counted.spv"), Some("-DCOUNT_FRAGMENTS")));
+        }
+        for (spv, define) in builds {
+            let mut command = Command::new(&tool);
+            command
+                .args(["-V", "--target-env", "vulkan1.2", "--spirv-val"])
+                .arg(format!("-I{}", glsl.join("include").display()));
+            if let Some(define) = define {
+                command.arg(define);
             }
-            Err(e) => panic!("cannot run `{tool}`: {e}"),
-            Ok(o) if !o.status.success() => {
-                // glslangValidator prints compile errors on stdout.
-                failures.push(format!(
-                    "{}:\n{}{}",
-                    src.display(),
-                    String::from_utf8_lossy(&o.stdout),
-                    String::from_utf8_lossy(&o.stderr)
-                ));
+            let result = command.arg("-o").arg(out.join(&spv)).arg(src).output();
+            match result {
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                    panic!(
+                        "\n\nshader compiler `{tool}` not found.\n\
+                         Install it with:  sudo apt-get install glslang-tools\n\
+                         or point GLSLANG_VALIDATOR at a glslangValidator binary.\n"
+                    );
+                }
+                Err(e) => panic!("cannot run `{tool}`: {e}"),
+                Ok(o) if !o.status.success() => {
+                    // glslangValidator prints compile errors on stdout.
+                    failures.push(format!(
+                        "{}:\n{}{}",
+                        src.display(),
+                        String::from_utf8_lossy(&o.stdout),
+                        String::from_utf8_lossy(&o.stderr)
+                    ));
+                }
+                Ok(_) => {}
             }
-            Ok(_) => {}
         }
     }
     if !failures.is_empty() {

@@ -2,6 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // `flat-fill`: the same quads with no ray cast, no discard and no depth: the rasterizer's
 // limit for that coverage.
+#include "fragment_counter.glsl"
+
 layout(constant_id = 1) const bool AUX_OUTPUTS = true;
 
 // The impostor vertex stage's whole interface, declared so every output is consumed.
@@ -19,6 +21,7 @@ layout(location = 1) out vec4 out_normal;
 layout(location = 2) out uint out_id;
 
 void main() {
+    count_fragment();
     out_color = vec4(v_color, 1.0);
     if (AUX_OUTPUTS) {
         out_normal = vec4(0.0);

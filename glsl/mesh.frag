@@ -3,6 +3,7 @@
 // `mesh-L*`: Blinn-Phong with the interpolated vertex normal; depth from the rasterizer.
 #include "ellipsoid_common.glsl"
 #include "shading.glsl"
+#include "fragment_counter.glsl"
 
 layout(constant_id = 1) const bool AUX_OUTPUTS = true;
 
@@ -15,10 +16,9 @@ layout(location = 1) out vec4 out_normal;
 layout(location = 2) out uint out_id;
 
 void main() {
+    count_fragment();
     vec3 n = normalize(v_normal);
-    vec3 origin, dir;
-    pixel_ray(origin, dir);
-    out_color = vec4(shade(n, -normalize(dir), v_color), 1.0);
+    out_color = vec4(shade(n, v_color), 1.0);
     if (AUX_OUTPUTS) {
         out_normal = vec4(n, 0.0);
         out_id = v_id;

@@ -44,6 +44,8 @@ pub const CSV_HEADER: &[&str] = &[
     "coverage_mismatch",
     "depth_rel_p99",
     "normal_deg_p99",
+    "shaded_pixels",
+    "visible_pixels",
 ];
 
 /// One scene of the benchmark.
@@ -73,8 +75,11 @@ pub struct BenchResult {
     pub wall_ms: f64,
     /// Median GPU time from timestamps around the pass.
     pub gpu_ms: f64,
-    /// Fragment shader invocations of the read-back frame.
+    /// Fragment shader invocations of the read-back frame, from pipeline statistics (lavapipe
+    /// counts whole 4x4 blocks here).
     pub fragments: u64,
+    /// Pixels the fragment shader ran for, counted exactly by an atomic in the shader.
+    pub shaded_pixels: Option<u64>,
     /// Pixel centres inside each ellipsoid's silhouette, summed over all ellipsoids (hidden
     /// ones included): what an exact per-glyph footprint would shade.
     pub silhouette_pixels: u64,
@@ -92,9 +97,10 @@ impl BenchResult {
             .max(s.normal_deg_p99 / b.normal_deg_p99)
     }
 
-    /// Fragment shader invocations per silhouette pixel (1 = no wasted fragment).
+    /// Pixels shaded per silhouette pixel (1 = no wasted fragment); from the exact count
+    /// where there is one, else from pipeline statistics.
     pub fn fill_ratio(&self) -> f64 {
-        self.fragments as f64 / self.silhouette_pixels.max(1) as f64
+        self.shaded_pixels.unwrap_or(self.fragments) as f64 / self.silhouette_pixels.max(1) as f64
     }
 
     fn csv_row(&self) -> Vec<String> {
@@ -112,6 +118,8 @@ impl BenchResult {
             format!("{:.4e}", s.coverage_mismatch_fraction),
             format!("{:.4e}", s.depth_rel_p99),
             format!("{:.4e}", s.normal_deg_p99),
+            self.shaded_pixels.map_or(String::new(), |n| n.to_string()),
+            s.covered_pixels.to_string(),
         ]
     }
 }
@@ -230,7 +238,7 @@ pub fn run(
         renderer.upload(&bench.scene)?;
         let reference = render_reference(&bench.scene, &bench.camera)?;
         let silhouette_pixels = reference.silhouette_pixels();
-        let mut measured: Vec<(Method, ErrorStats, u64, Vec<f64>, Vec<f64>)> = Vec::new();
+        let mut measured: Vec<Measured> = Vec::new();
         for &method in &active {
             renderer.set_config(method.config());
             let (frame, timing) = renderer.render_uploaded(&bench.camera)?;
@@ -238,32 +246,50 @@ pub fn run(
             for _ in 0..2 {
                 renderer.render_timed(&bench.camera)?;
             }
-            measured.push((method, stats, timing.gpu.fragments.unwrap_or(0), Vec::new(), Vec::new()));
+            measured.push(Measured {
+                method,
+                stats,
+                fragments: timing.gpu.fragments.unwrap_or(0),
+                shaded_pixels: timing.shaded_fragments,
+                wall: Vec::new(),
+                gpu: Vec::new(),
+            });
         }
         for _ in 0..frames {
             for entry in measured.iter_mut() {
-                renderer.set_config(entry.0.config());
+                renderer.set_config(entry.method.config());
                 let timing = renderer.render_timed(&bench.camera)?;
-                entry.3.push(timing.gpu_wall.as_secs_f64() * 1e3);
-                entry.4.push(timing.gpu.gpu_ms);
+                entry.wall.push(timing.gpu_wall.as_secs_f64() * 1e3);
+                entry.gpu.push(timing.gpu.gpu_ms);
             }
         }
-        for (method, stats, fragments, mut wall, mut gpu) in measured {
+        for mut m in measured {
             results.push(BenchResult {
-                method,
+                method: m.method,
                 scene: bench.name.clone(),
                 count,
                 size_px: bench.size_px,
-                wall_ms: median(&mut wall),
-                gpu_ms: median(&mut gpu),
-                fragments,
+                wall_ms: median(&mut m.wall),
+                gpu_ms: median(&mut m.gpu),
+                fragments: m.fragments,
+                shaded_pixels: m.shaded_pixels,
                 silhouette_pixels,
-                stats,
+                stats: m.stats,
             });
         }
     }
     progress.finish();
     Ok(results)
+}
+
+/// What is collected for one method on one scene.
+struct Measured {
+    method: Method,
+    stats: ErrorStats,
+    fragments: u64,
+    shaded_pixels: Option<u64>,
+    wall: Vec<f64>,
+    gpu: Vec<f64>,
 }
 
 fn median(values: &mut [f64]) -> f64 {
@@ -279,13 +305,20 @@ fn median(values: &mut [f64]) -> f64 {
     }
 }
 
-/// Indices of the points no other point beats in both time and error.
+/// Relative time difference below which two medians count as equal (run-to-run noise of
+/// interleaved medians on this machine is a few percent).
+pub const TIME_TOLERANCE: f64 = 0.05;
+
+/// Indices of the points no other point beats: faster by more than [`TIME_TOLERANCE`] and no
+/// worse in error, or lower in error and not slower beyond the tolerance.
 pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
     (0..points.len())
         .filter(|&i| {
             let (t, e) = points[i];
             !points.iter().enumerate().any(|(j, &(tj, ej))| {
-                j != i && tj <= t && ej <= e && (tj < t || ej < e)
+                let faster = tj < t * (1.0 - TIME_TOLERANCE);
+                let not_slower = tj <= t * (1.0 + TIME_TOLERANCE);
+                j != i && ((faster && ej <= e) || (not_slower && ej < e))
             })
         })
         .collect()
@@ -306,7 +339,9 @@ pub fn check_targets(results: &[BenchResult]) -> Vec<TargetCheck> {
     let mut checks = Vec::new();
     let mut scenes: Vec<&str> = results.iter().map(|r| r.scene.as_str()).collect();
     scenes.dedup();
-    let of = |scene: &str| -> Vec<&BenchResult> { results.iter().filter(|r| r.scene == scene).collect() };
+    let of = |scene: &str| -> Vec<&BenchResult> {
+        results.iter().filter(|r| r.scene == scene).collect()
+    };
 
     // Pareto front (time, error ratio floored at 1e-3 so exact methods tie on error).
     let mut off_front = Vec::new();
@@ -315,15 +350,29 @@ pub fn check_targets(results: &[BenchResult]) -> Vec<TargetCheck> {
     let mut flat_ratio = Vec::new();
     for scene in &scenes {
         let rs = of(scene);
-        let points: Vec<(f64, f64)> = rs.iter().map(|r| (r.wall_ms, r.error_ratio().max(1e-3))).collect();
+        let points: Vec<(f64, f64)> = rs
+            .iter()
+            .map(|r| (r.wall_ms, r.error_ratio().max(1e-3)))
+            .collect();
         let front = pareto_front(&points);
-        let Some(imp) = rs.iter().position(|r| r.method == Method::Impostor) else { continue };
+        let Some(imp) = rs.iter().position(|r| r.method == Method::Impostor) else {
+            continue;
+        };
         if !front.contains(&imp) {
             off_front.push(scene.to_string());
         }
         for r in &rs {
-            if matches!(r.method, Method::Mesh(_)) && r.stats.normal_deg_p99 <= 1.0 && r.wall_ms < rs[imp].wall_ms {
-                mesh_faster.push(format!("{} on {} ({:.1} vs {:.1} ms)", r.method.name(), scene, r.wall_ms, rs[imp].wall_ms));
+            if matches!(r.method, Method::Mesh(_))
+                && r.stats.normal_deg_p99 <= 1.0
+                && r.wall_ms < rs[imp].wall_ms
+            {
+                mesh_faster.push(format!(
+                    "{} on {} ({:.1} vs {:.1} ms)",
+                    r.method.name(),
+                    scene,
+                    r.wall_ms,
+                    rs[imp].wall_ms
+                ));
             }
         }
         fill.push((scene.to_string(), rs[imp].fill_ratio()));
@@ -335,23 +384,43 @@ pub fn check_targets(results: &[BenchResult]) -> Vec<TargetCheck> {
     }
     checks.push(TargetCheck {
         target: "impostor on the Pareto front of every scene".into(),
-        measured: if off_front.is_empty() { "on the front in every scene".into() } else { format!("off the front on {}", off_front.join(", ")) },
+        measured: if off_front.is_empty() {
+            "on the front in every scene".into()
+        } else {
+            format!("off the front on {}", off_front.join(", "))
+        },
         holds: off_front.is_empty(),
     });
     checks.push(TargetCheck {
         target: "impostor faster than every mesh level with normal p99 <= 1 degree".into(),
-        measured: if mesh_faster.is_empty() { "no such mesh is faster".into() } else { mesh_faster.join("; ") },
+        measured: if mesh_faster.is_empty() {
+            "no such mesh is faster".into()
+        } else {
+            mesh_faster.join("; ")
+        },
         holds: mesh_faster.is_empty(),
     });
     let worst_fill = fill.iter().map(|f| f.1).fold(0.0, f64::max);
     checks.push(TargetCheck {
         target: "impostor fragments / covered pixels <= 1.35 on every scene".into(),
-        measured: fill.iter().map(|(s, v)| format!("{s} {v:.3}")).collect::<Vec<_>>().join(", "),
+        measured: fill
+            .iter()
+            .map(|(s, v)| format!("{s} {v:.3}"))
+            .collect::<Vec<_>>()
+            .join(", "),
         holds: worst_fill <= 1.35,
     });
     checks.push(TargetCheck {
         target: "impostor at least half the speed of flat-fill on pixel-bound scenes".into(),
-        measured: if flat_ratio.is_empty() { "no pixel-bound scene measured".into() } else { flat_ratio.iter().map(|(s, v)| format!("{s}: impostor speed {v:.2} x flat-fill")).collect::<Vec<_>>().join(", ") },
+        measured: if flat_ratio.is_empty() {
+            "no pixel-bound scene measured".into()
+        } else {
+            flat_ratio
+                .iter()
+                .map(|(s, v)| format!("{s}: impostor speed {v:.2} x flat-fill"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        },
         holds: !flat_ratio.is_empty() && flat_ratio.iter().all(|f| f.1 >= 0.5),
     });
     // Linear scaling: time per ellipsoid at the largest count within 2x of the smallest
@@ -369,7 +438,11 @@ pub fn check_targets(results: &[BenchResult]) -> Vec<TargetCheck> {
     };
     checks.push(TargetCheck {
         target: "time grows linearly with count up to 1e6 (2 px clouds)".into(),
-        measured: per_glyph.iter().map(|(n, t)| format!("{n}: {:.3} us/glyph", t * 1e3)).collect::<Vec<_>>().join(", "),
+        measured: per_glyph
+            .iter()
+            .map(|(n, t)| format!("{n}: {:.3} us/glyph", t * 1e3))
+            .collect::<Vec<_>>()
+            .join(", "),
         holds: linear,
     });
     checks
@@ -387,11 +460,24 @@ pub fn write_report(results: &[BenchResult], dir: &Path) -> Result<(String, Stri
 
     // Time against error on the headline scene (the tensor field), Pareto front marked.
     let headline: Vec<&BenchResult> = {
-        let tf: Vec<&BenchResult> = results.iter().filter(|r| r.scene == "tensor-field").collect();
-        if tf.is_empty() { results.iter().collect() } else { tf }
+        let tf: Vec<&BenchResult> = results
+            .iter()
+            .filter(|r| r.scene == "tensor-field")
+            .collect();
+        if tf.is_empty() {
+            results.iter().collect()
+        } else {
+            tf
+        }
     };
-    let points: Vec<(f64, f64)> = headline.iter().map(|r| (r.wall_ms, r.error_ratio().max(1e-3))).collect();
-    let front: Vec<(f64, f64)> = pareto_front(&points).into_iter().map(|i| points[i]).collect();
+    let points: Vec<(f64, f64)> = headline
+        .iter()
+        .map(|r| (r.wall_ms, r.error_ratio().max(1e-3)))
+        .collect();
+    let front: Vec<(f64, f64)> = pareto_front(&points)
+        .into_iter()
+        .map(|i| points[i])
+        .collect();
     let series: Vec<Series> = headline
         .iter()
         .zip(&points)
@@ -399,7 +485,12 @@ pub fn write_report(results: &[BenchResult], dir: &Path) -> Result<(String, Stri
         .collect();
     scatter_chart(
         &dir.join("time_vs_error.png"),
-        &format!("time versus error, {} ({}x{}, lavapipe)", headline.first().map_or("", |r| r.scene.as_str()), WIDTH, HEIGHT),
+        &format!(
+            "time versus error, {} ({}x{}, lavapipe)",
+            headline.first().map_or("", |r| r.scene.as_str()),
+            WIDTH,
+            HEIGHT
+        ),
         &Axis::log("median frame time, submit to fence (ms)"),
         &Axis::log("worst error / strict bound (floored at 1e-3)"),
         &series,
@@ -407,7 +498,10 @@ pub fn write_report(results: &[BenchResult], dir: &Path) -> Result<(String, Stri
     )?;
 
     // Fragments per covered pixel by method on the headline scene.
-    let bars: Vec<(String, f64)> = headline.iter().map(|r| (r.method.name(), r.fill_ratio())).collect();
+    let bars: Vec<(String, f64)> = headline
+        .iter()
+        .map(|r| (r.method.name(), r.fill_ratio()))
+        .collect();
     bar_chart(
         &dir.join("fill_efficiency.png"),
         "fragment shader invocations per covered pixel",
@@ -433,7 +527,17 @@ pub fn write_report(results: &[BenchResult], dir: &Path) -> Result<(String, Stri
         &[],
     )?;
 
-    let header = ["method", "scene", "count", "wall ms", "gpu ms", "frag/covered", "cov. mismatch", "depth p99", "normal p99 deg"];
+    let header = [
+        "method",
+        "scene",
+        "count",
+        "wall ms",
+        "gpu ms",
+        "frag/covered",
+        "cov. mismatch",
+        "depth p99",
+        "normal p99 deg",
+    ];
     let table: Vec<Vec<String>> = results
         .iter()
         .map(|r| {
@@ -466,7 +570,15 @@ pub fn write_report(results: &[BenchResult], dir: &Path) -> Result<(String, Stri
         })
         .collect();
     let markdown = markdown_table(
-        &["method", "wall ms", "time / impostor", "fragments / covered", "coverage mismatch", "depth rel p99", "normal p99 (deg)"],
+        &[
+            "method",
+            "wall ms",
+            "time / impostor",
+            "fragments / covered",
+            "coverage mismatch",
+            "depth rel p99",
+            "normal p99 (deg)",
+        ],
         &headline_rows,
     );
     Ok((format_table(&header, &table), markdown))

@@ -49,6 +49,9 @@ pub struct BenchArgs {
     /// Comma-separated method names (default: all).
     #[arg(long, value_delimiter = ',')]
     pub methods: Vec<String>,
+    /// Only scenes whose name contains one of these comma-separated words (default: all).
+    #[arg(long, value_delimiter = ',')]
+    pub scenes: Vec<String>,
     /// Device and validation.
     #[command(flatten)]
     pub device: DeviceArgs,

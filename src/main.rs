@@ -7,8 +7,8 @@ use clap::Parser;
 
 use ellipsoid_splat::bench;
 use ellipsoid_splat::cli::{self, BenchArgs, Cli, Command, DeviceArgs, RenderArgs, StressArgs};
-use ellipsoid_splat::draw::Method;
 use ellipsoid_splat::draw::Intersection;
+use ellipsoid_splat::draw::Method;
 use ellipsoid_splat::gpu::{Context, ContextOptions};
 use ellipsoid_splat::report::Progress;
 use ellipsoid_splat::stress::{run_point, sweep_points, write_report, Extent, StressResult};
@@ -169,29 +169,56 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         args.methods
             .iter()
             .map(|name| {
-                Method::ALL.iter().copied().find(|m| m.name() == *name).ok_or_else(|| {
-                    ellipsoid_splat::Error::invalid(
-                        "--methods",
-                        format!(
-                            "unknown method '{name}'; known: {}",
-                            Method::ALL.map(|m| m.name()).join(", ")
-                        ),
-                    )
-                })
+                Method::ALL
+                    .iter()
+                    .copied()
+                    .find(|m| m.name() == *name)
+                    .ok_or_else(|| {
+                        ellipsoid_splat::Error::invalid(
+                            "--methods",
+                            format!(
+                                "unknown method '{name}'; known: {}",
+                                Method::ALL.map(|m| m.name()).join(", ")
+                            ),
+                        )
+                    })
             })
             .collect::<Result<_>>()?
     };
     if args.frames == 0 {
-        return Err(ellipsoid_splat::Error::invalid("--frames", "must be at least 1"));
+        return Err(ellipsoid_splat::Error::invalid(
+            "--frames",
+            "must be at least 1",
+        ));
     }
-    let specs = bench::cloud_specs(args.quick);
-    let scene_count = specs.len() + 1;
-    let mut scenes = std::iter::once_with(bench::tensor_field_scene)
-        .chain(specs.into_iter().map(|(count, size)| bench::frustum_cloud(count, size, 1)));
+    let wanted = |name: &str| {
+        args.scenes.is_empty() || args.scenes.iter().any(|s| name.contains(s.as_str()))
+    };
+    let specs: Vec<(usize, f64)> = bench::cloud_specs(args.quick)
+        .into_iter()
+        .filter(|&(_, size)| wanted(&format!("cloud-{size}px")))
+        .collect();
+    let with_field = wanted("tensor-field");
+    let scene_count = specs.len() + with_field as usize;
+    let mut scenes = with_field
+        .then(bench::tensor_field_scene)
+        .into_iter()
+        .chain(
+            specs
+                .into_iter()
+                .map(|(count, size)| bench::frustum_cloud(count, size, 1)),
+        );
     let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
     let mut skipped = Vec::new();
     let started = std::time::Instant::now();
-    let results = bench::run(&mut renderer, &mut scenes, scene_count, &methods, args.frames, &mut skipped)?;
+    let results = bench::run(
+        &mut renderer,
+        &mut scenes,
+        scene_count,
+        &methods,
+        args.frames,
+        &mut skipped,
+    )?;
     let device = renderer.context().info().name.clone();
     renderer.context().check_validation()?;
     renderer.finish()?;
@@ -204,7 +231,12 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
     let checks = bench::check_targets(&results);
     let mut all = true;
     for c in &checks {
-        println!("[{}] {}: {}", if c.holds { "met" } else { "MISSED" }, c.target, c.measured);
+        println!(
+            "[{}] {}: {}",
+            if c.holds { "met" } else { "MISSED" },
+            c.target,
+            c.measured
+        );
         all &= c.holds;
     }
     println!(

@@ -63,6 +63,9 @@ pub struct FrameTiming {
     pub gpu_wall: Duration,
     /// Timestamps around the rendering pass, and fragment shader invocations in it.
     pub gpu: QueryResults,
+    /// Pixels shaded, counted exactly by the fragment shaders (read-back frames on devices
+    /// with `fragmentStoresAndAtomics`).
+    pub shaded_fragments: Option<u64>,
     /// Copying the readback into a [`Frame`].
     pub readback: Duration,
 }
@@ -111,7 +114,11 @@ impl OffscreenRenderer {
         self.renderer = Some(EllipsoidRenderer::new(device, allocator, formats)?);
         let info = self.context.info();
         let (statistics, period) = (info.pipeline_statistics, info.timestamp_period);
-        self.queries = Some(FrameQueries::new(self.context.device(), statistics, period)?);
+        self.queries = Some(FrameQueries::new(
+            self.context.device(),
+            statistics,
+            period,
+        )?);
         Ok(())
     }
 
@@ -184,11 +191,17 @@ impl OffscreenRenderer {
             height: camera.height,
         };
         self.ensure_targets(extent)?;
+        let counting = self.context.info().fragment_stores_and_atomics;
         {
             // Pipelines and meshes are made before recording, never inside a timed frame.
-            let renderer = self.renderer.as_mut().expect("renderer exists after construction");
+            let renderer = self
+                .renderer
+                .as_mut()
+                .expect("renderer exists after construction");
             let (device, allocator) = self.context.device_and_allocator();
             renderer.set_aux_outputs(readback);
+            renderer.count_fragments = readback && counting;
+            renderer.reset_fragment_counter()?;
             renderer.prepare(device, allocator, camera)?;
         }
         self.record(camera, extent, readback)?;
@@ -199,9 +212,19 @@ impl OffscreenRenderer {
             Some(q) => q.read(self.context.device())?,
             None => QueryResults::default(),
         };
+        let renderer = self
+            .renderer
+            .as_ref()
+            .expect("renderer exists after construction");
+        let shaded_fragments = if renderer.count_fragments {
+            renderer.fragment_count().map(u64::from)
+        } else {
+            None
+        };
         Ok(FrameTiming {
             gpu_wall,
             gpu,
+            shaded_fragments,
             readback: Duration::ZERO,
         })
     }
@@ -468,6 +491,7 @@ impl OffscreenRenderer {
                         &[region],
                     );
                 }
+                renderer.record_counter_barrier(device, cmd);
                 // Make the copies visible to the host read after the fence.
                 let to_host = vk::BufferMemoryBarrier::default()
                     .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)

@@ -14,19 +14,41 @@ pub(crate) struct PipelineKey {
     pub config: DrawConfig,
     /// The pass has the normal and ID attachments (and the shaders write them).
     pub aux_outputs: bool,
+    /// Fragment shaders count shaded pixels into binding 1.
+    pub count_fragments: bool,
 }
 
-/// The SPIR-V of the two stages for `config`.
-fn stage_code(config: &DrawConfig) -> (&'static [u8], &'static [u8]) {
+/// The SPIR-V of the two stages for `key`.
+fn stage_code(key: &PipelineKey) -> (&'static [u8], &'static [u8]) {
+    use shaders::counted;
+    let pick = |plain: &'static [u8], counting: &'static [u8]| {
+        if key.count_fragments {
+            counting
+        } else {
+            plain
+        }
+    };
+    let config = &key.config;
     match config.geometry {
-        Geometry::Mesh(_) => (shaders::MESH_VERT, shaders::MESH_FRAG),
-        Geometry::BoxProxy => (shaders::BOX_VERT, shaders::ELLIPSOID_FRAG),
+        Geometry::Mesh(_) => (
+            shaders::MESH_VERT,
+            pick(shaders::MESH_FRAG, counted::MESH_FRAG),
+        ),
+        Geometry::BoxProxy => (
+            shaders::BOX_VERT,
+            pick(shaders::ELLIPSOID_FRAG, counted::ELLIPSOID_FRAG),
+        ),
         Geometry::Impostor => (
             shaders::ELLIPSOID_VERT,
             match config.shading {
-                Shading::FlatDepth => shaders::ELLIPSOID_FLAT_DEPTH_FRAG,
-                Shading::FlatFill => shaders::FLAT_FILL_FRAG,
-                Shading::Exact | Shading::FastNormal => shaders::ELLIPSOID_FRAG,
+                Shading::FlatDepth => pick(
+                    shaders::ELLIPSOID_FLAT_DEPTH_FRAG,
+                    counted::ELLIPSOID_FLAT_DEPTH_FRAG,
+                ),
+                Shading::FlatFill => pick(shaders::FLAT_FILL_FRAG, counted::FLAT_FILL_FRAG),
+                Shading::Exact | Shading::FastNormal => {
+                    pick(shaders::ELLIPSOID_FRAG, counted::ELLIPSOID_FRAG)
+                }
             },
         ),
     }
@@ -39,7 +61,7 @@ pub(crate) fn create_pipeline(
     formats: TargetFormats,
     key: PipelineKey,
 ) -> Result<vk::Pipeline> {
-    let (vert_code, frag_code) = stage_code(&key.config);
+    let (vert_code, frag_code) = stage_code(&key);
     let vert = shaders::create_module(device, vert_code)?;
     let frag = match shaders::create_module(device, frag_code) {
         Ok(m) => m,

@@ -216,7 +216,10 @@ pub fn render_reference(scene: &Scene, camera: &Camera) -> Result<ReferenceFrame
         .zip(frame.layers.chunks_mut(band_len))
         .enumerate()
         .map(
-            |(tile_row, ((((((depth, normal), id), ambiguous), depth_floor), normal_floor), layers))| {
+            |(
+                tile_row,
+                ((((((depth, normal), id), ambiguous), depth_floor), normal_floor), layers),
+            )| {
                 Band {
                     tile_row: tile_row as u32,
                     depth,
@@ -462,8 +465,14 @@ impl<'a> Context<'a> {
             .filter(|&&id| {
                 let e = &self.prepared[id as usize];
                 let m = &e.to_parameter;
-                hit_unit_sphere(*m * (ray.origin - e.center), *m * ray.direction, m, near, self.forward)
-                    .is_some()
+                hit_unit_sphere(
+                    *m * (ray.origin - e.center),
+                    *m * ray.direction,
+                    m,
+                    near,
+                    self.forward,
+                )
+                .is_some()
             })
             .count() as u32
     }

@@ -82,6 +82,9 @@ pub struct EllipsoidRenderer {
     pub material: Material,
     /// How the next `record` draws (the shipped renderer by default).
     pub config: DrawConfig,
+    /// Count shaded pixels with an atomic (needs `fragmentStoresAndAtomics`; for `bench`).
+    pub count_fragments: bool,
+    counter: Option<GpuBuffer>,
 }
 
 /// One icosphere level on the GPU.
@@ -112,9 +115,14 @@ impl EllipsoidRenderer {
             material: Material::default(),
             meshes: Vec::new(),
             config: DrawConfig::default(),
+            count_fragments: false,
+            counter: None,
         };
         // On failure, `destroy` releases whatever was created (null handles are skipped).
-        match renderer.create_objects(device) {
+        match renderer
+            .create_objects(device)
+            .and_then(|_| renderer.create_counter(device, allocator))
+        {
             Ok(()) => Ok(renderer),
             Err(e) => {
                 renderer.destroy(device, allocator);
@@ -124,11 +132,19 @@ impl EllipsoidRenderer {
     }
 
     fn create_objects(&mut self, device: &ash::Device) -> Result<()> {
-        let bindings = [vk::DescriptorSetLayoutBinding::default()
-            .binding(0)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(1)
-            .stage_flags(vk::ShaderStageFlags::VERTEX)];
+        // Binding 0: instances; binding 1: the fragment counter of `count_fragments`.
+        let bindings = [
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(0)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::VERTEX),
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(1)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(vk::ShaderStageFlags::FRAGMENT),
+        ];
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
         // SAFETY: valid create info; owned by `self`, destroyed in `destroy`.
         self.set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
@@ -147,7 +163,7 @@ impl EllipsoidRenderer {
 
         let sizes = [vk::DescriptorPoolSize::default()
             .ty(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(1)];
+            .descriptor_count(2)];
         let info = vk::DescriptorPoolCreateInfo::default()
             .max_sets(1)
             .pool_sizes(&sizes);
@@ -161,6 +177,71 @@ impl EllipsoidRenderer {
         self.descriptor_set =
             unsafe { device.allocate_descriptor_sets(&info) }.call("vkAllocateDescriptorSets")?[0];
         Ok(())
+    }
+
+    /// The fragment counter buffer, bound at binding 1.
+    fn create_counter(&mut self, device: &ash::Device, allocator: &mut Allocator) -> Result<()> {
+        let buffer = GpuBuffer::new(
+            device,
+            allocator,
+            "fragment counter",
+            4,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let infos = [vk::DescriptorBufferInfo::default()
+            .buffer(buffer.handle())
+            .offset(0)
+            .range(vk::WHOLE_SIZE)];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(self.descriptor_set)
+            .dst_binding(1)
+            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+            .buffer_info(&infos);
+        // SAFETY: the set is new and unused; the buffer is live and owned by `self`.
+        unsafe { device.update_descriptor_sets(&[write], &[]) };
+        self.counter = Some(buffer);
+        Ok(())
+    }
+
+    /// Zeroes the fragment counter; call before submitting a counting frame.
+    pub fn reset_fragment_counter(&mut self) -> Result<()> {
+        match self.counter.as_mut() {
+            Some(c) => c.write(&0u32.to_ne_bytes()),
+            None => Ok(()),
+        }
+    }
+
+    /// Pixels shaded by the last counting frame (after its fence, and after the barrier of
+    /// [`EllipsoidRenderer::record_counter_barrier`]).
+    pub fn fragment_count(&self) -> Option<u32> {
+        let bytes = self.counter.as_ref()?.mapped()?;
+        Some(u32::from_ne_bytes(bytes.get(..4)?.try_into().ok()?))
+    }
+
+    /// Makes the counter's atomic writes visible to the host; record after the pass.
+    pub fn record_counter_barrier(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        let Some(counter) = self.counter.as_ref() else {
+            return;
+        };
+        let barrier = vk::BufferMemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+            .dst_access_mask(vk::AccessFlags::HOST_READ)
+            .buffer(counter.handle())
+            .offset(0)
+            .size(vk::WHOLE_SIZE);
+        // SAFETY: `cmd` is recording outside a pass; the buffer is owned by `self`.
+        unsafe {
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::FRAGMENT_SHADER,
+                vk::PipelineStageFlags::HOST,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[barrier],
+                &[],
+            )
+        };
     }
 
     /// The pipeline for `key`, built now if this is its first use.
@@ -265,6 +346,7 @@ impl EllipsoidRenderer {
                 orthographic,
                 config: self.config,
                 aux_outputs: self.formats.aux_outputs,
+                count_fragments: self.count_fragments,
             },
         )?;
         Ok(())
@@ -356,6 +438,7 @@ impl EllipsoidRenderer {
             orthographic: matches!(camera.projection, Projection::Orthographic { .. }),
             config: self.config,
             aux_outputs: self.formats.aux_outputs,
+            count_fragments: self.count_fragments,
         };
         let pipeline = self.pipeline(device, key)?;
         let viewport = vk::Viewport {
@@ -463,6 +546,9 @@ impl EllipsoidRenderer {
     /// Destroys everything the renderer created. The GPU must be done with it.
     pub fn destroy(mut self, device: &ash::Device, allocator: &mut Allocator) {
         if let Some(buffer) = self.instances.take() {
+            buffer.destroy(device, allocator);
+        }
+        if let Some(buffer) = self.counter.take() {
             buffer.destroy(device, allocator);
         }
         for (_, mesh) in self.meshes.drain(..) {

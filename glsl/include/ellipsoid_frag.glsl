@@ -6,6 +6,7 @@
 // FLAT_DEPTH is defined (then the quad's constant depth stands: a measured approximation).
 #include "ellipsoid_common.glsl"
 #include "shading.glsl"
+#include "fragment_counter.glsl"
 
 // Outputs beyond colour only when the pipeline has those attachments.
 layout(constant_id = 1) const bool AUX_OUTPUTS = true;
@@ -109,6 +110,7 @@ bool hit_stable(out float depth, out vec3 normal, out bool cap) {
 }
 
 void main() {
+    count_fragment();
     float near = cam.eye_near.w;
     float depth;
     vec3 normal;
@@ -130,11 +132,7 @@ void main() {
     gl_FragDepth = cap ? 1.0 : near / depth;
 #endif
 
-    // Direction to the eye for lighting: the pixel's ray reversed.
-    vec3 origin, dir;
-    pixel_ray(origin, dir);
-    vec3 to_eye = -normalize(dir);
-    out_color = vec4(shade(n, to_eye, v_color), 1.0);
+    out_color = vec4(shade(n, v_color), 1.0);
     if (AUX_OUTPUTS) {
         out_normal = vec4(n, 0.0);
         out_id = v_id;

@@ -1,24 +1,28 @@
 // Shading shared by every fragment shader: Blinn-Phong with Gumhold's material parameters,
 // and the pixel's ray of the camera contract. Needs ellipsoid_common.glsl first.
 
-vec3 shade(vec3 n, vec3 to_eye, vec3 base) {
-    vec3 r = cam.right_sx.xyz, up = cam.up_sy.xyz, f = cam.forward.xyz;
+// Schlick's rational stand-in for pow(x, n): close in shape, no transcendental functions.
+float specular_lobe(float x, float n) {
+    return x / (n - n * x + x);
+}
+
+// Blinn-Phong with a head-light and a key light above-left, both fixed to the camera, seen by
+// an infinitely distant viewer: in view axes (r, u, -f) every light and half vector is a
+// constant, so a fragment pays for three dot products and two divisions. `n` is the unit
+// world normal.
+vec3 shade(vec3 n, vec3 base) {
+    vec3 nv = vec3(dot(n, cam.right_sx.xyz), dot(n, cam.up_sy.xyz), -dot(n, cam.forward.xyz));
     float ka = cam.material.x, kd = cam.material.y, ks = cam.material.z, shininess = cam.material.w;
-    // A head-light at the eye and a key light above-left, fixed to the camera.
-    vec3 key = normalize(-0.45 * r + 0.65 * up - 0.6 * f);
-    vec3 lights[2] = vec3[2](to_eye, key);
-    float weights[2] = float[2](0.55, 0.6);
-    vec3 color = ka * base;
-    for (int i = 0; i < 2; i++) {
-        vec3 l = lights[i];
-        float nl = dot(n, l);
-        if (nl > 0.0) {
-            vec3 h = normalize(l + to_eye);
-            float spec = pow(max(dot(n, h), 0.0), shininess);
-            color += weights[i] * (kd * nl * base + ks * spec * cam.specular_color.rgb);
-        }
-    }
-    return color;
+    // key = normalize(-0.45, 0.65, 0.6); half = normalize(key + (0, 0, 1)).
+    const vec3 KEY = vec3(-0.45, 0.65, 0.6) / 0.99247166;
+    const vec3 HALF_KEY = (KEY + vec3(0.0, 0.0, 1.0)) / length(KEY + vec3(0.0, 0.0, 1.0));
+    float head = max(nv.z, 0.0);
+    float side = max(dot(nv, KEY), 0.0);
+    float spec_head = specular_lobe(head, shininess);
+    float spec_side = side > 0.0 ? specular_lobe(max(dot(nv, HALF_KEY), 0.0), shininess) : 0.0;
+    return ka * base
+        + 0.55 * (kd * head * base + ks * spec_head * cam.specular_color.rgb)
+        + 0.6 * (kd * side * base + ks * spec_side * cam.specular_color.rgb);
 }
 
 // The pixel's ray relative to the eye: origin offset (orthographic) and direction with unit

@@ -55,6 +55,8 @@ pub struct DeviceInfo {
     pub max_storage_buffer_range: u32,
     /// Whether pipeline-statistics queries were enabled.
     pub pipeline_statistics: bool,
+    /// Whether fragment shaders may write storage buffers (the `bench` fragment counter).
+    pub fragment_stores_and_atomics: bool,
 }
 
 /// Owns every Vulkan object of the standalone path.
@@ -167,7 +169,7 @@ impl Context {
 
         let device_parts = choose_device(&instance, options.device.as_deref())
             .and_then(|(pd, family)| create_device(&instance, pd, family).map(|d| (pd, family, d)));
-        let (physical_device, queue_family, (device, pipeline_statistics)) = match device_parts {
+        let (physical_device, queue_family, (device, enabled)) = match device_parts {
             Ok(parts) => parts,
             Err(e) => {
                 destroy_instance(&instance, messenger);
@@ -198,7 +200,7 @@ impl Context {
 
         // SAFETY: `queue_family` was requested with one queue at device creation.
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
-        let info = device_info(&instance, physical_device, pipeline_statistics);
+        let info = device_info(&instance, physical_device, enabled);
         Ok(Self {
             allocator: ManuallyDrop::new(allocator),
             device,
@@ -371,12 +373,19 @@ fn choose_device(
     }
 }
 
-/// Creates the device with dynamic rendering; returns it and whether pipeline statistics are on.
+/// Optional features that were enabled.
+#[derive(Clone, Copy)]
+struct EnabledFeatures {
+    pipeline_statistics: bool,
+    fragment_stores_and_atomics: bool,
+}
+
+/// Creates the device with dynamic rendering; returns it and the optional features enabled.
 fn create_device(
     instance: &ash::Instance,
     pd: vk::PhysicalDevice,
     family: u32,
-) -> Result<(ash::Device, bool)> {
+) -> Result<(ash::Device, EnabledFeatures)> {
     // SAFETY: `pd` was enumerated from `instance`.
     let supported = unsafe { instance.get_physical_device_features(pd) };
     let mut supported13 = vk::PhysicalDeviceVulkan13Features::default();
@@ -386,10 +395,13 @@ fn create_device(
     if supported13.dynamic_rendering == vk::FALSE {
         return Err(Error::NoDevice("device lacks dynamicRendering".into()));
     }
-    let pipeline_statistics = supported.pipeline_statistics_query == vk::TRUE;
+    let enabled = EnabledFeatures {
+        pipeline_statistics: supported.pipeline_statistics_query == vk::TRUE,
+        fragment_stores_and_atomics: supported.fragment_stores_and_atomics == vk::TRUE,
+    };
     let features = vk::PhysicalDeviceFeatures::default()
-        .pipeline_statistics_query(pipeline_statistics)
-        .fragment_stores_and_atomics(supported.fragment_stores_and_atomics == vk::TRUE)
+        .pipeline_statistics_query(enabled.pipeline_statistics)
+        .fragment_stores_and_atomics(enabled.fragment_stores_and_atomics)
         .sample_rate_shading(supported.sample_rate_shading == vk::TRUE);
     let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
         .dynamic_rendering(true)
@@ -404,13 +416,13 @@ fn create_device(
         .push_next(&mut features13);
     // SAFETY: every pointer in `create` refers to locals that outlive the call.
     let device = unsafe { instance.create_device(pd, &create, None) }.call("vkCreateDevice")?;
-    Ok((device, pipeline_statistics))
+    Ok((device, enabled))
 }
 
 fn device_info(
     instance: &ash::Instance,
     pd: vk::PhysicalDevice,
-    pipeline_statistics: bool,
+    enabled: EnabledFeatures,
 ) -> DeviceInfo {
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
     let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
@@ -433,6 +445,7 @@ fn device_info(
         api_version: props.api_version,
         timestamp_period: props.limits.timestamp_period,
         max_storage_buffer_range: props.limits.max_storage_buffer_range,
-        pipeline_statistics,
+        pipeline_statistics: enabled.pipeline_statistics,
+        fragment_stores_and_atomics: enabled.fragment_stores_and_atomics,
     }
 }

@@ -64,7 +64,12 @@ impl FrameQueries {
             if let Some(pool) = self.statistics {
                 device.cmd_reset_query_pool(cmd, pool, 0, 1);
             }
-            device.cmd_write_timestamp(cmd, vk::PipelineStageFlags::TOP_OF_PIPE, self.timestamps, 0);
+            device.cmd_write_timestamp(
+                cmd,
+                vk::PipelineStageFlags::TOP_OF_PIPE,
+                self.timestamps,
+                0,
+            );
         }
     }
 
@@ -88,7 +93,12 @@ impl FrameQueries {
     pub fn end(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
         // SAFETY: query 1 was reset in `begin`.
         unsafe {
-            device.cmd_write_timestamp(cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, self.timestamps, 1)
+            device.cmd_write_timestamp(
+                cmd,
+                vk::PipelineStageFlags::BOTTOM_OF_PIPE,
+                self.timestamps,
+                1,
+            )
         };
     }
 

@@ -21,6 +21,23 @@ pub const MESH_FRAG: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/mesh.frag
 /// Oriented-box proxy vertex shader (`box-proxy`).
 pub const BOX_VERT: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/box.vert.spv"));
 
+/// Fragment shaders built with `COUNT_FRAGMENTS` (an atomic count of shaded pixels).
+pub mod counted {
+    /// `ELLIPSOID_FRAG` with the fragment counter.
+    pub const ELLIPSOID_FRAG: &[u8] =
+        include_bytes!(concat!(env!("OUT_DIR"), "/ellipsoid.frag.counted.spv"));
+    /// `ELLIPSOID_FLAT_DEPTH_FRAG` with the fragment counter.
+    pub const ELLIPSOID_FLAT_DEPTH_FRAG: &[u8] = include_bytes!(concat!(
+        env!("OUT_DIR"),
+        "/ellipsoid_flat_depth.frag.counted.spv"
+    ));
+    /// `FLAT_FILL_FRAG` with the fragment counter.
+    pub const FLAT_FILL_FRAG: &[u8] =
+        include_bytes!(concat!(env!("OUT_DIR"), "/flat_fill.frag.counted.spv"));
+    /// `MESH_FRAG` with the fragment counter.
+    pub const MESH_FRAG: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/mesh.frag.counted.spv"));
+}
+
 /// Creates a shader module from SPIR-V bytes; the caller owns and destroys it.
 pub fn create_module(device: &ash::Device, spirv: &[u8]) -> Result<vk::ShaderModule> {
     let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv))

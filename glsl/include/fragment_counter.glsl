@@ -1,0 +1,14 @@
+// With COUNT_FRAGMENTS (build.rs builds every fragment shader both ways) each fragment shader
+// invocation adds one to a counter, before any discard: the exact number of pixels shaded,
+// which lavapipe's pipeline statistics do not give (they count whole 4x4 blocks).
+#ifdef COUNT_FRAGMENTS
+layout(std430, set = 0, binding = 1) buffer FragmentCounter {
+    uint shaded_fragments;
+};
+void count_fragment() {
+    atomicAdd(shaded_fragments, 1u);
+}
+#else
+void count_fragment() {
+}
+#endif
