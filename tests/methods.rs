@@ -92,3 +92,70 @@ fn every_method_renders_what_it_promises() {
         .expect("no validation messages");
     renderer.finish().expect("clean shutdown");
 }
+
+/// The footprints shade what their geometry promises: an n-gon circumscribing an ellipse
+/// covers n tan(pi/n) / pi of its area (4/pi for the oriented rectangle), measured with the
+/// exact fragment counter against the reference's silhouette pixels.
+#[test]
+fn footprints_shade_their_area_ratio() {
+    let mut scene = random_cloud(120, 21, 4.0, 0.6);
+    for e in &mut scene.ellipsoids {
+        e.radii.x *= 3.0; // elongated glyphs at every angle: where axis-aligned boxes waste most
+    }
+    let camera = Camera::new(
+        DVec3::new(2.0, 1.5, 14.0),
+        DVec3::ZERO,
+        DVec3::Y,
+        Projection::Perspective { fov_y_deg: 45.0 },
+        1.0,
+        480,
+        320,
+    )
+    .unwrap();
+    let silhouette = render_reference(&scene, &camera)
+        .unwrap()
+        .silhouette_pixels() as f64;
+    let mut renderer = validated_renderer();
+    assert!(
+        renderer.context().info().fragment_stores_and_atomics,
+        "lavapipe supports fragment stores"
+    );
+    renderer.upload(&scene).unwrap();
+    let mut ratios = Vec::new();
+    for (method, expected) in [
+        (Method::Impostor, 4.0 / std::f64::consts::PI),
+        (
+            Method::ImpostorHexagon,
+            6.0 * (std::f64::consts::PI / 6.0).tan() / std::f64::consts::PI,
+        ),
+        (
+            Method::ImpostorOctagon,
+            8.0 * (std::f64::consts::PI / 8.0).tan() / std::f64::consts::PI,
+        ),
+    ] {
+        renderer.set_config(method.config());
+        let (_, timing) = renderer.render_uploaded(&camera).unwrap();
+        let shaded = timing.shaded_fragments.expect("counted") as f64;
+        let ratio = shaded / silhouette;
+        println!("{}: {ratio:.4} (geometry {expected:.4})", method.name());
+        assert!(
+            (ratio - expected).abs() < 0.03,
+            "{}: {ratio} vs {expected}",
+            method.name()
+        );
+        ratios.push(ratio);
+    }
+    renderer.set_config(Method::ImpostorAxisRect.config());
+    let (_, timing) = renderer.render_uploaded(&camera).unwrap();
+    let axis_rect = timing.shaded_fragments.unwrap() as f64 / silhouette;
+    println!("impostor-axis-rect: {axis_rect:.4}");
+    assert!(
+        axis_rect > ratios[0] + 0.1,
+        "axis-aligned boxes waste more on thin glyphs"
+    );
+    renderer
+        .context()
+        .check_validation()
+        .expect("no validation messages");
+    renderer.finish().expect("clean shutdown");
+}
