@@ -46,24 +46,45 @@ void frame_from_z(vec3 z, out vec3 x, out vec3 y) {
     y = vec3(b, s + z.y * z.y * a, -z.y);
 }
 
-const float PI = 3.14159265358979;
 const float SQRT2 = 1.41421356237310;
+
+vec2 normalize_or(vec2 v, vec2 fallback) {
+    float len = length(v);
+    return len > 0.0 ? v / len : fallback;
+}
 
 // Axes (semi-axis vectors) of the ellipse with support function h(n)^2 = n^T S n, S =
 // [s00 s01; s01 s11], det = det S computed as accurately as the caller can. The small axis is
 // det / l1 plus a few roundings of l1, so thin ellipses are never underestimated.
 void ellipse_axes(float s00, float s01, float s11, float det, out vec2 axis1, out vec2 axis2) {
-    float l1 = 0.5 * (s00 + s11) + length(vec2(0.5 * (s00 - s11), s01));
+    float h = length(vec2(0.5 * (s00 - s11), s01));
+    float l1 = 0.5 * (s00 + s11) + h;
     float l2 = max(det / l1, 0.0) + 4.0 * 1.2e-7 * l1;
-    float phi = 0.5 * atan(2.0 * s01, s00 - s11);
-    vec2 d = vec2(cos(phi), sin(phi));
+    // Eigenvector of l1 from whichever row has no cancellation; no trigonometry.
+    vec2 d = s00 >= s11 ? vec2(0.5 * (s00 - s11) + h, s01) : vec2(s01, 0.5 * (s11 - s00) + h);
+    d = normalize_or(d, vec2(1.0, 0.0));
     axis1 = sqrt(l1) * d;
     axis2 = sqrt(l2) * vec2(-d.y, d.x);
 }
 
-vec2 normalize_or(vec2 v, vec2 fallback) {
-    float len = length(v);
-    return len > 0.0 ? v / len : fallback;
+
+// Corner k of the regular CORNERS-gon circumscribing the unit circle: angle (2k+1) pi / n at
+// radius 1 / cos(pi / n). Tables, so no vertex evaluates a trigonometric function.
+const float RHO = CORNERS == 8 ? 1.0823922 : (CORNERS == 6 ? 1.1547005 : 1.4142136);
+vec2 corner_direction(int k) {
+    if (CORNERS == 8) {
+        const vec2 oct[8] = vec2[8](vec2(1.0, 0.41421356), vec2(0.41421356, 1.0),
+            vec2(-0.41421356, 1.0), vec2(-1.0, 0.41421356), vec2(-1.0, -0.41421356),
+            vec2(-0.41421356, -1.0), vec2(0.41421356, -1.0), vec2(1.0, -0.41421356));
+        return oct[k];
+    } else if (CORNERS == 6) {
+        const vec2 hex[6] = vec2[6](vec2(1.0, 0.57735027), vec2(0.0, 1.1547005),
+            vec2(-1.0, 0.57735027), vec2(-1.0, -0.57735027), vec2(0.0, -1.1547005),
+            vec2(1.0, -0.57735027));
+        return hex[k];
+    }
+    const vec2 quad[4] = vec2[4](vec2(1.0, 1.0), vec2(-1.0, 1.0), vec2(-1.0, -1.0), vec2(1.0, -1.0));
+    return quad[k];
 }
 
 void cull() {
@@ -179,28 +200,27 @@ void main() {
     // visits corners 0, 1, n-1, 2, n-2, ...
     int i = gl_VertexIndex;
     int k = i == 0 ? 0 : ((i & 1) != 0 ? (i + 1) / 2 : CORNERS - i / 2);
-    float theta = (2.0 * float(k) + 1.0) * PI / float(CORNERS);
-    float rho = 1.0 / cos(PI / float(CORNERS));
+    vec2 dir = corner_direction(k);
     // Grow by a sliver of a pixel so float rounding never drops a covered pixel centre.
     float margin = cam.viewport.z * cam.viewport.y * sy;
     if (bounded) {
         axis1 += margin * normalize_or(axis1, vec2(1.0, 0.0));
         axis2 += margin * normalize_or(axis2, vec2(0.0, 1.0));
     }
-    vec2 corner = centre + rho * (cos(theta) * axis1 + sin(theta) * axis2);
+    vec2 corner = centre + dir.x * axis1 + dir.y * axis2;
     if (BOUNDS == BOUNDS_WORLD_QUAD && !ORTHOGRAPHIC && offset_mode) {
         // Gumhold's quad: the square around the silhouette circle in the silhouette plane,
         // projected (it inflates under perspective). Off the eye's side: full screen.
-        vec2 q = rho * (1.0 + 1e-4) * rr * vec2(cos(theta), sin(theta));
+        vec2 q = (1.0 + 1e-4) * rr * dir;
         vec3 p = fx * q.x + fy * q.y - fz * u;
         vec3 x = c + vec3(dot(a_r, p), dot(a_u, p), dot(a_f, p));
         bounded = x.z > 1e-6 * c.z;
-        corner = bounded ? x.xy / x.z : rho * (cos(theta) * axis1 + sin(theta) * axis2);
+        corner = bounded ? x.xy / x.z : dir.x * axis1 + dir.y * axis2;
     }
 
     // Off screen: cull. Reaching far past the screen: use the screen's polygon instead, so no
     // vertex carries huge coordinates into the interpolation.
-    vec2 reach = rho * sqrt(axis1 * axis1 + axis2 * axis2) / vec2(sx, sy);
+    vec2 reach = RHO * sqrt(axis1 * axis1 + axis2 * axis2) / vec2(sx, sy);
     vec2 mid = centre / vec2(sx, sy);
     if (bounded && BOUNDS != BOUNDS_WORLD_QUAD) {
         if (any(greaterThan(abs(mid) - reach, vec2(1.0)))) {
@@ -208,7 +228,7 @@ void main() {
             return;
         }
         if (any(greaterThan(abs(mid) + reach, vec2(4.0)))) {
-            corner = rho * (cos(theta) * vec2(sx, 0.0) + sin(theta) * vec2(0.0, sy)) * SQRT2;
+            corner = dir * vec2(sx, sy) * SQRT2;
         }
     }
     if (any(isnan(corner))) {

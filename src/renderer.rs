@@ -7,7 +7,7 @@ use gpu_allocator::vulkan::Allocator;
 use gpu_allocator::MemoryLocation;
 
 use crate::camera::{Camera, Projection};
-use crate::draw::{DrawConfig, Geometry};
+use crate::draw::{DrawConfig, Footprint, Geometry};
 use crate::error::{Error, Result, VkCall};
 use crate::gpu::GpuBuffer;
 use crate::icosphere::icosphere;
@@ -85,7 +85,13 @@ pub struct EllipsoidRenderer {
     /// Count shaded pixels with an atomic (needs `fragmentStoresAndAtomics`; for `bench`).
     pub count_fragments: bool,
     counter: Option<GpuBuffer>,
+    /// Up to `SIZE_SAMPLE` instances (centre, pi r1 r2 of the two largest semi-axes) from
+    /// which `Footprint::Auto` estimates the mean projected glyph area.
+    size_sample: Vec<(DVec3, f64)>,
 }
+
+/// How many instances `Footprint::Auto` looks at.
+const SIZE_SAMPLE: usize = 512;
 
 /// One icosphere level on the GPU.
 struct MeshBuffers {
@@ -117,6 +123,7 @@ impl EllipsoidRenderer {
             config: DrawConfig::default(),
             count_fragments: false,
             counter: None,
+            size_sample: Vec::new(),
         };
         // On failure, `destroy` releases whatever was created (null handles are skipped).
         match renderer
@@ -319,6 +326,40 @@ impl EllipsoidRenderer {
         Ok(())
     }
 
+    /// The configuration a draw with `camera` uses: `config` with `Footprint::Auto` resolved
+    /// from the sampled glyphs' mean projected area.
+    pub fn effective_config(&self, camera: &Camera) -> DrawConfig {
+        let mut config = self.config;
+        if config.footprint == Footprint::Auto {
+            config.footprint = Footprint::for_area(self.mean_projected_area(camera));
+        }
+        config
+    }
+
+    /// Mean projected area in square pixels of the sampled glyphs in front of the near plane.
+    fn mean_projected_area(&self, camera: &Camera) -> f64 {
+        let (_, sy) = camera.ndc_scale();
+        let pixels_per_unit = camera.height as f64 / (2.0 * sy);
+        let (mut sum, mut n) = (0.0, 0usize);
+        for &(center, area) in &self.size_sample {
+            let depth = camera.view_depth(center);
+            if depth <= camera.near {
+                continue;
+            }
+            let scale = match camera.projection {
+                Projection::Perspective { .. } => pixels_per_unit / depth,
+                Projection::Orthographic { .. } => pixels_per_unit,
+            };
+            sum += area * scale * scale;
+            n += 1;
+        }
+        if n == 0 {
+            0.0
+        } else {
+            sum / n as f64
+        }
+    }
+
     /// Creates what `config` needs with `camera` (pipeline, mesh buffers) ahead of `record`, so
     /// recording itself allocates nothing. `record` calls it too.
     pub fn prepare(
@@ -328,23 +369,21 @@ impl EllipsoidRenderer {
         camera: &Camera,
     ) -> Result<()> {
         let orthographic = matches!(camera.projection, Projection::Orthographic { .. });
-        if orthographic && self.config.geometry != Geometry::Impostor {
+        let config = self.effective_config(camera);
+        if orthographic && config.geometry != Geometry::Impostor {
             return Err(Error::invalid(
                 "draw configuration",
-                format!(
-                    "{:?} supports perspective cameras only",
-                    self.config.geometry
-                ),
+                format!("{:?} supports perspective cameras only", config.geometry),
             ));
         }
-        if let Geometry::Mesh(level) = self.config.geometry {
+        if let Geometry::Mesh(level) = config.geometry {
             self.ensure_mesh(device, allocator, level)?;
         }
         self.pipeline(
             device,
             PipelineKey {
                 orthographic,
-                config: self.config,
+                config,
                 aux_outputs: self.formats.aux_outputs,
                 count_fragments: self.count_fragments,
             },
@@ -362,6 +401,17 @@ impl EllipsoidRenderer {
         scene: &Scene,
     ) -> Result<()> {
         let packed = pack_instances(scene)?;
+        let step = scene.len().div_ceil(SIZE_SAMPLE).max(1);
+        self.size_sample = scene
+            .ellipsoids
+            .iter()
+            .step_by(step)
+            .map(|e| {
+                let mut r = e.radii.to_array();
+                r.sort_by(|a, b| b.total_cmp(a));
+                (e.center, std::f64::consts::PI * r[0] * r[1])
+            })
+            .collect();
         let bytes = packed.bytes.len();
         self.origin = packed.origin;
         let count = packed.len() as u32;
@@ -434,9 +484,10 @@ impl EllipsoidRenderer {
         }
         self.prepare(device, allocator, camera)?;
         let push = self.push_constants(camera);
+        let config = self.effective_config(camera);
         let key = PipelineKey {
             orthographic: matches!(camera.projection, Projection::Orthographic { .. }),
-            config: self.config,
+            config,
             aux_outputs: self.formats.aux_outputs,
             count_fragments: self.count_fragments,
         };
@@ -477,9 +528,9 @@ impl EllipsoidRenderer {
                 0,
                 &push,
             );
-            match self.config.geometry {
+            match config.geometry {
                 Geometry::Impostor => {
-                    device.cmd_draw(cmd, self.config.footprint.vertices(), self.count, 0, 0)
+                    device.cmd_draw(cmd, config.footprint.vertices(), self.count, 0, 0)
                 }
                 Geometry::BoxProxy => device.cmd_draw(cmd, 36, self.count, 0, 0),
                 Geometry::Mesh(level) => {

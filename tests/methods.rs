@@ -36,6 +36,7 @@ fn every_method_renders_what_it_promises() {
         assert!(stats.covered_pixels > 10_000);
         match method {
             Method::Impostor
+            | Method::ImpostorOrientedRect
             | Method::ImpostorWorldQuad
             | Method::ImpostorAxisRect
             | Method::ImpostorHexagon
@@ -123,7 +124,7 @@ fn footprints_shade_their_area_ratio() {
     renderer.upload(&scene).unwrap();
     let mut ratios = Vec::new();
     for (method, expected) in [
-        (Method::Impostor, 4.0 / std::f64::consts::PI),
+        (Method::ImpostorOrientedRect, 4.0 / std::f64::consts::PI),
         (
             Method::ImpostorHexagon,
             6.0 * (std::f64::consts::PI / 6.0).tan() / std::f64::consts::PI,
