@@ -46,6 +46,8 @@ pub const CSV_HEADER: &[&str] = &[
     "normal_deg_p99",
     "shaded_pixels",
     "visible_pixels",
+    "wall_ms_p25",
+    "wall_ms_p75",
 ];
 
 /// One scene of the benchmark.
@@ -73,6 +75,8 @@ pub struct BenchResult {
     pub size_px: f64,
     /// Median submit-to-fence time.
     pub wall_ms: f64,
+    /// Lower and upper quartile of the submit-to-fence times: the run's noise.
+    pub wall_quartiles_ms: (f64, f64),
     /// Median GPU time from timestamps around the pass.
     pub gpu_ms: f64,
     /// Fragment shader invocations of the read-back frame, from pipeline statistics (lavapipe
@@ -123,6 +127,8 @@ impl BenchResult {
             format!("{:.4e}", s.normal_deg_p99),
             self.shaded_pixels.map_or(String::new(), |n| n.to_string()),
             s.covered_pixels.to_string(),
+            format!("{:.3}", self.wall_quartiles_ms.0),
+            format!("{:.3}", self.wall_quartiles_ms.1),
         ]
     }
 }
@@ -279,6 +285,7 @@ pub fn run(
                 scene: bench.name.clone(),
                 count,
                 size_px: bench.size_px,
+                wall_quartiles_ms: (quantile(&mut m.wall, 0.25), quantile(&mut m.wall, 0.75)),
                 wall_ms: median(&mut m.wall),
                 gpu_ms: median(&mut m.gpu),
                 fragments: m.fragments,
@@ -302,6 +309,18 @@ struct Measured {
     gpu: Vec<f64>,
 }
 
+/// Linear-interpolated quantile `p` in [0, 1].
+fn quantile(values: &mut [f64], p: f64) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
+    values.sort_by(f64::total_cmp);
+    let x = p * (values.len() - 1) as f64;
+    let (i, frac) = (x.floor() as usize, x.fract());
+    let next = values[(i + 1).min(values.len() - 1)];
+    values[i] + frac * (next - values[i])
+}
+
 fn median(values: &mut [f64]) -> f64 {
     if values.is_empty() {
         return f64::NAN;
@@ -315,21 +334,43 @@ fn median(values: &mut [f64]) -> f64 {
     }
 }
 
-/// Relative time difference below which two medians count as equal (run-to-run noise of
-/// interleaved medians on this machine is a few percent).
-pub const TIME_TOLERANCE: f64 = 0.05;
+/// A method's place on the time-versus-error chart.
+#[derive(Clone, Copy, Debug)]
+pub struct ChartPoint {
+    /// Median frame time.
+    pub time: f64,
+    /// Lower and upper quartile of the frame times.
+    pub quartiles: (f64, f64),
+    /// Worst error over bound.
+    pub error: f64,
+}
 
-/// Indices of the points no other point beats: faster by more than [`TIME_TOLERANCE`] and no
-/// worse in error, or lower in error and not slower beyond the tolerance.
-pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
+impl ChartPoint {
+    fn of(r: &BenchResult) -> Self {
+        Self {
+            time: r.wall_ms,
+            quartiles: r.wall_quartiles_ms,
+            error: r.error_ratio(),
+        }
+    }
+
+    /// `self` beats `other`: faster beyond the noise (its upper quartile below the other's
+    /// lower quartile) and no worse in error, or lower in error and not clearly slower.
+    pub fn beats(&self, other: &ChartPoint) -> bool {
+        let faster = self.quartiles.1 < other.quartiles.0;
+        let not_slower = self.quartiles.0 <= other.quartiles.1;
+        (faster && self.error <= other.error) || (not_slower && self.error < other.error)
+    }
+}
+
+/// Indices of the points no other point beats.
+pub fn pareto_front(points: &[ChartPoint]) -> Vec<usize> {
     (0..points.len())
         .filter(|&i| {
-            let (t, e) = points[i];
-            !points.iter().enumerate().any(|(j, &(tj, ej))| {
-                let faster = tj < t * (1.0 - TIME_TOLERANCE);
-                let not_slower = tj <= t * (1.0 + TIME_TOLERANCE);
-                j != i && ((faster && ej <= e) || (not_slower && ej < e))
-            })
+            !points
+                .iter()
+                .enumerate()
+                .any(|(j, p)| j != i && p.beats(&points[i]))
         })
         .collect()
 }
@@ -369,7 +410,7 @@ pub fn check_targets(results: &[BenchResult]) -> Vec<TargetCheck> {
         let rs = of(key);
         let scene = format!("{} ({})", key.0, key.1);
         let scene = scene.as_str();
-        let points: Vec<(f64, f64)> = rs.iter().map(|r| (r.wall_ms, r.error_ratio())).collect();
+        let points: Vec<ChartPoint> = rs.iter().map(|r| ChartPoint::of(r)).collect();
         let front = pareto_front(&points);
         let Some(imp) = rs.iter().position(|r| r.method == Method::Impostor) else {
             continue;
@@ -486,11 +527,9 @@ pub fn write_report(results: &[BenchResult], dir: &Path) -> Result<(String, Stri
             tf
         }
     };
-    let points: Vec<(f64, f64)> = headline
-        .iter()
-        .map(|r| (r.wall_ms, r.error_ratio()))
-        .collect();
-    let front: Vec<(f64, f64)> = pareto_front(&points)
+    let chart: Vec<ChartPoint> = headline.iter().map(|r| ChartPoint::of(r)).collect();
+    let points: Vec<(f64, f64)> = chart.iter().map(|p| (p.time, p.error)).collect();
+    let front: Vec<(f64, f64)> = pareto_front(&chart)
         .into_iter()
         .map(|i| points[i])
         .collect();
@@ -598,4 +637,38 @@ pub fn write_report(results: &[BenchResult], dir: &Path) -> Result<(String, Stri
         &headline_rows,
     );
     Ok((format_table(&header, &table), markdown))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(time: f64, spread: f64, error: f64) -> ChartPoint {
+        ChartPoint {
+            time,
+            quartiles: (time - spread, time + spread),
+            error,
+        }
+    }
+
+    #[test]
+    fn front_keeps_points_nobody_beats_beyond_noise() {
+        let points = [
+            point(10.0, 0.5, 1.0),  // exact, the reference
+            point(10.4, 0.5, 1.0),  // exact, slower within the noise: no one beats it either
+            point(5.0, 0.2, 50.0),  // fast but wrong: on the front
+            point(20.0, 0.5, 1.0),  // exact but clearly slower: beaten by the first
+            point(12.0, 0.5, 80.0), // slower and worse: beaten
+        ];
+        assert_eq!(pareto_front(&points), vec![0, 1, 2]);
+    }
+
+    #[test]
+    fn quantiles_interpolate() {
+        let mut v = vec![4.0, 1.0, 3.0, 2.0];
+        assert_eq!(quantile(&mut v, 0.0), 1.0);
+        assert_eq!(quantile(&mut v, 0.5), 2.5);
+        assert_eq!(quantile(&mut v, 1.0), 4.0);
+        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
+    }
 }
