@@ -264,21 +264,26 @@ pub fn run(
                 gpu: Vec::new(),
             });
         }
-        for round in 0..frames {
-            // Each round starts with a different method, so no method always follows the same
-            // one (lavapipe's caches and the CPU's clocks favour some positions).
-            let n = measured.len();
-            if round > 0 && n > 0 {
-                measured.rotate_left(1);
+        let mut order: Vec<usize> = (0..measured.len()).collect();
+        let mut rng = 0x2545_f491_4f6c_dd1d_u64;
+        for _ in 0..frames {
+            // A fresh order each round (Fisher-Yates, xorshift64), so no method always follows
+            // the same one: in a fixed order two methods sharing one pipeline differed by
+            // 10-20 % on lavapipe, depending on which frame came before.
+            for i in (1..order.len()).rev() {
+                rng ^= rng << 13;
+                rng ^= rng >> 7;
+                rng ^= rng << 17;
+                order.swap(i, (rng % (i as u64 + 1)) as usize);
             }
-            for entry in measured.iter_mut() {
+            for &k in &order {
+                let entry = &mut measured[k];
                 renderer.set_config(entry.method.config());
                 let timing = renderer.render_timed(&bench.camera)?;
                 entry.wall.push(timing.gpu_wall.as_secs_f64() * 1e3);
                 entry.gpu.push(timing.gpu.gpu_ms);
             }
         }
-        measured.sort_by_key(|m| active.iter().position(|&a| a == m.method));
         for mut m in measured {
             results.push(BenchResult {
                 method: m.method,
