@@ -5,7 +5,10 @@
 // Front faces only: the ray's hit lies behind them, so `depth_less` holds. Perspective only.
 #include "ellipsoid_common.glsl"
 
-layout(location = 0) out vec3 v_ray;
+layout(location = 0) flat out vec3 v_ray_x;
+layout(location = 10) flat out vec3 v_ray_y;
+layout(location = 11) flat out vec3 v_ray_c;
+layout(location = 12) flat out vec2 v_ray_origin;
 layout(location = 1) flat out vec4 v_k;
 layout(location = 2) flat out vec4 v_depth;
 layout(location = 3) flat out vec4 v_misc;
@@ -43,7 +46,10 @@ void main() {
     // The textbook fragment path reads the centre relative to the eye (world axes) and M.
     v_depth = vec4(c.x * r + c.y * u + c.z * f, c.z);
     v_to_normal = transpose(mat3(R[0] / radii.x, R[1] / radii.y, R[2] / radii.z));
-    v_ray = vec3(0.0);
+    v_ray_x = vec3(0.0);
+    v_ray_y = vec3(0.0);
+    v_ray_c = vec3(0.0);
+    v_ray_origin = vec2(0.0);
     v_k = vec4(0.0);
     v_misc = vec4(0.0);
     v_flags = FLAG_MAY_CAP;

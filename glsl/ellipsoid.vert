@@ -5,15 +5,16 @@
 // pixel's ray in the ellipsoid's *silhouette frame* (Gumhold 2003): parameter space, where the
 // ellipsoid is the unit sphere, rotated so +z points from the eye towards the centre.
 //
-// The interpolated attribute `v_ray` is affine in NDC (every vertex has w = 1), so the
-// rasterizer interpolates it exactly. In the common case it is the pixel's offset from the
-// projected centre mapped into the frame, so no large nearly-equal numbers are ever subtracted.
+// The ray is an affine function of the pixel's NDC, handed down as flat coefficients and
+// evaluated per fragment from gl_FragCoord relative to the projected centre, so no large
+// nearly-equal numbers are ever subtracted and the rasterizer's interpolation (whose plane
+// equations extrapolate from the screen origin) adds no error.
 #include "ellipsoid_common.glsl"
 
-// Smooth, not `noperspective`: every vertex has w = 1, so both interpolate the same, and
-// lavapipe (Mesa 22.3.6) mis-interpolates noperspective attributes of clipped primitives
-// (measured: 79 wrong pixels in tests/accuracy.rs every_footprint_covers_exactly).
-layout(location = 0) out vec3 v_ray;
+layout(location = 0) flat out vec3 v_ray_x;         // ray = v_ray_x (ndc.x - o.x) + v_ray_y (ndc.y - o.y) + v_ray_c
+layout(location = 10) flat out vec3 v_ray_y;
+layout(location = 11) flat out vec3 v_ray_c;
+layout(location = 12) flat out vec2 v_ray_origin;   // o: the projected centre's NDC (0 without offset mode)
 layout(location = 1) flat out vec4 v_k;             // k0, k1, k2, r: q = k1 ray.xy / (k0 + k2 ray.z)
 layout(location = 2) flat out vec4 v_depth;         // xyz: g = frame vector with depth = cz + g.p; w: cz
 layout(location = 3) flat out vec4 v_misc;          // u = 1/|e~|, |e~|, r^2 = 1 - u^2, depth scale (see the fragment stage)
@@ -237,16 +238,21 @@ void main() {
     }
     vec2 ndc = corner / vec2(sx, sy);
 
-    vec3 s;
+    // The pixel's screen-plane offset from the projected centre, sx (ndc.x - o.x), mapped into
+    // the frame. In offset mode the dropped centre term lies on the frame's z axis only, by
+    // construction; otherwise the ray is the pixel's direction (constant term m_f).
+    v_ray_x = to_frame * (m_r * sx);
+    v_ray_y = to_frame * (m_u * sy);
     if (ORTHOGRAPHIC) {
-        s = vec3(ndc.x * sx - c.x, ndc.y * sy - c.y, 0.0);
+        v_ray_origin = c.xy / vec2(sx, sy);
+        v_ray_c = vec3(0.0);
     } else if (offset_mode) {
-        s = vec3(ndc.x * sx - c.x / c.z, ndc.y * sy - c.y / c.z, 0.0);
+        v_ray_origin = c.xy / (c.z * vec2(sx, sy));
+        v_ray_c = vec3(0.0);
     } else {
-        s = vec3(ndc.x * sx, ndc.y * sy, 1.0);
+        v_ray_origin = vec2(0.0);
+        v_ray_c = to_frame * m_f;
     }
-    // In offset mode the dropped centre term maps onto the frame's z axis only, by construction.
-    v_ray = to_frame * (m_r * s.x + m_u * s.y + m_f * s.z);
 
     v_misc = vec4(u, eye_dist, rr * rr, depth_scale);
     if (TEXTBOOK) {

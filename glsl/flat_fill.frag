@@ -7,7 +7,10 @@
 layout(constant_id = 1) const bool AUX_OUTPUTS = true;
 
 // The impostor vertex stage's whole interface, declared so every output is consumed.
-layout(location = 0) in vec3 v_ray;
+layout(location = 0) flat in vec3 v_ray_x;
+layout(location = 10) flat in vec3 v_ray_y;
+layout(location = 11) flat in vec3 v_ray_c;
+layout(location = 12) flat in vec2 v_ray_origin;
 layout(location = 1) flat in vec4 v_k;
 layout(location = 2) flat in vec4 v_depth;
 layout(location = 3) flat in vec4 v_misc;

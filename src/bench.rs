@@ -252,6 +252,11 @@ pub fn run(
             renderer.set_config(method.config());
             let (frame, timing) = renderer.render_uploaded(&bench.camera)?;
             let stats = compare(&frame, &reference)?;
+            // The exact pixel count comes from the counting build of the same shaders.
+            renderer.set_count_fragments(true);
+            let counted = renderer.render_uploaded(&bench.camera);
+            renderer.set_count_fragments(false);
+            let shaded_pixels = counted?.1.shaded_fragments;
             for _ in 0..2 {
                 renderer.render_timed(&bench.camera)?;
             }
@@ -259,7 +264,7 @@ pub fn run(
                 method,
                 stats,
                 fragments: timing.gpu.fragments.unwrap_or(0),
-                shaded_pixels: timing.shaded_fragments,
+                shaded_pixels,
                 wall: Vec::new(),
                 gpu: Vec::new(),
             });

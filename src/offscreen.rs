@@ -52,6 +52,9 @@ pub struct OffscreenRenderer {
     command_buffer: vk::CommandBuffer,
     fence: vk::Fence,
     queries: Option<FrameQueries>,
+    /// Read-back frames count shaded pixels (bench only: the counting shaders are separate
+    /// SPIR-V, and their arithmetic may round differently from the shipped ones).
+    count_fragments: bool,
     // Declared last: dropped after the fields above have been destroyed by `Drop`.
     context: Context,
 }
@@ -81,6 +84,7 @@ impl OffscreenRenderer {
             command_buffer: vk::CommandBuffer::null(),
             fence: vk::Fence::null(),
             queries: None,
+            count_fragments: false,
             context,
         };
         this.create_objects()?; // on error, Drop releases what exists
@@ -142,6 +146,12 @@ impl OffscreenRenderer {
         self.renderer_mut().config.footprint = footprint;
     }
 
+    /// With `true`, read-back frames run the counting shader builds and report
+    /// `FrameTiming::shaded_fragments` (needs `fragmentStoresAndAtomics`).
+    pub fn set_count_fragments(&mut self, on: bool) {
+        self.count_fragments = on;
+    }
+
     /// Chooses the whole draw configuration (a `bench` method) for the following frames.
     pub fn set_config(&mut self, config: DrawConfig) {
         self.renderer_mut().config = config;
@@ -191,7 +201,7 @@ impl OffscreenRenderer {
             height: camera.height,
         };
         self.ensure_targets(extent)?;
-        let counting = self.context.info().fragment_stores_and_atomics;
+        let counting = self.count_fragments && self.context.info().fragment_stores_and_atomics;
         {
             // Pipelines and meshes are made before recording, never inside a timed frame.
             let renderer = self

@@ -122,6 +122,7 @@ fn footprints_shade_their_area_ratio() {
         "lavapipe supports fragment stores"
     );
     renderer.upload(&scene).unwrap();
+    renderer.set_count_fragments(true);
     let mut ratios = Vec::new();
     for (method, expected) in [
         (Method::ImpostorOrientedRect, 4.0 / std::f64::consts::PI),

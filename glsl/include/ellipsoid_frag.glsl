@@ -13,7 +13,10 @@ layout(constant_id = 1) const bool AUX_OUTPUTS = true;
 // Herbison-Evans' modulus-normalised gradient instead of a unit normal (no square root).
 layout(constant_id = 5) const bool FAST_NORMAL = false;
 
-layout(location = 0) in vec3 v_ray;
+layout(location = 0) flat in vec3 v_ray_x;
+layout(location = 10) flat in vec3 v_ray_y;
+layout(location = 11) flat in vec3 v_ray_c;
+layout(location = 12) flat in vec2 v_ray_origin;
 layout(location = 1) flat in vec4 v_k;
 layout(location = 2) flat in vec4 v_depth;
 layout(location = 3) flat in vec4 v_misc;
@@ -57,8 +60,16 @@ bool hit_textbook(out float depth, out vec3 normal, out bool cap) {
     return true;
 }
 
+// This pixel's ray in the silhouette frame (see ellipsoid.vert).
+vec3 frame_ray() {
+    vec2 ndc = vec2(gl_FragCoord.x * cam.viewport.x - 1.0, 1.0 - gl_FragCoord.y * cam.viewport.y);
+    vec2 d = ndc - v_ray_origin;
+    return v_ray_x * d.x + v_ray_y * d.y + v_ray_c;
+}
+
 // The closed form in the silhouette frame (see the top of this file).
 bool hit_stable(out float depth, out vec3 normal, out bool cap) {
+    vec3 v_ray = frame_ray();
     float near = cam.eye_near.w;
     vec3 g = v_depth.xyz;
     float cz = v_depth.w;
