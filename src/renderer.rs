@@ -196,19 +196,25 @@ impl EllipsoidRenderer {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryLocation::GpuToCpu,
         )?;
+        self.bind_storage_buffer(device, 1, &buffer);
+        self.counter = Some(buffer);
+        Ok(())
+    }
+
+    /// Points `binding` of the descriptor set at the whole of `buffer`. The set must not be in
+    /// use by pending work.
+    fn bind_storage_buffer(&self, device: &ash::Device, binding: u32, buffer: &GpuBuffer) {
         let infos = [vk::DescriptorBufferInfo::default()
             .buffer(buffer.handle())
             .offset(0)
             .range(vk::WHOLE_SIZE)];
         let write = vk::WriteDescriptorSet::default()
             .dst_set(self.descriptor_set)
-            .dst_binding(1)
+            .dst_binding(binding)
             .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
             .buffer_info(&infos);
-        // SAFETY: the set is new and unused; the buffer is live and owned by `self`.
+        // SAFETY: the set is owned by `self` and idle (caller contract); the buffer is live.
         unsafe { device.update_descriptor_sets(&[write], &[]) };
-        self.counter = Some(buffer);
-        Ok(())
     }
 
     /// Zeroes the fragment counter; call before submitting a counting frame.
@@ -432,17 +438,7 @@ impl EllipsoidRenderer {
                 vk::BufferUsageFlags::STORAGE_BUFFER,
                 MemoryLocation::CpuToGpu,
             )?;
-            let infos = [vk::DescriptorBufferInfo::default()
-                .buffer(buffer.handle())
-                .offset(0)
-                .range(vk::WHOLE_SIZE)];
-            let write = vk::WriteDescriptorSet::default()
-                .dst_set(self.descriptor_set)
-                .dst_binding(0)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .buffer_info(&infos);
-            // SAFETY: the set is not in use by pending work (caller contract), the buffer is live.
-            unsafe { device.update_descriptor_sets(&[write], &[]) };
+            self.bind_storage_buffer(device, 0, &buffer);
             self.instances = Some(buffer);
         }
         if let Some(buffer) = self.instances.as_mut() {
