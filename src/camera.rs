@@ -210,6 +210,12 @@ impl Camera {
 
     /// A camera that frames a bounding sphere from a pleasant oblique direction.
     pub fn framing(center: DVec3, radius: f64, width: u32, height: u32) -> Result<Self> {
+        if width == 0 || height == 0 || width > 16384 || height > 16384 {
+            return Err(Error::invalid(
+                "image size",
+                format!("{width}x{height} is outside 1..=16384"),
+            ));
+        }
         let fov_y_deg: f64 = 45.0;
         let radius = radius.max(1e-9);
         // Fit the sphere into the narrower of the two fields of view.
@@ -272,6 +278,12 @@ mod tests {
         let want = c.eye + DVec3::new(1.5, -0.5, 0.0);
         assert!((ray.origin - want).length() < 1e-12);
         assert_eq!(ray.direction, DVec3::NEG_Z);
+    }
+
+    #[test]
+    fn framing_names_a_bad_image_size() {
+        let err = Camera::framing(DVec3::ZERO, 1.0, 0, 100).unwrap_err();
+        assert!(err.to_string().contains("image size"), "{err}");
     }
 
     #[test]
