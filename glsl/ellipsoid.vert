@@ -10,6 +10,7 @@
 // nearly-equal numbers are ever subtracted and the rasterizer's interpolation (whose plane
 // equations extrapolate from the screen origin) adds no error.
 #include "ellipsoid_common.glsl"
+#include "silhouette_bounds.glsl"
 
 layout(location = 0) flat out vec3 v_ray_x;         // ray = v_ray_x (ndc.x - o.x) + v_ray_y (ndc.y - o.y) + v_ray_c
 layout(location = 10) flat out vec3 v_ray_y;
@@ -22,21 +23,6 @@ layout(location = 4) flat out mat3 v_to_normal;     // frame point -> world norm
 layout(location = 7) flat out uint v_id;
 layout(location = 8) flat out uint v_flags;
 layout(location = 9) flat out vec3 v_color;
-
-// Sorted slopes k (screen-plane x per unit depth) of the two planes through the eye that
-// contain the screen line x = k z and touch the ellipsoid: the roots of
-// |a - k b|^2 = (cx - k cz)^2 with a = A^T r, b = A^T f. The discriminant is written as
-// |cz a - cx b|^2 - |a x b|^2, which has no cancellation when the ellipsoid is far away.
-vec2 tangent_slopes(vec3 a, vec3 b, float c_side, float cz, float b_len) {
-    float lead = (b_len - cz) * (b_len + cz); // < 0: the ellipsoid lies in front of the eye plane
-    float half_b = dot(a, b) - c_side * cz;
-    vec3 w = cz * a - c_side * b;
-    vec3 ab = cross(a, b);
-    float s = sqrt(max(dot(w, w) - dot(ab, ab), 0.0));
-    float k1 = (half_b + s) / lead;
-    float k2 = (half_b - s) / lead;
-    return vec2(min(k1, k2), max(k1, k2));
-}
 
 // Orthonormal basis with the given unit z (Duff et al. 2017, branchless).
 void frame_from_z(vec3 z, out vec3 x, out vec3 y) {
@@ -93,8 +79,9 @@ void cull() {
 }
 
 void main() {
-    Instance inst = instances[gl_InstanceIndex];
-    v_id = uint(gl_InstanceIndex);
+    uint id = CULLED ? visible_instances[gl_InstanceIndex] : uint(gl_InstanceIndex);
+    Instance inst = instances[id];
+    v_id = id;
     v_color = srgb_to_linear(unpackUnorm4x8(inst.color).rgb);
     v_flags = 0u;
 

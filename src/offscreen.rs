@@ -13,7 +13,9 @@ use crate::frame::Frame;
 use crate::gpu::image::full_range;
 use crate::gpu::queries::{FrameQueries, QueryResults};
 use crate::gpu::{Context, ContextOptions, GpuBuffer, GpuImage};
-use crate::renderer::{EllipsoidRenderer, Material, TargetFormats, ID_FORMAT, NORMAL_FORMAT};
+use crate::renderer::{
+    Culling, EllipsoidRenderer, Material, TargetFormats, ID_FORMAT, NORMAL_FORMAT,
+};
 use crate::scene::Scene;
 
 const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
@@ -150,6 +152,11 @@ impl OffscreenRenderer {
     /// `FrameTiming::shaded_fragments` (needs `fragmentStoresAndAtomics`).
     pub fn set_count_fragments(&mut self, on: bool) {
         self.count_fragments = on;
+    }
+
+    /// Chooses the exact culling of the pre-pass for the following frames.
+    pub fn set_culling(&mut self, culling: Culling) {
+        self.renderer_mut().culling = culling;
     }
 
     /// Chooses the whole draw configuration (a `bench` method) for the following frames.
@@ -342,6 +349,8 @@ impl OffscreenRenderer {
             if let Some(q) = queries {
                 q.begin(device, cmd);
             }
+            // The culling pre-pass runs outside the rendering pass.
+            renderer.record_prepass(device, allocator, cmd, camera)?;
 
             // Attachments to render layouts. The previous frame's copy read them: wait for it.
             let mut barriers: Vec<vk::ImageMemoryBarrier> = colors

@@ -16,6 +16,8 @@ pub(crate) struct PipelineKey {
     pub aux_outputs: bool,
     /// Fragment shaders count shaded pixels into binding 1.
     pub count_fragments: bool,
+    /// The vertex stage reads instance indices compacted by the culling pre-pass.
+    pub culled: bool,
 }
 
 /// The SPIR-V of the two stages for `key`.
@@ -95,19 +97,21 @@ fn build(
     let config = key.config;
     // Specialization constants, 4 bytes each (glsl/include/ellipsoid_common.glsl and the
     // fragment shaders): 0 ORTHOGRAPHIC, 1 AUX_OUTPUTS, 2 TEXTBOOK, 3 BOUNDS, 4 CORNERS,
-    // 5 FAST_NORMAL. Stages ignore the ones they do not declare.
-    let values: [u32; 6] = [
+    // 5 FAST_NORMAL, 8 CULLED. Stages ignore the ones they do not declare.
+    let values: [u32; 7] = [
         key.orthographic as u32,
         formats.aux_outputs as u32,
         (config.intersection == Intersection::Textbook) as u32,
         config.footprint.bounds_mode(),
         config.footprint.vertices(),
         (config.shading == Shading::FastNormal) as u32,
+        key.culled as u32,
     ];
+    let ids: [u32; 7] = [0, 1, 2, 3, 4, 5, 8];
     let spec_data: Vec<u8> = values.iter().flat_map(|v| v.to_ne_bytes()).collect();
     let entries: Vec<vk::SpecializationMapEntry> = (0..values.len() as u32)
         .map(|i| vk::SpecializationMapEntry {
-            constant_id: i,
+            constant_id: ids[i as usize],
             offset: 4 * i,
             size: 4,
         })
@@ -211,4 +215,44 @@ fn build(
                 result,
             })?;
     Ok(pipelines[0])
+}
+
+/// The culling pre-pass (`glsl/cull.comp`) for one projection kind and choice of culling.
+pub(crate) fn create_cull_pipeline(
+    device: &ash::Device,
+    layout: vk::PipelineLayout,
+    orthographic: bool,
+    frustum: bool,
+    pixel_centres: bool,
+) -> Result<vk::Pipeline> {
+    let module = shaders::create_module(device, shaders::CULL_COMP)?;
+    // Specialization constants 0 ORTHOGRAPHIC, 6 CULL_FRUSTUM, 7 CULL_PIXEL_CENTRES.
+    let values: [u32; 3] = [orthographic as u32, frustum as u32, pixel_centres as u32];
+    let data: Vec<u8> = values.iter().flat_map(|v| v.to_ne_bytes()).collect();
+    let entries =
+        [(0u32, 0u32), (6, 4), (7, 8)].map(|(constant_id, offset)| vk::SpecializationMapEntry {
+            constant_id,
+            offset,
+            size: 4,
+        });
+    let spec = vk::SpecializationInfo::default()
+        .map_entries(&entries)
+        .data(&data);
+    let stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(module)
+        .name(c"main")
+        .specialization_info(&spec);
+    let info = vk::ComputePipelineCreateInfo::default()
+        .stage(stage)
+        .layout(layout);
+    // SAFETY: `info` points at locals alive for the call; the module is destroyed right after.
+    let result =
+        unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
+    // SAFETY: pipeline creation has returned; the module is no longer needed.
+    unsafe { device.destroy_shader_module(module, None) };
+    result.map(|p| p[0]).map_err(|(_, result)| Error::Vulkan {
+        call: "vkCreateComputePipelines",
+        result,
+    })
 }

@@ -12,11 +12,52 @@ use crate::error::{Error, Result, VkCall};
 use crate::gpu::GpuBuffer;
 use crate::icosphere::icosphere;
 use crate::instances::pack_instances;
-use crate::pipeline::{create_pipeline, PipelineKey};
+use crate::pipeline::{create_cull_pipeline, create_pipeline, PipelineKey};
 use crate::scene::Scene;
 
 /// Bytes of camera push constants (`CameraPush` in the shader).
 const PUSH_BYTES: usize = 112;
+/// Graphics stages that read the camera push constants. The culling pre-pass has a layout of
+/// its own with a compute-only range: lavapipe 22.3.6 crashes dispatching with a range shared
+/// between graphics and compute stages.
+const PUSH_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::VERTEX.as_raw() | vk::ShaderStageFlags::FRAGMENT.as_raw(),
+);
+/// Bytes of the culling pre-pass's indirect buffer: a `VkDrawIndirectCommand` and the total.
+const INDIRECT_BYTES: u64 = 20;
+
+/// Which exact culling the pre-pass does before the draw (neither: no pre-pass). Nothing
+/// culled can change a pixel: see `glsl/cull.comp`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Culling {
+    /// Drop instances whose silhouette lies off screen or before the near plane.
+    pub frustum: bool,
+    /// Drop instances whose silhouette's bounding rectangle holds no pixel centre.
+    pub pixel_centres: bool,
+}
+
+impl Culling {
+    /// No pre-pass.
+    pub const OFF: Culling = Culling {
+        frustum: false,
+        pixel_centres: false,
+    };
+    /// Both kinds (the shipped default).
+    pub const ON: Culling = Culling {
+        frustum: true,
+        pixel_centres: true,
+    };
+
+    fn any(self) -> bool {
+        self.frustum || self.pixel_centres
+    }
+}
+
+impl Default for Culling {
+    fn default() -> Self {
+        Self::ON
+    }
+}
 /// How far the screen quad reaches beyond the exact silhouette bounds, in pixels.
 const QUAD_MARGIN_PX: f32 = 0.01;
 
@@ -69,6 +110,7 @@ pub const ID_FORMAT: vk::Format = vk::Format::R32_UINT;
 pub struct EllipsoidRenderer {
     set_layout: vk::DescriptorSetLayout,
     pipeline_layout: vk::PipelineLayout,
+    cull_layout: vk::PipelineLayout,
     descriptor_pool: vk::DescriptorPool,
     descriptor_set: vk::DescriptorSet,
     formats: TargetFormats,
@@ -88,6 +130,11 @@ pub struct EllipsoidRenderer {
     /// Up to `SIZE_SAMPLE` instances (centre, pi r1 r2 of the two largest semi-axes) from
     /// which `Footprint::Auto` estimates the mean projected glyph area.
     size_sample: Vec<(DVec3, f64)>,
+    /// Culling done by the pre-pass from the next `record_prepass` on (impostors only).
+    pub culling: Culling,
+    visible: Option<GpuBuffer>,
+    indirect: Option<GpuBuffer>,
+    cull_pipelines: Vec<((bool, Culling), vk::Pipeline)>,
 }
 
 /// How many instances `Footprint::Auto` looks at.
@@ -111,6 +158,7 @@ impl EllipsoidRenderer {
         let mut renderer = Self {
             set_layout: vk::DescriptorSetLayout::null(),
             pipeline_layout: vk::PipelineLayout::null(),
+            cull_layout: vk::PipelineLayout::null(),
             descriptor_pool: vk::DescriptorPool::null(),
             descriptor_set: vk::DescriptorSet::null(),
             formats,
@@ -124,11 +172,16 @@ impl EllipsoidRenderer {
             count_fragments: false,
             counter: None,
             size_sample: Vec::new(),
+            culling: Culling::default(),
+            visible: None,
+            indirect: None,
+            cull_pipelines: Vec::new(),
         };
         // On failure, `destroy` releases whatever was created (null handles are skipped).
         match renderer
             .create_objects(device)
             .and_then(|_| renderer.create_counter(device, allocator))
+            .and_then(|_| renderer.resize_cull_buffers(device, allocator, 1))
         {
             Ok(()) => Ok(renderer),
             Err(e) => {
@@ -139,18 +192,21 @@ impl EllipsoidRenderer {
     }
 
     fn create_objects(&mut self, device: &ash::Device) -> Result<()> {
-        // Binding 0: instances; binding 1: the fragment counter of `count_fragments`.
+        // Binding 0: instances; 1: the fragment counter of `count_fragments`; 2: instance
+        // indices kept by the culling pre-pass; 3: its indirect draw command.
+        let storage = |binding: u32, stages: vk::ShaderStageFlags| {
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(binding)
+                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(1)
+                .stage_flags(stages)
+        };
+        let vertex_and_compute = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
         let bindings = [
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(0)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::VERTEX),
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(1)
-                .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::FRAGMENT),
+            storage(0, vertex_and_compute),
+            storage(1, vk::ShaderStageFlags::FRAGMENT),
+            storage(2, vertex_and_compute),
+            storage(3, vk::ShaderStageFlags::COMPUTE),
         ];
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
         // SAFETY: valid create info; owned by `self`, destroyed in `destroy`.
@@ -158,7 +214,7 @@ impl EllipsoidRenderer {
             .call("vkCreateDescriptorSetLayout")?;
 
         let ranges = [vk::PushConstantRange::default()
-            .stage_flags(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT)
+            .stage_flags(PUSH_STAGES)
             .size(PUSH_BYTES as u32)];
         let layouts = [self.set_layout];
         let info = vk::PipelineLayoutCreateInfo::default()
@@ -167,10 +223,19 @@ impl EllipsoidRenderer {
         // SAFETY: as above.
         self.pipeline_layout =
             unsafe { device.create_pipeline_layout(&info, None) }.call("vkCreatePipelineLayout")?;
+        let compute_ranges = [vk::PushConstantRange::default()
+            .stage_flags(vk::ShaderStageFlags::COMPUTE)
+            .size(PUSH_BYTES as u32)];
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&layouts)
+            .push_constant_ranges(&compute_ranges);
+        // SAFETY: as above.
+        self.cull_layout =
+            unsafe { device.create_pipeline_layout(&info, None) }.call("vkCreatePipelineLayout")?;
 
         let sizes = [vk::DescriptorPoolSize::default()
             .ty(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(2)];
+            .descriptor_count(4)];
         let info = vk::DescriptorPoolCreateInfo::default()
             .max_sets(1)
             .pool_sizes(&sizes);
@@ -215,6 +280,162 @@ impl EllipsoidRenderer {
             .buffer_info(&infos);
         // SAFETY: the set is owned by `self` and idle (caller contract); the buffer is live.
         unsafe { device.update_descriptor_sets(&[write], &[]) };
+    }
+
+    /// Makes the culling buffers hold `count` instances (bindings 2 and 3); they always exist,
+    /// so every binding the shaders declare is valid.
+    fn resize_cull_buffers(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        count: usize,
+    ) -> Result<()> {
+        let bytes = 4 * count.max(1) as u64;
+        if self.visible.as_ref().is_some_and(|b| b.size() >= bytes) {
+            return Ok(());
+        }
+        if let Some(old) = self.visible.take() {
+            old.destroy(device, allocator);
+        }
+        let visible = GpuBuffer::new(
+            device,
+            allocator,
+            "visible instances",
+            bytes,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuOnly,
+        )?;
+        self.bind_storage_buffer(device, 2, &visible);
+        self.visible = Some(visible);
+        if self.indirect.is_none() {
+            let indirect = GpuBuffer::new(
+                device,
+                allocator,
+                "culled draw",
+                INDIRECT_BYTES,
+                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER,
+                MemoryLocation::CpuToGpu,
+            )?;
+            self.bind_storage_buffer(device, 3, &indirect);
+            self.indirect = Some(indirect);
+        }
+        Ok(())
+    }
+
+    /// Whether a draw of the current configuration with `camera` goes through the pre-pass.
+    fn culls(&self) -> bool {
+        self.config.geometry == Geometry::Impostor && self.culling.any() && self.count > 0
+    }
+
+    /// The culling compute pipeline, built on first use.
+    fn cull_pipeline(&mut self, device: &ash::Device, orthographic: bool) -> Result<vk::Pipeline> {
+        let key = (orthographic, self.culling);
+        if let Some((_, p)) = self.cull_pipelines.iter().find(|(k, _)| *k == key) {
+            return Ok(*p);
+        }
+        let pipeline = create_cull_pipeline(
+            device,
+            self.cull_layout,
+            orthographic,
+            self.culling.frustum,
+            self.culling.pixel_centres,
+        )?;
+        self.cull_pipelines.push((key, pipeline));
+        Ok(pipeline)
+    }
+
+    /// Records the culling pre-pass (when `culling` is on and the geometry is an impostor)
+    /// into `cmd`, outside any rendering pass, with the barriers that order it after the
+    /// previous draw's reads and before this draw's indirect and vertex reads. Call it before
+    /// the pass that `record` draws into.
+    pub fn record_prepass(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        cmd: vk::CommandBuffer,
+        camera: &Camera,
+    ) -> Result<()> {
+        camera.validate()?;
+        if !self.culls() {
+            return Ok(());
+        }
+        self.prepare(device, allocator, camera)?;
+        let orthographic = matches!(camera.projection, Projection::Orthographic { .. });
+        let pipeline = self.cull_pipeline(device, orthographic)?;
+        let vertices = self.effective_config(camera).footprint.vertices();
+        let command: Vec<u8> = [vertices, 0, 0, 0, self.count]
+            .iter()
+            .flat_map(|v| v.to_ne_bytes())
+            .collect();
+        if let Some(indirect) = self.indirect.as_mut() {
+            indirect.write(&command)?;
+        }
+        let push = self.push_constants(camera);
+        let (visible, indirect) = match (self.visible.as_ref(), self.indirect.as_ref()) {
+            (Some(v), Some(i)) => (v.handle(), i.handle()),
+            _ => return Err(Error::invalid("culling", "buffers missing")),
+        };
+        let whole = |buffer, src, dst| {
+            vk::BufferMemoryBarrier::default()
+                .src_access_mask(src)
+                .dst_access_mask(dst)
+                .buffer(buffer)
+                .offset(0)
+                .size(vk::WHOLE_SIZE)
+        };
+        // SAFETY: `cmd` is recording outside a pass (caller contract); every handle is owned
+        // by `self` and lives until the submission completes.
+        unsafe {
+            // The previous frame's draw read these buffers: finish that before rewriting them.
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::DRAW_INDIRECT | vk::PipelineStageFlags::VERTEX_SHADER,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &[],
+            );
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+            device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.cull_layout,
+                0,
+                &[self.descriptor_set],
+                &[],
+            );
+            device.cmd_push_constants(
+                cmd,
+                self.cull_layout,
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                &push,
+            );
+            device.cmd_dispatch(cmd, 1, 1, 1);
+            let barriers = [
+                whole(
+                    visible,
+                    vk::AccessFlags::SHADER_WRITE,
+                    vk::AccessFlags::SHADER_READ,
+                ),
+                whole(
+                    indirect,
+                    vk::AccessFlags::SHADER_WRITE,
+                    vk::AccessFlags::INDIRECT_COMMAND_READ,
+                ),
+            ];
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::PipelineStageFlags::DRAW_INDIRECT | vk::PipelineStageFlags::VERTEX_SHADER,
+                vk::DependencyFlags::empty(),
+                &[],
+                &barriers,
+                &[],
+            );
+        }
+        Ok(())
     }
 
     /// Zeroes the fragment counter; call before submitting a counting frame.
@@ -392,6 +613,7 @@ impl EllipsoidRenderer {
                 config,
                 aux_outputs: self.formats.aux_outputs,
                 count_fragments: self.count_fragments,
+                culled: self.culls(),
             },
         )?;
         Ok(())
@@ -422,6 +644,7 @@ impl EllipsoidRenderer {
         self.origin = packed.origin;
         let count = packed.len() as u32;
         let data = packed.bytes;
+        self.resize_cull_buffers(device, allocator, count as usize)?;
         let reuse = self
             .instances
             .as_ref()
@@ -486,6 +709,7 @@ impl EllipsoidRenderer {
             config,
             aux_outputs: self.formats.aux_outputs,
             count_fragments: self.count_fragments,
+            culled: self.culls(),
         };
         let pipeline = self.pipeline(device, key)?;
         let viewport = vk::Viewport {
@@ -517,17 +741,14 @@ impl EllipsoidRenderer {
                 &[self.descriptor_set],
                 &[],
             );
-            device.cmd_push_constants(
-                cmd,
-                self.pipeline_layout,
-                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-                0,
-                &push,
-            );
+            device.cmd_push_constants(cmd, self.pipeline_layout, PUSH_STAGES, 0, &push);
             match config.geometry {
-                Geometry::Impostor => {
-                    device.cmd_draw(cmd, config.footprint.vertices(), self.count, 0, 0)
-                }
+                Geometry::Impostor => match (key.culled, self.indirect.as_ref()) {
+                    (true, Some(indirect)) => {
+                        device.cmd_draw_indirect(cmd, indirect.handle(), 0, 1, 16)
+                    }
+                    _ => device.cmd_draw(cmd, config.footprint.vertices(), self.count, 0, 0),
+                },
                 Geometry::BoxProxy => device.cmd_draw(cmd, 36, self.count, 0, 0),
                 Geometry::Mesh(level) => {
                     let (_, mesh) = self
@@ -595,7 +816,14 @@ impl EllipsoidRenderer {
         if let Some(buffer) = self.instances.take() {
             buffer.destroy(device, allocator);
         }
-        if let Some(buffer) = self.counter.take() {
+        for buffer in [
+            self.counter.take(),
+            self.visible.take(),
+            self.indirect.take(),
+        ]
+        .into_iter()
+        .flatten()
+        {
             buffer.destroy(device, allocator);
         }
         for (_, mesh) in self.meshes.drain(..) {
@@ -608,8 +836,12 @@ impl EllipsoidRenderer {
             for (_, pipeline) in self.pipelines.drain(..) {
                 device.destroy_pipeline(pipeline, None);
             }
+            for (_, pipeline) in self.cull_pipelines.drain(..) {
+                device.destroy_pipeline(pipeline, None);
+            }
             device.destroy_descriptor_pool(self.descriptor_pool, None);
             device.destroy_pipeline_layout(self.pipeline_layout, None);
+            device.destroy_pipeline_layout(self.cull_layout, None);
             device.destroy_descriptor_set_layout(self.set_layout, None);
         }
     }

@@ -39,6 +39,13 @@ const int BOUNDS_AXIS_RECT = 1;  // the projected ellipse's axis-aligned boundin
 const int BOUNDS_WORLD_QUAD = 2; // Gumhold's square in the silhouette plane
 layout(constant_id = 3) const int BOUNDS = BOUNDS_TIGHT;
 layout(constant_id = 4) const int CORNERS = 4;
+// The draw reads instance indices compacted by the culling pre-pass (cull.comp).
+layout(constant_id = 8) const bool CULLED = false;
+#ifndef CULL_PASS
+layout(std430, set = 0, binding = 2) readonly buffer VisibleInstances {
+    uint visible_instances[];
+};
+#endif
 
 // Per-instance flags passed to the fragment stage.
 const uint FLAG_EYE_INSIDE = 1u;  // the eye is inside the ellipsoid: show the exit-side cap

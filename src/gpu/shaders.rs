@@ -21,6 +21,9 @@ pub const MESH_FRAG: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/mesh.frag
 /// Oriented-box proxy vertex shader (`box-proxy`).
 pub const BOX_VERT: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/box.vert.spv"));
 
+/// The culling pre-pass compute shader.
+pub const CULL_COMP: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/cull.comp.spv"));
+
 /// Fragment shaders built with `COUNT_FRAGMENTS` (an atomic count of shaded pixels).
 pub mod counted {
     /// `ELLIPSOID_FRAG` with the fragment counter.
