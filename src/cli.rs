@@ -52,6 +52,10 @@ pub struct BenchArgs {
     /// Only scenes whose name contains one of these comma-separated words (default: all).
     #[arg(long, value_delimiter = ',')]
     pub scenes: Vec<String>,
+    /// Instead: measure each skippable piece of work on and off (culling, outputs, order);
+    /// writes skip.csv and skip.png.
+    #[arg(long)]
+    pub skip: bool,
     /// Device and validation.
     #[command(flatten)]
     pub device: DeviceArgs,

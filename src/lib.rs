@@ -12,6 +12,7 @@ pub mod frame;
 pub mod reference;
 pub mod report;
 pub mod scene;
+pub mod skip;
 pub mod stress;
 
 pub use camera::{Camera, Projection};

@@ -11,6 +11,7 @@ use ellipsoid_splat::draw::Intersection;
 use ellipsoid_splat::draw::Method;
 use ellipsoid_splat::gpu::{Context, ContextOptions};
 use ellipsoid_splat::report::Progress;
+use ellipsoid_splat::skip;
 use ellipsoid_splat::stress::{run_point, sweep_points, write_report, Extent, StressResult};
 use ellipsoid_splat::{output, OffscreenRenderer, Result};
 
@@ -163,6 +164,9 @@ fn bench(args: &BenchArgs) -> ExitCode {
 }
 
 fn run_bench(args: &BenchArgs) -> Result<bool> {
+    if args.skip {
+        return run_skip(args);
+    }
     let methods: Vec<Method> = if args.methods.is_empty() {
         Method::ALL.to_vec()
     } else {
@@ -246,6 +250,33 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         args.out.display()
     );
     Ok(all)
+}
+
+/// `bench --skip`: every skippable piece of work on and off.
+fn run_skip(args: &BenchArgs) -> Result<bool> {
+    let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
+    let started = std::time::Instant::now();
+    let results = skip::run(&mut renderer, args.quick, args.frames)?;
+    renderer.context().check_validation()?;
+    renderer.finish()?;
+    let table = skip::write_report(&results, &args.out)?;
+    println!("{table}");
+    let features_meeting_both = skip::Feature::ALL
+        .iter()
+        .filter(|&&f| {
+            results
+                .iter()
+                .filter(|r| r.feature == f)
+                .all(|r| r.meets_target())
+        })
+        .count();
+    println!(
+        "{features_meeting_both} of {} features meet both targets (need 4); {:.0} s; wrote {}/skip.csv and skip.png",
+        skip::Feature::ALL.len(),
+        started.elapsed().as_secs_f64(),
+        args.out.display()
+    );
+    Ok(features_meeting_both >= 4)
 }
 
 fn info(args: &DeviceArgs) -> Result<()> {

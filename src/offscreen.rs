@@ -57,6 +57,8 @@ pub struct OffscreenRenderer {
     /// Read-back frames count shaded pixels (bench only: the counting shaders are separate
     /// SPIR-V, and their arithmetic may round differently from the shipped ones).
     count_fragments: bool,
+    /// Timed frames also write the normal and ID targets (to measure what skipping them saves).
+    timed_aux: bool,
     // Declared last: dropped after the fields above have been destroyed by `Drop`.
     context: Context,
 }
@@ -87,6 +89,7 @@ impl OffscreenRenderer {
             fence: vk::Fence::null(),
             queries: None,
             count_fragments: false,
+            timed_aux: false,
             context,
         };
         this.create_objects()?; // on error, Drop releases what exists
@@ -154,6 +157,12 @@ impl OffscreenRenderer {
         self.count_fragments = on;
     }
 
+    /// With `true`, timed frames write the normal and ID targets too, as if a host had asked
+    /// for them; by default they draw colour and depth only.
+    pub fn set_timed_aux_outputs(&mut self, on: bool) {
+        self.timed_aux = on;
+    }
+
     /// Chooses the exact culling of the pre-pass for the following frames.
     pub fn set_culling(&mut self, culling: Culling) {
         self.renderer_mut().culling = culling;
@@ -216,7 +225,7 @@ impl OffscreenRenderer {
                 .as_mut()
                 .expect("renderer exists after construction");
             let (device, allocator) = self.context.device_and_allocator();
-            renderer.set_aux_outputs(readback);
+            renderer.set_aux_outputs(readback || self.timed_aux);
             renderer.count_fragments = readback && counting;
             renderer.reset_fragment_counter()?;
             renderer.prepare(device, allocator, camera)?;
@@ -330,7 +339,7 @@ impl OffscreenRenderer {
             .expect("renderer exists after construction");
         // Timed frames draw colour and depth only, as a host would; read-back frames add the
         // normal and ID targets.
-        let colors: Vec<&GpuImage> = if readback {
+        let colors: Vec<&GpuImage> = if readback || self.timed_aux {
             vec![&targets.color, &targets.normal, &targets.id]
         } else {
             vec![&targets.color]
