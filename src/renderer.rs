@@ -42,7 +42,7 @@ impl Culling {
         frustum: false,
         pixel_centres: false,
     };
-    /// Both kinds (the shipped default).
+    /// Both kinds.
     pub const ON: Culling = Culling {
         frustum: true,
         pixel_centres: true,
@@ -54,8 +54,10 @@ impl Culling {
 }
 
 impl Default for Culling {
+    /// Off until the pre-pass is right at every size: at 1e6 instances it drops 41 % of the
+    /// covered pixels on lavapipe (bench cloud-2px), while 1e5 are exact.
     fn default() -> Self {
-        Self::ON
+        Self::OFF
     }
 }
 /// How far the screen quad reaches beyond the exact silhouette bounds, in pixels.
