@@ -331,7 +331,8 @@ fn quantile(values: &mut [f64], p: f64) -> f64 {
     values[i] + frac * (next - values[i])
 }
 
-fn median(values: &mut [f64]) -> f64 {
+/// Median (mean of the middle two for an even count); NaN when empty.
+pub(crate) fn median(values: &mut [f64]) -> f64 {
     if values.is_empty() {
         return f64::NAN;
     }

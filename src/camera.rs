@@ -203,6 +203,26 @@ impl Camera {
         (p - self.eye).dot(self.basis().forward)
     }
 
+    /// A perspective camera with +Y up, checked.
+    pub fn look_at(
+        eye: DVec3,
+        target: DVec3,
+        fov_y_deg: f64,
+        near: f64,
+        width: u32,
+        height: u32,
+    ) -> Result<Self> {
+        Self::new(
+            eye,
+            target,
+            DVec3::Y,
+            Projection::Perspective { fov_y_deg },
+            near,
+            width,
+            height,
+        )
+    }
+
     /// Is this an orthographic camera?
     pub fn is_orthographic(&self) -> bool {
         matches!(self.projection, Projection::Orthographic { .. })

@@ -18,17 +18,21 @@ fn encode_error(path: &Path, reason: impl ToString) -> Error {
     }
 }
 
-/// sRGB colour as an 8-bit RGBA PNG.
-pub fn write_color_png(frame: &Frame, path: &Path) -> Result<()> {
-    let bytes: Vec<u8> = frame.color.iter().flatten().copied().collect();
+fn write_rgba8_png(frame: &Frame, path: &Path, bytes: &[u8]) -> Result<()> {
     image::save_buffer(
         path,
-        &bytes,
+        bytes,
         frame.width,
         frame.height,
         image::ExtendedColorType::Rgba8,
     )
     .map_err(|e| encode_error(path, e))
+}
+
+/// sRGB colour as an 8-bit RGBA PNG.
+pub fn write_color_png(frame: &Frame, path: &Path) -> Result<()> {
+    let bytes: Vec<u8> = frame.color.iter().flatten().copied().collect();
+    write_rgba8_png(frame, path, &bytes)
 }
 
 fn write_exr(path: &Path, frame: &Frame, channels: Vec<AnyChannel<FlatSamples>>) -> Result<()> {
@@ -74,14 +78,7 @@ pub fn write_id_image(frame: &Frame, path: &Path) -> Result<()> {
         .is_some_and(|e| e.eq_ignore_ascii_case("png"));
     if is_png {
         let bytes: Vec<u8> = frame.id.iter().flat_map(|id| id.to_le_bytes()).collect();
-        image::save_buffer(
-            path,
-            &bytes,
-            frame.width,
-            frame.height,
-            image::ExtendedColorType::Rgba8,
-        )
-        .map_err(|e| encode_error(path, e))
+        write_rgba8_png(frame, path, &bytes)
     } else {
         let id = AnyChannel::new("ID", FlatSamples::U32(frame.id.clone()));
         write_exr(path, frame, vec![id])

@@ -142,6 +142,15 @@ pub struct EllipsoidRenderer {
 /// How many instances `Footprint::Auto` looks at.
 const SIZE_SAMPLE: usize = 512;
 
+/// A storage buffer the descriptor set points at.
+struct StorageBuffer {
+    name: &'static str,
+    bytes: u64,
+    usage: vk::BufferUsageFlags,
+    location: MemoryLocation,
+    binding: u32,
+}
+
 /// One icosphere level on the GPU.
 struct MeshBuffers {
     vertices: GpuBuffer,
@@ -215,25 +224,19 @@ impl EllipsoidRenderer {
         self.set_layout = unsafe { device.create_descriptor_set_layout(&info, None) }
             .call("vkCreateDescriptorSetLayout")?;
 
-        let ranges = [vk::PushConstantRange::default()
-            .stage_flags(PUSH_STAGES)
-            .size(PUSH_BYTES as u32)];
         let layouts = [self.set_layout];
-        let info = vk::PipelineLayoutCreateInfo::default()
-            .set_layouts(&layouts)
-            .push_constant_ranges(&ranges);
-        // SAFETY: as above.
-        self.pipeline_layout =
-            unsafe { device.create_pipeline_layout(&info, None) }.call("vkCreatePipelineLayout")?;
-        let compute_ranges = [vk::PushConstantRange::default()
-            .stage_flags(vk::ShaderStageFlags::COMPUTE)
-            .size(PUSH_BYTES as u32)];
-        let info = vk::PipelineLayoutCreateInfo::default()
-            .set_layouts(&layouts)
-            .push_constant_ranges(&compute_ranges);
-        // SAFETY: as above.
-        self.cull_layout =
-            unsafe { device.create_pipeline_layout(&info, None) }.call("vkCreatePipelineLayout")?;
+        let pipeline_layout = |stages: vk::ShaderStageFlags| {
+            let ranges = [vk::PushConstantRange::default()
+                .stage_flags(stages)
+                .size(PUSH_BYTES as u32)];
+            let info = vk::PipelineLayoutCreateInfo::default()
+                .set_layouts(&layouts)
+                .push_constant_ranges(&ranges);
+            // SAFETY: as above.
+            unsafe { device.create_pipeline_layout(&info, None) }.call("vkCreatePipelineLayout")
+        };
+        self.pipeline_layout = pipeline_layout(PUSH_STAGES)?;
+        self.cull_layout = pipeline_layout(vk::ShaderStageFlags::COMPUTE)?;
 
         let sizes = [vk::DescriptorPoolSize::default()
             .ty(vk::DescriptorType::STORAGE_BUFFER)
@@ -292,36 +295,52 @@ impl EllipsoidRenderer {
         allocator: &mut Allocator,
         count: usize,
     ) -> Result<()> {
-        let bytes = 4 * count.max(1) as u64;
-        if self.visible.as_ref().is_some_and(|b| b.size() >= bytes) {
-            return Ok(());
+        let current = self.visible.take();
+        let visible = StorageBuffer {
+            name: "visible instances",
+            bytes: 4 * count.max(1) as u64,
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER,
+            location: MemoryLocation::GpuOnly,
+            binding: 2,
+        };
+        self.visible = Some(self.storage_at_least(device, allocator, current, visible)?);
+        let current = self.indirect.take();
+        let indirect = StorageBuffer {
+            name: "culled draw",
+            bytes: INDIRECT_BYTES,
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER,
+            location: MemoryLocation::CpuToGpu,
+            binding: 3,
+        };
+        self.indirect = Some(self.storage_at_least(device, allocator, current, indirect)?);
+        Ok(())
+    }
+
+    /// `current` if it holds `spec.bytes`; otherwise a new buffer of that size, bound at
+    /// `spec.binding` (the old one is destroyed: the GPU must be done with it).
+    fn storage_at_least(
+        &self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        current: Option<GpuBuffer>,
+        spec: StorageBuffer,
+    ) -> Result<GpuBuffer> {
+        if let Some(buffer) = current {
+            if buffer.size() >= spec.bytes {
+                return Ok(buffer);
+            }
+            buffer.destroy(device, allocator);
         }
-        if let Some(old) = self.visible.take() {
-            old.destroy(device, allocator);
-        }
-        let visible = GpuBuffer::new(
+        let buffer = GpuBuffer::new(
             device,
             allocator,
-            "visible instances",
-            bytes,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::GpuOnly,
+            spec.name,
+            spec.bytes,
+            spec.usage,
+            spec.location,
         )?;
-        self.bind_storage_buffer(device, 2, &visible);
-        self.visible = Some(visible);
-        if self.indirect.is_none() {
-            let indirect = GpuBuffer::new(
-                device,
-                allocator,
-                "culled draw",
-                INDIRECT_BYTES,
-                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER,
-                MemoryLocation::CpuToGpu,
-            )?;
-            self.bind_storage_buffer(device, 3, &indirect);
-            self.indirect = Some(indirect);
-        }
-        Ok(())
+        self.bind_storage_buffer(device, spec.binding, &buffer);
+        Ok(buffer)
     }
 
     /// Whether a draw of the current configuration with `camera` goes through the pre-pass.
@@ -647,28 +666,18 @@ impl EllipsoidRenderer {
         let count = packed.len() as u32;
         let data = packed.bytes;
         self.resize_cull_buffers(device, allocator, count as usize)?;
-        let reuse = self
-            .instances
-            .as_ref()
-            .is_some_and(|b| b.size() >= bytes.max(1) as u64);
-        if !reuse {
-            if let Some(old) = self.instances.take() {
-                old.destroy(device, allocator);
-            }
-            let buffer = GpuBuffer::new(
-                device,
-                allocator,
-                "ellipsoid instances",
-                bytes as u64,
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-                MemoryLocation::CpuToGpu,
-            )?;
-            self.bind_storage_buffer(device, 0, &buffer);
-            self.instances = Some(buffer);
-        }
-        if let Some(buffer) = self.instances.as_mut() {
-            buffer.write(&data)?;
-        }
+        let current = self.instances.take();
+        let spec = StorageBuffer {
+            name: "ellipsoid instances",
+            bytes: bytes.max(1) as u64,
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER,
+            location: MemoryLocation::CpuToGpu,
+            binding: 0,
+        };
+        let mut buffer = self.storage_at_least(device, allocator, current, spec)?;
+        let written = buffer.write(&data);
+        self.instances = Some(buffer);
+        written?;
         self.count = count;
         Ok(())
     }

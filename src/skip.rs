@@ -6,8 +6,8 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use crate::bench::{HEIGHT, WIDTH};
-use crate::camera::{Camera, Projection};
+use crate::bench::{median, HEIGHT, WIDTH};
+use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::frame::Frame;
 use crate::offscreen::OffscreenRenderer;
@@ -95,16 +95,7 @@ struct SkipScene {
 }
 
 fn camera(eye: DVec3, target: DVec3, fov: f64, near: f64) -> Camera {
-    Camera::new(
-        eye,
-        target,
-        DVec3::Y,
-        Projection::Perspective { fov_y_deg: fov },
-        near,
-        WIDTH,
-        HEIGHT,
-    )
-    .expect("skip-bench camera is valid")
+    Camera::look_at(eye, target, fov, near, WIDTH, HEIGHT).expect("skip-bench camera is valid")
 }
 
 /// The scenes: each built so that one feature has work to skip, plus a plain one.
@@ -201,11 +192,6 @@ impl SkipResult {
     }
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
 /// Measures every feature on its scene and on the plain scene; `frames` interleaved on/off pairs.
 pub fn run(
     renderer: &mut OffscreenRenderer,
@@ -268,8 +254,8 @@ pub fn run(
                 feature,
                 scene: name,
                 applies: name == feature.scene_needing_it(),
-                on_ms: median(on_ms),
-                off_ms: median(off_ms),
+                on_ms: median(&mut on_ms),
+                off_ms: median(&mut off_ms),
                 pixels_changed: changed,
             });
         }

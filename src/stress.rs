@@ -116,16 +116,7 @@ fn cloud() -> Scene {
 }
 
 fn perspective(eye: DVec3, target: DVec3, fov: f64, near: f64, (w, h): (u32, u32)) -> Camera {
-    Camera::new(
-        eye,
-        target,
-        DVec3::Y,
-        Projection::Perspective { fov_y_deg: fov },
-        near,
-        w,
-        h,
-    )
-    .expect("sweep camera is valid")
+    Camera::look_at(eye, target, fov, near, w, h).expect("sweep camera is valid")
 }
 
 /// Distance from `e`'s centre to its surface along unit direction `dir`.
