@@ -1,12 +1,18 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#extension GL_KHR_shader_subgroup_arithmetic : require
 // The culling pre-pass: writes, in instance order, the indices of the instances that can
 // change a pixel, and their count into the indirect draw. Exact: an instance is dropped only
-// if its silhouette lies off screen or before the near plane (frustum), or its silhouette's
-// bounding rectangle holds no pixel centre (pixel centres). One workgroup walks the instances
-// in chunks, so the compacted order is the instance order: draw order, and with it which of
-// two exactly tied depths wins, is unchanged.
+// if its silhouette lies off screen or before the near plane (frustum), its silhouette's
+// bounding rectangle holds no pixel centre (pixel centres), or every pixel centre of that
+// rectangle is already covered by some ellipsoid lying wholly nearer (occlusion).
+//
+// The steps, one dispatch each over groups of 256 instances (CULL_STEP):
+//   OCCLUDERS  each ellipsoid lowers, on the pixel tiles its inscribed sphere covers for
+//              certain, the tile's "something lies at or before this view depth" bound;
+//   CLASSIFY   keep bits and a count per group;
+//   SCAN       one workgroup turns the counts into each group's first output slot;
+//   SCATTER    kept indices to their slots: the compacted order is the instance order, so
+//              draw order, and with it which of two exactly tied depths wins, is unchanged.
 #define CULL_PASS
 #include "ellipsoid_common.glsl"
 #include "silhouette_bounds.glsl"
@@ -15,6 +21,12 @@ layout(local_size_x = 256) in;
 
 layout(constant_id = 6) const bool CULL_FRUSTUM = true;
 layout(constant_id = 7) const bool CULL_PIXEL_CENTRES = true;
+layout(constant_id = 9) const int CULL_STEP = 1;
+layout(constant_id = 10) const bool CULL_OCCLUSION = false;
+const int STEP_OCCLUDERS = 0;
+const int STEP_CLASSIFY = 1;
+const int STEP_SCAN = 2;
+const int STEP_SCATTER = 3;
 
 layout(std430, set = 0, binding = 2) writeonly buffer Visible {
     uint visible[];
@@ -27,14 +39,172 @@ layout(std430, set = 0, binding = 3) buffer Indirect {
     uint first_instance;
     uint total;
 };
+// Per group of 256 instances: 8 words of keep bits, then (after all groups' bits) the
+// group's count, which SCAN replaces by its first output slot.
+layout(std430, set = 0, binding = 4) buffer Groups {
+    uint groups[];
+};
+// Occlusion tiles of TILE x TILE pixels, row-major from the top left: the float bits of a view
+// depth such that every pixel centre of the tile shows a surface at or before it (+inf: none
+// known). Positive floats order like their bits, so atomicMin works on them.
+layout(std430, set = 0, binding = 5) buffer OcclusionTiles {
+    uint tiles[];
+};
 
-shared uint subgroup_counts[gl_WorkGroupSize.x];
+const int TILE = 4;
+// Rectangles of more tiles than this are not tested (kept): few instances are that large.
+const int MAX_TESTED_TILES = 256;
+// An occluder writes at most this many tiles across (a subset of its tiles stays exact).
+const int MAX_WRITTEN_TILES = 64;
+// Relative depth gap that float32 rounding (here and in the fragment stage) cannot close.
+const float DEPTH_GAP = 1e-4;
 
-// Does the instance reach a pixel centre on screen?
+uint group_index() {
+    return gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
+}
+uint group_count() {
+    return (total + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
+}
+ivec2 screen_size() {
+    return ivec2(round(2.0 / cam.viewport.xy));
+}
+ivec2 tile_grid() {
+    return (screen_size() + TILE - 1) / TILE;
+}
+
+// The pixel centres inside an NDC rectangle with y up: (first column, first row, last column,
+// last row), rows from the top, unclamped (may lie off screen); empty when first > last.
+vec4 pixel_centres(vec4 rect) {
+    // Pixel centre i sits at NDC (2i + 1) / W - 1.
+    vec2 size = 2.0 / cam.viewport.xy;
+    vec2 lo = ceil(((rect.xy + 1.0) * size - 1.0) * 0.5);
+    vec2 hi = floor(((rect.zw + 1.0) * size - 1.0) * 0.5);
+    // Rows count from the top.
+    return vec4(lo.x, size.y - 1.0 - hi.y, hi.x, size.y - 1.0 - lo.y);
+}
+
+// The tiles (inclusive) holding the on-screen pixel centres of `centres`; empty when lo > hi.
+void tiles_touched(vec4 centres, out ivec2 lo, out ivec2 hi) {
+    vec2 last = vec2(screen_size() - 1);
+    lo = ivec2(clamp(centres.xy, vec2(0.0), last + 1.0)) / TILE;
+    hi = ivec2(clamp(centres.zw, vec2(-1.0), last));
+    hi = (hi + TILE) / TILE - 1; // floor division that keeps -1 below 0
+}
+
+// View depth of the instance's centre and its half-extent along the view axis.
+vec2 depth_range(Instance inst) {
+    vec3 f = cam.forward.xyz;
+    vec3 a_f = (transpose(quat_to_mat3(inst.rotation)) * f) * inst.radii.xyz;
+    return vec2(dot(inst.center, f) - cam.eye_near.z, length(a_f));
+}
+
+// OCCLUDERS: the ellipsoid contains the sphere of its smallest radius r around its centre c,
+// and every ray within angle asin(r / |c|) of c hits that sphere. Since
+// sin(angle(p, m)) <= |p - m| for screen-plane points p, m (slopes x/z, y/z), every pixel
+// centre within r / |c| of the projected centre m shows this ellipsoid or something nearer.
+// The ray d enters the sphere at a point P with (P - c).d <= 0, so P's view depth is at most
+// cz + r |f - d|: the surface there lies no deeper. Orthographic: within r of the centre's
+// axis, no deeper than cz.
+void write_occluder(uint index) {
+    Instance inst = instances[index];
+    vec3 r = cam.right_sx.xyz, u_axis = cam.up_sy.xyz, f = cam.forward.xyz;
+    vec2 s = vec2(cam.right_sx.w, cam.up_sy.w);
+    vec3 c = vec3(dot(inst.center, r), dot(inst.center, u_axis), dot(inst.center, f)) - cam.eye_near.xyz;
+    vec2 z = depth_range(inst);
+    float radius = min(inst.radii.x, min(inst.radii.y, inst.radii.z));
+    // Only ellipsoids wholly beyond the near plane (no cap) and in front of the eye.
+    if (!(z.x - z.y > cam.eye_near.w) || !(z.x - z.y > 0.0) || !(radius > 0.0)) {
+        return;
+    }
+    vec2 centre; // screen plane
+    float reach, bound;
+    if (ORTHOGRAPHIC) {
+        centre = c.xy;
+        reach = radius;
+        bound = c.z;
+    } else {
+        centre = c.xy / c.z;
+        reach = radius / length(c);
+        // |f - d| = 2 sin(theta / 2) for the ray's angle theta off the view axis, at most
+        // atan(|m| + reach) inside the disc.
+        float t = length(centre) + reach;
+        bound = c.z + radius * sqrt(max(2.0 - 2.0 / sqrt(1.0 + t * t), 0.0));
+    }
+    // In pixels (square: screen-plane units per pixel are sy 2 / H on both axes), pixel
+    // centre i at coordinate i, rows from the top; shrunk so float rounding never claims a
+    // pixel the fragment stage might miss.
+    ivec2 size = screen_size();
+    float per_pixel = cam.up_sy.w * cam.viewport.y;
+    vec2 ndc = centre / s;
+    vec2 p = vec2((ndc.x + 1.0) / cam.viewport.x - 0.5, (1.0 - ndc.y) / cam.viewport.y - 0.5);
+    float pixels = 0.99 * reach / per_pixel - 0.05;
+    if (!(pixels > 0.0)) {
+        return;
+    }
+    // Tile rows, then the tiles of each row whose pixel centres all lie in the disc; a tile
+    // cut by the screen's edge holds only its on-screen pixels. Large occluders write a
+    // central subset of their tiles: still exact, far fewer atomics.
+    ivec2 grid = tile_grid();
+    int ty0 = max(int(ceil(p.y - pixels)) / TILE, 0);
+    int ty1 = min(int(floor(p.y + pixels)) / TILE, grid.y - 1);
+    int excess = max(ty1 - ty0 + 1 - MAX_WRITTEN_TILES, 0);
+    ty0 += excess / 2;
+    ty1 -= excess - excess / 2;
+    uint bits = floatBitsToUint(bound);
+    for (int ty = ty0; ty <= ty1; ty++) {
+        float top = float(ty * TILE), bottom = float(min(ty * TILE + TILE - 1, size.y - 1));
+        float dy = max(abs(top - p.y), abs(bottom - p.y));
+        if (dy > pixels) {
+            continue;
+        }
+        float half_width = sqrt(pixels * pixels - dy * dy);
+        int x0 = int(ceil(max(p.x - half_width, 0.0)));
+        int x1 = int(floor(min(p.x + half_width, float(size.x - 1))));
+        int tx0 = (x0 + TILE - 1) / TILE;
+        int tx1 = x1 == size.x - 1 ? grid.x - 1 : (x1 + 1) / TILE - 1;
+        int extra = max(tx1 - tx0 + 1 - MAX_WRITTEN_TILES, 0);
+        tx0 += extra / 2;
+        tx1 -= extra - extra / 2;
+        for (int tx = tx0; tx <= tx1; tx++) {
+            atomicMin(tiles[ty * grid.x + tx], bits);
+        }
+    }
+}
+
+// Is every pixel centre of the rectangle covered by something at least DEPTH_GAP nearer than
+// the ellipsoid's nearest point?
+bool occluded(uint index, vec4 centres) {
+    vec2 z = depth_range(instances[index]);
+    float nearest = z.x - z.y;
+    if (!(nearest > 0.0)) {
+        return false;
+    }
+    ivec2 grid = tile_grid();
+    ivec2 t0, t1;
+    tiles_touched(centres, t0, t1);
+    ivec2 n = t1 - t0 + 1;
+    if (any(lessThanEqual(n, ivec2(0))) || n.x * n.y > MAX_TESTED_TILES) {
+        return false;
+    }
+    float limit = nearest / (1.0 + DEPTH_GAP);
+    for (int ty = t0.y; ty <= t1.y; ty++) {
+        for (int tx = t0.x; tx <= t1.x; tx++) {
+            if (!(uintBitsToFloat(tiles[ty * grid.x + tx]) < limit)) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+// Can the instance change a pixel?
 bool needed(uint index) {
     vec4 rect;
     if (!silhouette_rect(instances[index], rect)) {
         return !CULL_FRUSTUM;
+    }
+    if (any(isnan(rect))) {
+        return true; // degenerate: the vertex stage drops it
     }
     // A sliver of a pixel of slack, as the vertex stage grows its polygon.
     vec2 margin = cam.viewport.z * cam.viewport.xy;
@@ -42,45 +212,105 @@ bool needed(uint index) {
     if (CULL_FRUSTUM && (rect.z < -1.0 || rect.x > 1.0 || rect.w < -1.0 || rect.y > 1.0)) {
         return false;
     }
-    if (CULL_PIXEL_CENTRES) {
-        // Pixel centres in NDC sit at (2i + 1) / W - 1: is there one in [x0, x1]?
-        vec2 size = 2.0 / cam.viewport.xy;
-        vec2 lo = ceil(((rect.xy + 1.0) * size - 1.0) * 0.5);
-        vec2 hi = floor(((rect.zw + 1.0) * size - 1.0) * 0.5);
-        // Rows count from the top, but a range test needs no flip.
-        if (any(greaterThan(lo, hi))) {
-            return false;
-        }
+    if (!CULL_PIXEL_CENTRES && !CULL_OCCLUSION) {
+        return true;
     }
-    return true;
+    vec4 centres = pixel_centres(rect);
+    if (CULL_PIXEL_CENTRES && any(greaterThan(centres.xy, centres.zw))) {
+        return false;
+    }
+    return !(CULL_OCCLUSION && occluded(index, centres));
+}
+
+shared uint keep_bits[8];
+
+void classify(uint group, uint index) {
+    uint lane = gl_LocalInvocationIndex;
+    if (lane < 8u) {
+        keep_bits[lane] = 0u;
+    }
+    barrier();
+    if (index < total && needed(index)) {
+        atomicOr(keep_bits[lane / 32u], 1u << (lane % 32u));
+    }
+    barrier();
+    if (lane < 8u) {
+        groups[group * 8u + lane] = keep_bits[lane];
+    }
+    if (lane == 0u) {
+        uint kept = 0u;
+        for (int w = 0; w < 8; w++) {
+            kept += uint(bitCount(keep_bits[w]));
+        }
+        groups[group_count() * 8u + group] = kept;
+    }
+}
+
+shared uint block_sums[gl_WorkGroupSize.x];
+
+// One workgroup: each lane sums a run of consecutive groups, the runs are prefixed, then each
+// lane rewrites its groups' counts as first slots.
+void scan() {
+    uint lane = gl_LocalInvocationIndex;
+    uint n = group_count();
+    uint base = n * 8u;
+    uint per = (n + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
+    uint first = min(lane * per, n), last = min(first + per, n);
+    uint sum = 0u;
+    for (uint g = first; g < last; g++) {
+        sum += groups[base + g];
+    }
+    block_sums[lane] = sum;
+    barrier();
+    if (lane == 0u) {
+        uint running = 0u;
+        for (uint l = 0u; l < gl_WorkGroupSize.x; l++) {
+            uint s = block_sums[l];
+            block_sums[l] = running;
+            running += s;
+        }
+        instance_count = running;
+    }
+    barrier();
+    uint slot = block_sums[lane];
+    for (uint g = first; g < last; g++) {
+        uint count = groups[base + g];
+        groups[base + g] = slot;
+        slot += count;
+    }
+}
+
+void scatter(uint group, uint index) {
+    uint lane = gl_LocalInvocationIndex;
+    uint word = groups[group * 8u + lane / 32u];
+    uint bit = 1u << (lane % 32u);
+    if ((word & bit) == 0u) {
+        return;
+    }
+    uint slot = groups[group_count() * 8u + group] + uint(bitCount(word & (bit - 1u)));
+    for (uint w = 0u; w < lane / 32u; w++) {
+        slot += uint(bitCount(groups[group * 8u + w]));
+    }
+    visible[slot] = index;
 }
 
 void main() {
-    uint lane = gl_LocalInvocationIndex;
-    uint written = 0u;
-    for (uint start = 0u; start < total; start += gl_WorkGroupSize.x) {
-        uint index = start + lane;
-        uint keep = (index < total && needed(index)) ? 1u : 0u;
-        // Exclusive prefix over the workgroup: within the subgroup, then over subgroups.
-        uint in_subgroup = subgroupExclusiveAdd(keep);
-        uint subgroup_total = subgroupAdd(keep);
-        if (subgroupElect()) {
-            subgroup_counts[gl_SubgroupID] = subgroup_total;
-        }
-        barrier();
-        uint before = 0u, chunk = 0u;
-        for (uint s = 0u; s < gl_NumSubgroups; s++) {
-            uint n = subgroup_counts[s];
-            before += s < gl_SubgroupID ? n : 0u;
-            chunk += n;
-        }
-        if (keep != 0u) {
-            visible[written + before + in_subgroup] = index;
-        }
-        written += chunk;
-        barrier();
+    if (CULL_STEP == STEP_SCAN) {
+        scan();
+        return;
     }
-    if (lane == 0u) {
-        instance_count = written;
+    uint group = group_index();
+    if (group >= group_count()) {
+        return; // the whole workgroup: the dispatch grid's padding
+    }
+    uint index = group * gl_WorkGroupSize.x + gl_LocalInvocationIndex;
+    if (CULL_STEP == STEP_OCCLUDERS) {
+        if (index < total) {
+            write_occluder(index);
+        }
+    } else if (CULL_STEP == STEP_CLASSIFY) {
+        classify(group, index);
+    } else {
+        scatter(group, index);
     }
 }

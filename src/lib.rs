@@ -5,6 +5,7 @@ pub mod bench;
 pub mod camera;
 pub mod cli;
 pub mod compare;
+pub mod culling;
 pub mod draw;
 pub mod ellipsoid;
 pub mod error;

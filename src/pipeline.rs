@@ -4,6 +4,7 @@ use ash::vk;
 
 use crate::draw::{DrawConfig, Geometry, Intersection, Shading};
 use crate::error::{Error, Result};
+use crate::culling::{CullStep, Culling};
 use crate::gpu::shaders;
 use crate::renderer::{TargetFormats, ID_FORMAT, NORMAL_FORMAT};
 
@@ -217,24 +218,35 @@ fn build(
     Ok(pipelines[0])
 }
 
-/// The culling pre-pass (`glsl/cull.comp`) for one projection kind and choice of culling.
+/// One step of the culling pre-pass (`glsl/cull.comp`) for one projection kind and choice of
+/// culling.
 pub(crate) fn create_cull_pipeline(
     device: &ash::Device,
     layout: vk::PipelineLayout,
     orthographic: bool,
-    frustum: bool,
-    pixel_centres: bool,
+    culling: Culling,
+    step: CullStep,
 ) -> Result<vk::Pipeline> {
     let module = shaders::create_module(device, shaders::CULL_COMP)?;
-    // Specialization constants 0 ORTHOGRAPHIC, 6 CULL_FRUSTUM, 7 CULL_PIXEL_CENTRES.
-    let values: [u32; 3] = [orthographic as u32, frustum as u32, pixel_centres as u32];
-    let data: Vec<u8> = values.iter().flat_map(|v| v.to_ne_bytes()).collect();
-    let entries =
-        [(0u32, 0u32), (6, 4), (7, 8)].map(|(constant_id, offset)| vk::SpecializationMapEntry {
+    // Specialization constants 0 ORTHOGRAPHIC, 6 CULL_FRUSTUM, 7 CULL_PIXEL_CENTRES,
+    // 9 CULL_STEP, 10 CULL_OCCLUSION.
+    let values: [(u32, u32); 5] = [
+        (0, orthographic as u32),
+        (6, culling.frustum as u32),
+        (7, culling.pixel_centres as u32),
+        (9, step as u32),
+        (10, culling.occlusion as u32),
+    ];
+    let data: Vec<u8> = values.iter().flat_map(|(_, v)| v.to_ne_bytes()).collect();
+    let entries: Vec<vk::SpecializationMapEntry> = values
+        .iter()
+        .enumerate()
+        .map(|(k, &(constant_id, _))| vk::SpecializationMapEntry {
             constant_id,
-            offset,
+            offset: 4 * k as u32,
             size: 4,
-        });
+        })
+        .collect();
     let spec = vk::SpecializationInfo::default()
         .map_entries(&entries)
         .data(&data);

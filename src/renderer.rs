@@ -12,6 +12,8 @@ use crate::error::{Error, Result, VkCall};
 use crate::gpu::GpuBuffer;
 use crate::icosphere::icosphere;
 use crate::instances::pack_instances;
+use crate::culling::{self, record_compute_to_compute, CullStep};
+pub use crate::culling::Culling;
 use crate::pipeline::{create_cull_pipeline, create_pipeline, PipelineKey};
 use crate::scene::Scene;
 
@@ -26,40 +28,6 @@ const PUSH_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
 /// Bytes of the culling pre-pass's indirect buffer: a `VkDrawIndirectCommand` and the total.
 const INDIRECT_BYTES: u64 = 20;
 
-/// Which exact culling the pre-pass does before the draw (neither: no pre-pass). Nothing
-/// culled can change a pixel: see `glsl/cull.comp`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct Culling {
-    /// Drop instances whose silhouette lies off screen or before the near plane.
-    pub frustum: bool,
-    /// Drop instances whose silhouette's bounding rectangle holds no pixel centre.
-    pub pixel_centres: bool,
-}
-
-impl Culling {
-    /// No pre-pass.
-    pub const OFF: Culling = Culling {
-        frustum: false,
-        pixel_centres: false,
-    };
-    /// Both kinds.
-    pub const ON: Culling = Culling {
-        frustum: true,
-        pixel_centres: true,
-    };
-
-    fn any(self) -> bool {
-        self.frustum || self.pixel_centres
-    }
-}
-
-impl Default for Culling {
-    /// Off until the pre-pass is right at every size: at 1e6 instances it drops 41 % of the
-    /// covered pixels on lavapipe (bench cloud-2px), while 1e5 are exact.
-    fn default() -> Self {
-        Self::OFF
-    }
-}
 /// How far the screen quad reaches beyond the exact silhouette bounds, in pixels.
 const QUAD_MARGIN_PX: f32 = 0.01;
 
@@ -136,7 +104,9 @@ pub struct EllipsoidRenderer {
     pub culling: Culling,
     visible: Option<GpuBuffer>,
     indirect: Option<GpuBuffer>,
-    cull_pipelines: Vec<((bool, Culling), vk::Pipeline)>,
+    cull_groups: Option<GpuBuffer>,
+    occlusion_tiles: Option<GpuBuffer>,
+    cull_pipelines: Vec<((bool, Culling, CullStep), vk::Pipeline)>,
 }
 
 /// How many instances `Footprint::Auto` looks at.
@@ -186,6 +156,8 @@ impl EllipsoidRenderer {
             culling: Culling::default(),
             visible: None,
             indirect: None,
+            cull_groups: None,
+            occlusion_tiles: None,
             cull_pipelines: Vec::new(),
         };
         // On failure, `destroy` releases whatever was created (null handles are skipped).
@@ -193,6 +165,7 @@ impl EllipsoidRenderer {
             .create_objects(device)
             .and_then(|_| renderer.create_counter(device, allocator))
             .and_then(|_| renderer.resize_cull_buffers(device, allocator, 1))
+            .and_then(|_| renderer.resize_occlusion_tiles(device, allocator, 1, 1))
         {
             Ok(()) => Ok(renderer),
             Err(e) => {
@@ -204,7 +177,8 @@ impl EllipsoidRenderer {
 
     fn create_objects(&mut self, device: &ash::Device) -> Result<()> {
         // Binding 0: instances; 1: the fragment counter of `count_fragments`; 2: instance
-        // indices kept by the culling pre-pass; 3: its indirect draw command.
+        // indices kept by the culling pre-pass; 3: its indirect draw command; 4: its keep
+        // bits and group slots; 5: its occlusion tiles.
         let storage = |binding: u32, stages: vk::ShaderStageFlags| {
             vk::DescriptorSetLayoutBinding::default()
                 .binding(binding)
@@ -218,6 +192,8 @@ impl EllipsoidRenderer {
             storage(1, vk::ShaderStageFlags::FRAGMENT),
             storage(2, vertex_and_compute),
             storage(3, vk::ShaderStageFlags::COMPUTE),
+            storage(4, vk::ShaderStageFlags::COMPUTE),
+            storage(5, vk::ShaderStageFlags::COMPUTE),
         ];
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
         // SAFETY: valid create info; owned by `self`, destroyed in `destroy`.
@@ -240,7 +216,7 @@ impl EllipsoidRenderer {
 
         let sizes = [vk::DescriptorPoolSize::default()
             .ty(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(4)];
+            .descriptor_count(6)];
         let info = vk::DescriptorPoolCreateInfo::default()
             .max_sets(1)
             .pool_sizes(&sizes);
@@ -287,8 +263,8 @@ impl EllipsoidRenderer {
         unsafe { device.update_descriptor_sets(&[write], &[]) };
     }
 
-    /// Makes the culling buffers hold `count` instances (bindings 2 and 3); they always exist,
-    /// so every binding the shaders declare is valid.
+    /// Makes the culling buffers hold `count` instances (bindings 2, 3 and 4); they always
+    /// exist, so every binding the shaders declare is valid.
     fn resize_cull_buffers(
         &mut self,
         device: &ash::Device,
@@ -308,11 +284,42 @@ impl EllipsoidRenderer {
         let indirect = StorageBuffer {
             name: "culled draw",
             bytes: INDIRECT_BYTES,
-            usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER,
-            location: MemoryLocation::CpuToGpu,
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::INDIRECT_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_DST,
+            location: MemoryLocation::GpuOnly,
             binding: 3,
         };
         self.indirect = Some(self.storage_at_least(device, allocator, current, indirect)?);
+        let current = self.cull_groups.take();
+        let groups = StorageBuffer {
+            name: "culling groups",
+            bytes: culling::groups_bytes(count as u32),
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER,
+            location: MemoryLocation::GpuOnly,
+            binding: 4,
+        };
+        self.cull_groups = Some(self.storage_at_least(device, allocator, current, groups)?);
+        Ok(())
+    }
+
+    /// Makes the occlusion tiles (binding 5) cover a `width` x `height` image.
+    fn resize_occlusion_tiles(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        width: u32,
+        height: u32,
+    ) -> Result<()> {
+        let current = self.occlusion_tiles.take();
+        let tiles = StorageBuffer {
+            name: "occlusion tiles",
+            bytes: culling::tiles_bytes(width, height),
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            location: MemoryLocation::GpuOnly,
+            binding: 5,
+        };
+        self.occlusion_tiles = Some(self.storage_at_least(device, allocator, current, tiles)?);
         Ok(())
     }
 
@@ -348,27 +355,31 @@ impl EllipsoidRenderer {
         self.config.geometry == Geometry::Impostor && self.culling.any() && self.count > 0
     }
 
-    /// The culling compute pipeline, built on first use.
-    fn cull_pipeline(&mut self, device: &ash::Device, orthographic: bool) -> Result<vk::Pipeline> {
-        let key = (orthographic, self.culling);
+    /// One step's culling compute pipeline, built on first use.
+    fn cull_pipeline(
+        &mut self,
+        device: &ash::Device,
+        orthographic: bool,
+        step: CullStep,
+    ) -> Result<vk::Pipeline> {
+        let key = (orthographic, self.culling, step);
         if let Some((_, p)) = self.cull_pipelines.iter().find(|(k, _)| *k == key) {
             return Ok(*p);
         }
-        let pipeline = create_cull_pipeline(
-            device,
-            self.cull_layout,
-            orthographic,
-            self.culling.frustum,
-            self.culling.pixel_centres,
-        )?;
+        let pipeline =
+            create_cull_pipeline(device, self.cull_layout, orthographic, self.culling, step)?;
         self.cull_pipelines.push((key, pipeline));
         Ok(pipeline)
     }
 
     /// Records the culling pre-pass (when `culling` is on and the geometry is an impostor)
     /// into `cmd`, outside any rendering pass, with the barriers that order it after the
-    /// previous draw's reads and before this draw's indirect and vertex reads. Call it before
+    /// previous frame's draw and before this draw's indirect and vertex reads. Call it before
     /// the pass that `record` draws into.
+    ///
+    /// It writes the indirect command with `vkCmdUpdateBuffer`, clears the occlusion tiles
+    /// with `vkCmdFillBuffer`, then runs the steps of `glsl/cull.comp`, each after a
+    /// compute-to-compute barrier.
     pub fn record_prepass(
         &mut self,
         device: &ash::Device,
@@ -381,21 +392,29 @@ impl EllipsoidRenderer {
             return Ok(());
         }
         self.prepare(device, allocator, camera)?;
+        if self.culling.occlusion {
+            self.resize_occlusion_tiles(device, allocator, camera.width, camera.height)?;
+        }
         let orthographic = matches!(camera.projection, Projection::Orthographic { .. });
-        let pipeline = self.cull_pipeline(device, orthographic)?;
+        let steps = culling::steps(self.culling)
+            .into_iter()
+            .map(|step| Ok((step, self.cull_pipeline(device, orthographic, step)?)))
+            .collect::<Result<Vec<_>>>()?;
         let vertices = self.effective_config(camera).footprint.vertices();
         let command: Vec<u8> = [vertices, 0, 0, 0, self.count]
             .iter()
             .flat_map(|v| v.to_ne_bytes())
             .collect();
-        if let Some(indirect) = self.indirect.as_mut() {
-            indirect.write(&command)?;
-        }
         let push = self.push_constants(camera);
-        let (visible, indirect) = match (self.visible.as_ref(), self.indirect.as_ref()) {
-            (Some(v), Some(i)) => (v.handle(), i.handle()),
+        let (visible, indirect, tiles) = match (
+            self.visible.as_ref(),
+            self.indirect.as_ref(),
+            self.occlusion_tiles.as_ref(),
+        ) {
+            (Some(v), Some(i), Some(t)) => (v.handle(), i.handle(), t.handle()),
             _ => return Err(Error::invalid("culling", "buffers missing")),
         };
+        let (groups_x, groups_y) = culling::dispatch_grid(culling::group_count(self.count));
         let whole = |buffer, src, dst| {
             vk::BufferMemoryBarrier::default()
                 .src_access_mask(src)
@@ -407,17 +426,45 @@ impl EllipsoidRenderer {
         // SAFETY: `cmd` is recording outside a pass (caller contract); every handle is owned
         // by `self` and lives until the submission completes.
         unsafe {
-            // The previous frame's draw read these buffers: finish that before rewriting them.
+            // The previous frame's draw and pre-pass used these buffers: finish that before
+            // rewriting them (write-after-read needs no memory barrier).
             device.cmd_pipeline_barrier(
                 cmd,
-                vk::PipelineStageFlags::DRAW_INDIRECT | vk::PipelineStageFlags::VERTEX_SHADER,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::PipelineStageFlags::DRAW_INDIRECT
+                    | vk::PipelineStageFlags::VERTEX_SHADER
+                    | vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
                 vk::DependencyFlags::empty(),
                 &[],
                 &[],
                 &[],
             );
-            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+            device.cmd_update_buffer(cmd, indirect, 0, &command);
+            if self.culling.occlusion {
+                // +inf: no surface known in front of any tile yet.
+                device.cmd_fill_buffer(cmd, tiles, 0, vk::WHOLE_SIZE, f32::INFINITY.to_bits());
+            }
+            let cleared = [
+                whole(
+                    indirect,
+                    vk::AccessFlags::TRANSFER_WRITE,
+                    vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+                ),
+                whole(
+                    tiles,
+                    vk::AccessFlags::TRANSFER_WRITE,
+                    vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
+                ),
+            ];
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::DependencyFlags::empty(),
+                &[],
+                &cleared[..if self.culling.occlusion { 2 } else { 1 }],
+                &[],
+            );
             device.cmd_bind_descriptor_sets(
                 cmd,
                 vk::PipelineBindPoint::COMPUTE,
@@ -433,7 +480,16 @@ impl EllipsoidRenderer {
                 0,
                 &push,
             );
-            device.cmd_dispatch(cmd, 1, 1, 1);
+            for (k, &(step, pipeline)) in steps.iter().enumerate() {
+                if k > 0 {
+                    record_compute_to_compute(device, cmd);
+                }
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+                match step {
+                    CullStep::Scan => device.cmd_dispatch(cmd, 1, 1, 1),
+                    _ => device.cmd_dispatch(cmd, groups_x, groups_y, 1),
+                }
+            }
             let barriers = [
                 whole(
                     visible,
@@ -831,6 +887,8 @@ impl EllipsoidRenderer {
             self.counter.take(),
             self.visible.take(),
             self.indirect.take(),
+            self.cull_groups.take(),
+            self.occlusion_tiles.take(),
         ]
         .into_iter()
         .flatten()

@@ -75,11 +75,11 @@ impl Feature {
         match self {
             Feature::FrustumCulling => renderer.set_culling(Culling {
                 frustum: on,
-                pixel_centres: true,
+                ..Culling::ON
             }),
             Feature::PixelCentreCulling => renderer.set_culling(Culling {
-                frustum: true,
                 pixel_centres: on,
+                ..Culling::ON
             }),
             Feature::AuxOutputsOnDemand => renderer.set_timed_aux_outputs(!on),
             Feature::FrontToBack => {}

@@ -18,6 +18,9 @@ pub struct QueryResults {
     pub gpu_ms: f64,
     /// Fragment shader invocations inside the pass; `None` without pipeline statistics.
     pub fragments: Option<u64>,
+    /// Vertex shader invocations inside the pass (what culling saves); `None` without
+    /// pipeline statistics.
+    pub vertices: Option<u64>,
 }
 
 impl FrameQueries {
@@ -33,7 +36,10 @@ impl FrameQueries {
             let info = vk::QueryPoolCreateInfo::default()
                 .query_type(vk::QueryType::PIPELINE_STATISTICS)
                 .query_count(1)
-                .pipeline_statistics(vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS);
+                .pipeline_statistics(
+                    vk::QueryPipelineStatisticFlags::VERTEX_SHADER_INVOCATIONS
+                        | vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS,
+                );
             // SAFETY: as above; the feature was enabled at device creation.
             match unsafe { device.create_query_pool(&info, None) } {
                 Ok(pool) => Some(pool),
@@ -73,7 +79,7 @@ impl FrameQueries {
         }
     }
 
-    /// Starts counting fragment invocations; record inside the pass, before the draw.
+    /// Starts counting vertex and fragment invocations; record inside the pass, before the draw.
     pub fn begin_statistics(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
         if let Some(pool) = self.statistics {
             // SAFETY: the query was reset earlier in this command buffer.
@@ -115,9 +121,12 @@ impl FrameQueries {
             )
         }
         .call("vkGetQueryPoolResults")?;
-        let fragments = match self.statistics {
+        // Results come in the order of the flag bits: vertices, then fragments.
+        let (vertices, fragments) = match self.statistics {
             Some(pool) => {
-                let mut count = [0u64; 1];
+                // One query whose result is two counters (ash takes the query count from the
+                // slice length and the stride from the element size).
+                let mut count = [[0u64; 2]; 1];
                 // SAFETY: the query was begun and ended in the completed submission.
                 unsafe {
                     device.get_query_pool_results(
@@ -128,13 +137,14 @@ impl FrameQueries {
                     )
                 }
                 .call("vkGetQueryPoolResults")?;
-                Some(count[0])
+                (Some(count[0][0]), Some(count[0][1]))
             }
-            None => None,
+            None => (None, None),
         };
         Ok(QueryResults {
             gpu_ms: stamps[1].wrapping_sub(stamps[0]) as f64 * self.period_ns * 1e-6,
             fragments,
+            vertices,
         })
     }
 

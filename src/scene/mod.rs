@@ -8,7 +8,7 @@ use glam::DVec3;
 use crate::ellipsoid::Ellipsoid;
 
 pub use self::csv::{load_csv, parse_csv};
-pub use self::tensor_field::{random_cloud, tensor_field};
+pub use self::tensor_field::{packed_block, random_cloud, tensor_field};
 
 /// The ellipsoids to draw, in instance order (the instance ID is the index).
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -105,6 +105,34 @@ pub fn random_cloud(count: usize, seed: u64, extent: f64, radius: f64) -> Scene 
     Scene::new(ellipsoids)
 }
 
+/// A dense block of `n`^3 ellipsoids on a unit grid centred on the origin, semi-axes in
+/// `[0.5, 0.75]` (neighbours touch or overlap, so from outside only the shell is visible), with
+/// random orientations and colours. The same `seed` gives the same scene.
+pub fn packed_block(n: usize, seed: u64) -> Scene {
+    let mut rng = SplitMix64(seed);
+    let offset = 0.5 * (n as f64 - 1.0);
+    let mut ellipsoids = Vec::with_capacity(n * n * n);
+    for i in 0..n {
+        for j in 0..n {
+            for k in 0..n {
+                let center = DVec3::new(i as f64, j as f64, k as f64) - offset;
+                let radii = DVec3::new(
+                    rng.range(0.5, 0.75),
+                    rng.range(0.5, 0.75),
+                    rng.range(0.5, 0.75),
+                );
+                let rotation = rng.rotation();
+                let color = [0; 3].map(|_| rng.range(0.15, 1.0) as f32);
+                ellipsoids.push(
+                    Ellipsoid::new(center, radii, rotation, Some(color))
+                        .expect("packed_block builds valid ellipsoids"),
+                );
+            }
+        }
+    }
+    Scene::new(ellipsoids)
+}
+
 /// Steele, Lea and Flood's SplitMix64: tiny, fast and good enough for test scenes.
 struct SplitMix64(u64);
 

@@ -1,0 +1,140 @@
+//! The culling pre-pass: which exact culling it does, how its buffers are sized, and the
+//! dispatches and barriers it records (the shader is `glsl/cull.comp`).
+
+use ash::vk;
+
+/// Which exact culling the pre-pass does before the draw (none: no pre-pass). Nothing culled
+/// can change a pixel: see `glsl/cull.comp`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Culling {
+    /// Drop instances whose silhouette lies off screen or before the near plane.
+    pub frustum: bool,
+    /// Drop instances whose silhouette's bounding rectangle holds no pixel centre.
+    pub pixel_centres: bool,
+    /// Drop instances whose every pixel centre is covered by an ellipsoid lying wholly nearer
+    /// (each ellipsoid vouches for the pixels of its inscribed sphere).
+    pub occlusion: bool,
+}
+
+impl Culling {
+    /// No pre-pass.
+    pub const OFF: Culling = Culling {
+        frustum: false,
+        pixel_centres: false,
+        occlusion: false,
+    };
+    /// Every kind.
+    pub const ON: Culling = Culling {
+        frustum: true,
+        pixel_centres: true,
+        occlusion: true,
+    };
+
+    /// Whether the pre-pass runs at all.
+    pub fn any(self) -> bool {
+        self.frustum || self.pixel_centres || self.occlusion
+    }
+}
+
+impl Default for Culling {
+    /// Every kind: each is exact, and each costs little where it finds nothing to drop
+    /// (README, "Skipping what a scene doesn't need").
+    fn default() -> Self {
+        Self::ON
+    }
+}
+
+/// One dispatch of the pre-pass (`CULL_STEP` in the shader).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) enum CullStep {
+    /// Lower the occlusion tiles each ellipsoid's inscribed sphere covers.
+    Occluders = 0,
+    /// Keep bits and a count per group of instances.
+    Classify = 1,
+    /// Counts to first output slots, and the draw's instance count.
+    Scan = 2,
+    /// Kept instance indices to their slots.
+    Scatter = 3,
+}
+
+/// Instances per workgroup (`local_size_x`).
+const GROUP_SIZE: u64 = 256;
+/// Occlusion tile edge in pixels (`TILE`).
+const TILE: u64 = 4;
+/// Most workgroups in one dimension of a dispatch that every device supports.
+const MAX_GROUPS_X: u32 = 65_535;
+
+/// Workgroups over `count` instances.
+pub(crate) fn group_count(count: u32) -> u32 {
+    (count as u64).div_ceil(GROUP_SIZE) as u32
+}
+
+/// Bytes of the groups buffer: 8 words of keep bits and one count per group.
+pub(crate) fn groups_bytes(count: u32) -> u64 {
+    4 * 9 * group_count(count).max(1) as u64
+}
+
+/// Bytes of the occlusion tiles of a `width` x `height` image.
+pub(crate) fn tiles_bytes(width: u32, height: u32) -> u64 {
+    4 * (width as u64).div_ceil(TILE) * (height as u64).div_ceil(TILE)
+}
+
+/// The dispatch grid for `groups` workgroups: x up to the guaranteed limit, then rows.
+pub(crate) fn dispatch_grid(groups: u32) -> (u32, u32) {
+    let x = groups.clamp(1, MAX_GROUPS_X);
+    (x, groups.div_ceil(x).max(1))
+}
+
+/// The steps a frame runs, in order.
+pub(crate) fn steps(culling: Culling) -> Vec<CullStep> {
+    let mut steps = Vec::with_capacity(4);
+    if culling.occlusion {
+        steps.push(CullStep::Occluders);
+    }
+    steps.extend([CullStep::Classify, CullStep::Scan, CullStep::Scatter]);
+    steps
+}
+
+/// A barrier making one compute step's storage writes visible to the next.
+pub(crate) fn record_compute_to_compute(device: &ash::Device, cmd: vk::CommandBuffer) {
+    let barrier = vk::MemoryBarrier::default()
+        .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+        .dst_access_mask(vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE);
+    // SAFETY: `cmd` is recording outside a pass (caller contract); a global memory barrier
+    // references no object.
+    unsafe {
+        device.cmd_pipeline_barrier(
+            cmd,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::DependencyFlags::empty(),
+            &[barrier],
+            &[],
+            &[],
+        )
+    };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_cover_every_instance_and_pixel() {
+        assert_eq!(group_count(0), 0);
+        assert_eq!(group_count(256), 1);
+        assert_eq!(group_count(257), 2);
+        assert_eq!(groups_bytes(0), 36);
+        assert_eq!(groups_bytes(1_000_000), 4 * 9 * 3907);
+        assert_eq!(tiles_bytes(1920, 1080), 4 * 480 * 270);
+        assert_eq!(tiles_bytes(161, 121), 4 * 41 * 31);
+    }
+
+    #[test]
+    fn dispatch_grid_covers_all_groups() {
+        assert_eq!(dispatch_grid(0), (1, 1));
+        assert_eq!(dispatch_grid(3907), (3907, 1));
+        let (x, y) = dispatch_grid(200_000);
+        assert!(x <= MAX_GROUPS_X && x as u64 * y as u64 >= 200_000);
+    }
+}
