@@ -35,10 +35,11 @@ struct Targets {
 }
 
 impl Targets {
-    /// Byte offsets of colour, depth, normal and ID inside the readback buffer.
+    /// Byte offsets of colour, depth, normal and ID inside the readback buffer. The normal
+    /// comes first: a copy's buffer offset must be a multiple of its 16-byte texel.
     fn offsets(extent: vk::Extent2D) -> [u64; 4] {
         let pixels = extent.width as u64 * extent.height as u64;
-        [0, 4 * pixels, 8 * pixels, 24 * pixels]
+        [16 * pixels, 20 * pixels, 0, 24 * pixels]
     }
 
     fn readback_bytes(extent: vk::Extent2D) -> u64 {
