@@ -13,7 +13,7 @@ use crate::frame::Frame;
 use crate::offscreen::OffscreenRenderer;
 use crate::renderer::Culling;
 use crate::report::{bar_chart, format_table, write_csv, Axis, Progress};
-use crate::scene::{random_cloud, Scene};
+use crate::scene::{packed_block, random_cloud, Scene};
 
 /// Columns of `skip.csv`.
 pub const CSV_HEADER: &[&str] = &[
@@ -32,6 +32,8 @@ pub enum Feature {
     FrustumCulling,
     /// Dropping ellipsoids whose silhouette holds no pixel centre, in the pre-pass.
     PixelCentreCulling,
+    /// Dropping ellipsoids hidden behind nearer ones' inscribed spheres, in the pre-pass.
+    OcclusionCulling,
     /// Normal and ID outputs only when asked for (a colour-only pipeline and pass otherwise).
     AuxOutputsOnDemand,
     /// Instances uploaded sorted front to back by nearest depth (for early depth rejection on
@@ -41,9 +43,10 @@ pub enum Feature {
 
 impl Feature {
     /// Every feature measured.
-    pub const ALL: [Feature; 4] = [
+    pub const ALL: [Feature; 5] = [
         Feature::FrustumCulling,
         Feature::PixelCentreCulling,
+        Feature::OcclusionCulling,
         Feature::AuxOutputsOnDemand,
         Feature::FrontToBack,
     ];
@@ -53,6 +56,7 @@ impl Feature {
         match self {
             Feature::FrustumCulling => "frustum-culling",
             Feature::PixelCentreCulling => "pixel-centre-culling",
+            Feature::OcclusionCulling => "occlusion-culling",
             Feature::AuxOutputsOnDemand => "aux-outputs-on-demand",
             Feature::FrontToBack => "front-to-back",
         }
@@ -63,6 +67,7 @@ impl Feature {
         match self {
             Feature::FrustumCulling => "inside-field",
             Feature::PixelCentreCulling => "tiny-far",
+            Feature::OcclusionCulling => "dense-block",
             Feature::AuxOutputsOnDemand => "heavy-overlap",
             Feature::FrontToBack => "heavy-overlap",
         }
@@ -79,6 +84,10 @@ impl Feature {
             }),
             Feature::PixelCentreCulling => renderer.set_culling(Culling {
                 pixel_centres: on,
+                ..Culling::ON
+            }),
+            Feature::OcclusionCulling => renderer.set_culling(Culling {
+                occlusion: on,
                 ..Culling::ON
             }),
             Feature::AuxOutputsOnDemand => renderer.set_timed_aux_outputs(!on),
@@ -103,13 +112,16 @@ fn scenes(quick: bool) -> Vec<SkipScene> {
     let scale = if quick { 1 } else { 4 };
     // Camera inside a large field, looking at a corner: most glyphs are off screen.
     let field = random_cloud(100_000 * scale, 31, 50.0, 0.15);
-    // Glyphs far beyond the point where they reach a pixel centre.
-    let mut tiny = random_cloud(100_000 * scale, 32, 40.0, 0.01);
+    // A million glyphs far beyond the point where they reach a pixel centre.
+    let mut tiny = random_cloud(1_000_000, 32, 40.0, 0.01);
     for e in &mut tiny.ellipsoids {
         e.center.z -= 2_000.0;
     }
     // Many layers of overlap in front of the camera.
     let overlap = random_cloud(3_000, 33, 3.0, 0.8);
+    // A packed block seen corner on: only its shell can show.
+    let side = if quick { 40 } else { 64 };
+    let block = packed_block(side, 35);
     // Every glyph on screen, a few pixels to tens of pixels across, little overlap.
     let plain = random_cloud(20_000, 34, 12.0, 0.25);
     vec![
@@ -137,6 +149,16 @@ fn scenes(quick: bool) -> Vec<SkipScene> {
             name: "heavy-overlap",
             scene: overlap,
             camera: camera(DVec3::new(0.0, 0.0, 9.0), DVec3::ZERO, 45.0, 1.0),
+        },
+        SkipScene {
+            name: "dense-block",
+            camera: camera(
+                DVec3::new(55.0, 45.0, 70.0) * (side as f64 / 40.0),
+                DVec3::ZERO,
+                45.0,
+                1.0,
+            ),
+            scene: block,
         },
         SkipScene {
             name: "plain",
