@@ -9,13 +9,16 @@
 // The steps, one dispatch each over groups of 256 instances (CULL_STEP):
 //   OCCLUDERS  each ellipsoid lowers, on the pixel tiles its inscribed sphere covers for
 //              certain, the tile's "something lies at or before this view depth" bound;
-//   CLASSIFY   keep bits and a count per group;
+//   CLASSIFY   keep bits and a count per group, and (CULL_SETUP) each kept instance's set-up
+//              for the impostor stages, computed once instead of in each of its vertices;
 //   SCAN       one workgroup turns the counts into each group's first output slot;
 //   SCATTER    kept indices to their slots: the compacted order is the instance order, so
 //              draw order, and with it which of two exactly tied depths wins, is unchanged.
 #define CULL_PASS
 #include "ellipsoid_common.glsl"
 #include "silhouette_bounds.glsl"
+#include "instance_setup.glsl"
+#include "setup_records.glsl"
 
 layout(local_size_x = 256) in;
 
@@ -23,6 +26,8 @@ layout(constant_id = 6) const bool CULL_FRUSTUM = true;
 layout(constant_id = 7) const bool CULL_PIXEL_CENTRES = true;
 layout(constant_id = 9) const int CULL_STEP = 1;
 layout(constant_id = 10) const bool CULL_OCCLUSION = false;
+// CLASSIFY also computes each kept instance's set-up for the PRESET_SETUP impostor stages.
+layout(constant_id = 11) const bool CULL_SETUP = false;
 const int STEP_OCCLUDERS = 0;
 const int STEP_CLASSIFY = 1;
 const int STEP_SCAN = 2;
@@ -232,6 +237,9 @@ void classify(uint group, uint index) {
     barrier();
     if (index < total && needed(index)) {
         atomicOr(keep_bits[lane / 32u], 1u << (lane % 32u));
+        if (CULL_SETUP) {
+            store_setup(index, setup_instance(instances[index]));
+        }
     }
     barrier();
     if (lane < 8u) {

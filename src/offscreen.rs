@@ -169,6 +169,18 @@ impl OffscreenRenderer {
         self.renderer_mut().culling = culling;
     }
 
+    /// Whether the pre-pass computes each impostor's set-up once (on by default).
+    pub fn set_setup_in_prepass(&mut self, on: bool) {
+        self.renderer_mut().setup_in_prepass = on;
+    }
+
+    /// Whether a draw of the uploaded scene with `camera` takes its set-up from the pre-pass.
+    pub fn sets_up_in_prepass(&self, camera: &Camera) -> bool {
+        self.renderer
+            .as_ref()
+            .is_some_and(|r| r.sets_up_in_prepass(camera))
+    }
+
     /// Chooses the whole draw configuration (a `bench` method) for the following frames.
     pub fn set_config(&mut self, config: DrawConfig) {
         self.renderer_mut().config = config;

@@ -2,9 +2,9 @@
 
 use ash::vk;
 
+use crate::culling::{CullStep, Culling};
 use crate::draw::{DrawConfig, Geometry, Intersection, Shading};
 use crate::error::{Error, Result};
-use crate::culling::{CullStep, Culling};
 use crate::gpu::shaders;
 use crate::renderer::{TargetFormats, ID_FORMAT, NORMAL_FORMAT};
 
@@ -19,6 +19,8 @@ pub(crate) struct PipelineKey {
     pub count_fragments: bool,
     /// The vertex stage reads instance indices compacted by the culling pre-pass.
     pub culled: bool,
+    /// The impostor stages read the set-up the pre-pass computed (`PRESET_SETUP`).
+    pub preset: bool,
 }
 
 /// The SPIR-V of the two stages for `key`.
@@ -40,6 +42,13 @@ fn stage_code(key: &PipelineKey) -> (&'static [u8], &'static [u8]) {
         Geometry::BoxProxy => (
             shaders::BOX_VERT,
             pick(shaders::ELLIPSOID_FRAG, counted::ELLIPSOID_FRAG),
+        ),
+        Geometry::Impostor if key.preset => (
+            shaders::ELLIPSOID_PRESET_VERT,
+            pick(
+                shaders::ELLIPSOID_PRESET_FRAG,
+                counted::ELLIPSOID_PRESET_FRAG,
+            ),
         ),
         Geometry::Impostor => (
             shaders::ELLIPSOID_VERT,
@@ -219,23 +228,30 @@ fn build(
 }
 
 /// One step of the culling pre-pass (`glsl/cull.comp`) for one projection kind and choice of
-/// culling.
+/// culling; with `setup`, it also computes the set-up of that draw's impostors.
 pub(crate) fn create_cull_pipeline(
     device: &ash::Device,
     layout: vk::PipelineLayout,
     orthographic: bool,
     culling: Culling,
     step: CullStep,
+    setup: Option<DrawConfig>,
 ) -> Result<vk::Pipeline> {
     let module = shaders::create_module(device, shaders::CULL_COMP)?;
     // Specialization constants 0 ORTHOGRAPHIC, 6 CULL_FRUSTUM, 7 CULL_PIXEL_CENTRES,
-    // 9 CULL_STEP, 10 CULL_OCCLUSION.
-    let values: [(u32, u32); 5] = [
+    // 9 CULL_STEP, 10 CULL_OCCLUSION, 11 CULL_SETUP, and for the set-up the footprint and
+    // intersection of the draw: 2 TEXTBOOK, 3 BOUNDS, 4 CORNERS.
+    let config = setup.unwrap_or_default();
+    let values: [(u32, u32); 9] = [
         (0, orthographic as u32),
         (6, culling.frustum as u32),
         (7, culling.pixel_centres as u32),
         (9, step as u32),
         (10, culling.occlusion as u32),
+        (11, setup.is_some() as u32),
+        (2, (config.intersection == Intersection::Textbook) as u32),
+        (3, config.footprint.bounds_mode()),
+        (4, config.footprint.vertices()),
     ];
     let data: Vec<u8> = values.iter().flat_map(|(_, v)| v.to_ne_bytes()).collect();
     let entries: Vec<vk::SpecializationMapEntry> = values

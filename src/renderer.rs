@@ -7,13 +7,13 @@ use gpu_allocator::vulkan::Allocator;
 use gpu_allocator::MemoryLocation;
 
 use crate::camera::{Camera, Projection};
-use crate::draw::{DrawConfig, Footprint, Geometry};
+pub use crate::culling::Culling;
+use crate::culling::{self, record_compute_to_compute, CullStep};
+use crate::draw::{DrawConfig, Footprint, Geometry, Shading};
 use crate::error::{Error, Result, VkCall};
 use crate::gpu::GpuBuffer;
 use crate::icosphere::icosphere;
 use crate::instances::pack_instances;
-use crate::culling::{self, record_compute_to_compute, CullStep};
-pub use crate::culling::Culling;
 use crate::pipeline::{create_cull_pipeline, create_pipeline, PipelineKey};
 use crate::scene::Scene;
 
@@ -106,8 +106,30 @@ pub struct EllipsoidRenderer {
     indirect: Option<GpuBuffer>,
     cull_groups: Option<GpuBuffer>,
     occlusion_tiles: Option<GpuBuffer>,
-    cull_pipelines: Vec<((bool, Culling, CullStep), vk::Pipeline)>,
+    cull_pipelines: Vec<(CullKey, vk::Pipeline)>,
+    /// Compute each impostor's set-up once in the pre-pass instead of in each of its vertices
+    /// (it then runs even with no culling). Applies to the exact shading with an n-gon or
+    /// axis-rectangle footprint and up to `MAX_PRESET_INSTANCES`.
+    pub setup_in_prepass: bool,
+    shading_records: Option<GpuBuffer>,
+    footprint_records: Option<GpuBuffer>,
 }
+
+/// What one culling pipeline is specialised for: projection, culling, step, and the draw
+/// whose set-up it computes (if it does).
+type CullKey = (bool, Culling, CullStep, Option<DrawConfig>);
+
+/// The largest mean projected glyph area (square pixels) for which the pre-pass sets up the
+/// impostors. On lavapipe the fragment stage's record loads cost more than the flat varyings
+/// they replace once glyphs cover more than a few pixels (README, `bench --skip`).
+const PRESET_MAX_AREA_PX: f64 = 16.0;
+
+/// Bytes per instance of the pre-pass's set-up records (`glsl/include/setup_records.glsl`).
+const SHADING_RECORD_BYTES: u64 = 128;
+const FOOTPRINT_RECORD_BYTES: u64 = 32;
+/// The most instances whose set-up records fit the 128 MiB storage-buffer range that every
+/// Vulkan device supports; larger scenes set up in the vertex stage.
+pub const MAX_PRESET_INSTANCES: u32 = (1 << 27) / SHADING_RECORD_BYTES as u32;
 
 /// How many instances `Footprint::Auto` looks at.
 const SIZE_SAMPLE: usize = 512;
@@ -159,6 +181,9 @@ impl EllipsoidRenderer {
             cull_groups: None,
             occlusion_tiles: None,
             cull_pipelines: Vec::new(),
+            setup_in_prepass: true,
+            shading_records: None,
+            footprint_records: None,
         };
         // On failure, `destroy` releases whatever was created (null handles are skipped).
         match renderer
@@ -178,7 +203,8 @@ impl EllipsoidRenderer {
     fn create_objects(&mut self, device: &ash::Device) -> Result<()> {
         // Binding 0: instances; 1: the fragment counter of `count_fragments`; 2: instance
         // indices kept by the culling pre-pass; 3: its indirect draw command; 4: its keep
-        // bits and group slots; 5: its occlusion tiles.
+        // bits and group slots; 5: its occlusion tiles; 6 and 7: the set-up it computed for
+        // the fragment and vertex stages.
         let storage = |binding: u32, stages: vk::ShaderStageFlags| {
             vk::DescriptorSetLayoutBinding::default()
                 .binding(binding)
@@ -194,6 +220,11 @@ impl EllipsoidRenderer {
             storage(3, vk::ShaderStageFlags::COMPUTE),
             storage(4, vk::ShaderStageFlags::COMPUTE),
             storage(5, vk::ShaderStageFlags::COMPUTE),
+            storage(
+                6,
+                vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT,
+            ),
+            storage(7, vertex_and_compute),
         ];
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
         // SAFETY: valid create info; owned by `self`, destroyed in `destroy`.
@@ -216,7 +247,7 @@ impl EllipsoidRenderer {
 
         let sizes = [vk::DescriptorPoolSize::default()
             .ty(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(6)];
+            .descriptor_count(8)];
         let info = vk::DescriptorPoolCreateInfo::default()
             .max_sets(1)
             .pool_sizes(&sizes);
@@ -300,6 +331,31 @@ impl EllipsoidRenderer {
             binding: 4,
         };
         self.cull_groups = Some(self.storage_at_least(device, allocator, current, groups)?);
+        // Set-up records only for scenes that can use them.
+        let records = if count as u64 <= MAX_PRESET_INSTANCES as u64 {
+            count.max(1) as u64
+        } else {
+            1
+        };
+        let current = self.shading_records.take();
+        let shading = StorageBuffer {
+            name: "shading set-up",
+            bytes: records * SHADING_RECORD_BYTES,
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER,
+            location: MemoryLocation::GpuOnly,
+            binding: 6,
+        };
+        self.shading_records = Some(self.storage_at_least(device, allocator, current, shading)?);
+        let current = self.footprint_records.take();
+        let footprints = StorageBuffer {
+            name: "footprint set-up",
+            bytes: records * FOOTPRINT_RECORD_BYTES,
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER,
+            location: MemoryLocation::GpuOnly,
+            binding: 7,
+        };
+        self.footprint_records =
+            Some(self.storage_at_least(device, allocator, current, footprints)?);
         Ok(())
     }
 
@@ -350,9 +406,29 @@ impl EllipsoidRenderer {
         Ok(buffer)
     }
 
-    /// Whether a draw of the current configuration with `camera` goes through the pre-pass.
-    fn culls(&self) -> bool {
-        self.config.geometry == Geometry::Impostor && self.culling.any() && self.count > 0
+    /// Whether the pre-pass computes the set-up of a draw with `config` and `camera` (see
+    /// `setup_in_prepass`): only for glyphs of a few pixels, where vertex work dominates.
+    fn presets(&self, config: &DrawConfig, camera: &Camera) -> bool {
+        self.setup_in_prepass
+            && self.mean_projected_area(camera) <= PRESET_MAX_AREA_PX
+            && config.geometry == Geometry::Impostor
+            && matches!(config.shading, Shading::Exact | Shading::FastNormal)
+            && config.footprint != Footprint::WorldQuad
+            && self.count > 0
+            && self.count <= MAX_PRESET_INSTANCES
+    }
+
+    /// Whether a draw with `camera` takes its impostors' set-up from the pre-pass.
+    pub fn sets_up_in_prepass(&self, camera: &Camera) -> bool {
+        self.presets(&self.effective_config(camera), camera)
+    }
+
+    /// Whether a draw with `config` and `camera` goes through the pre-pass: to cull, or to
+    /// set up.
+    fn runs_prepass(&self, config: &DrawConfig, camera: &Camera) -> bool {
+        config.geometry == Geometry::Impostor
+            && self.count > 0
+            && (self.culling.any() || self.presets(config, camera))
     }
 
     /// One step's culling compute pipeline, built on first use.
@@ -361,13 +437,20 @@ impl EllipsoidRenderer {
         device: &ash::Device,
         orthographic: bool,
         step: CullStep,
+        setup: Option<DrawConfig>,
     ) -> Result<vk::Pipeline> {
-        let key = (orthographic, self.culling, step);
+        let key = (orthographic, self.culling, step, setup);
         if let Some((_, p)) = self.cull_pipelines.iter().find(|(k, _)| *k == key) {
             return Ok(*p);
         }
-        let pipeline =
-            create_cull_pipeline(device, self.cull_layout, orthographic, self.culling, step)?;
+        let pipeline = create_cull_pipeline(
+            device,
+            self.cull_layout,
+            orthographic,
+            self.culling,
+            step,
+            setup,
+        )?;
         self.cull_pipelines.push((key, pipeline));
         Ok(pipeline)
     }
@@ -388,7 +471,8 @@ impl EllipsoidRenderer {
         camera: &Camera,
     ) -> Result<()> {
         camera.validate()?;
-        if !self.culls() {
+        let config = self.effective_config(camera);
+        if !self.runs_prepass(&config, camera) {
             return Ok(());
         }
         self.prepare(device, allocator, camera)?;
@@ -396,22 +480,27 @@ impl EllipsoidRenderer {
             self.resize_occlusion_tiles(device, allocator, camera.width, camera.height)?;
         }
         let orthographic = matches!(camera.projection, Projection::Orthographic { .. });
+        let setup = self.presets(&config, camera).then_some(config);
         let steps = culling::steps(self.culling)
             .into_iter()
-            .map(|step| Ok((step, self.cull_pipeline(device, orthographic, step)?)))
+            .map(|step| Ok((step, self.cull_pipeline(device, orthographic, step, setup)?)))
             .collect::<Result<Vec<_>>>()?;
-        let vertices = self.effective_config(camera).footprint.vertices();
+        let vertices = config.footprint.vertices();
         let command: Vec<u8> = [vertices, 0, 0, 0, self.count]
             .iter()
             .flat_map(|v| v.to_ne_bytes())
             .collect();
         let push = self.push_constants(camera);
-        let (visible, indirect, tiles) = match (
+        let (visible, indirect, tiles, shading, footprints) = match (
             self.visible.as_ref(),
             self.indirect.as_ref(),
             self.occlusion_tiles.as_ref(),
+            self.shading_records.as_ref(),
+            self.footprint_records.as_ref(),
         ) {
-            (Some(v), Some(i), Some(t)) => (v.handle(), i.handle(), t.handle()),
+            (Some(v), Some(i), Some(t), Some(s), Some(f)) => {
+                (v.handle(), i.handle(), t.handle(), s.handle(), f.handle())
+            }
             _ => return Err(Error::invalid("culling", "buffers missing")),
         };
         let (groups_x, groups_y) = culling::dispatch_grid(culling::group_count(self.count));
@@ -432,6 +521,7 @@ impl EllipsoidRenderer {
                 cmd,
                 vk::PipelineStageFlags::DRAW_INDIRECT
                     | vk::PipelineStageFlags::VERTEX_SHADER
+                    | vk::PipelineStageFlags::FRAGMENT_SHADER
                     | vk::PipelineStageFlags::COMPUTE_SHADER,
                 vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
                 vk::DependencyFlags::empty(),
@@ -501,11 +591,23 @@ impl EllipsoidRenderer {
                     vk::AccessFlags::SHADER_WRITE,
                     vk::AccessFlags::INDIRECT_COMMAND_READ,
                 ),
+                whole(
+                    footprints,
+                    vk::AccessFlags::SHADER_WRITE,
+                    vk::AccessFlags::SHADER_READ,
+                ),
+                whole(
+                    shading,
+                    vk::AccessFlags::SHADER_WRITE,
+                    vk::AccessFlags::SHADER_READ,
+                ),
             ];
             device.cmd_pipeline_barrier(
                 cmd,
                 vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::DRAW_INDIRECT | vk::PipelineStageFlags::VERTEX_SHADER,
+                vk::PipelineStageFlags::DRAW_INDIRECT
+                    | vk::PipelineStageFlags::VERTEX_SHADER
+                    | vk::PipelineStageFlags::FRAGMENT_SHADER,
                 vk::DependencyFlags::empty(),
                 &[],
                 &barriers,
@@ -690,7 +792,8 @@ impl EllipsoidRenderer {
                 config,
                 aux_outputs: self.formats.aux_outputs,
                 count_fragments: self.count_fragments,
-                culled: self.culls(),
+                culled: self.runs_prepass(&config, camera),
+                preset: self.presets(&config, camera),
             },
         )?;
         Ok(())
@@ -776,7 +879,8 @@ impl EllipsoidRenderer {
             config,
             aux_outputs: self.formats.aux_outputs,
             count_fragments: self.count_fragments,
-            culled: self.culls(),
+            culled: self.runs_prepass(&config, camera),
+            preset: self.presets(&config, camera),
         };
         let pipeline = self.pipeline(device, key)?;
         let viewport = vk::Viewport {
@@ -889,6 +993,8 @@ impl EllipsoidRenderer {
             self.indirect.take(),
             self.cull_groups.take(),
             self.occlusion_tiles.take(),
+            self.shading_records.take(),
+            self.footprint_records.take(),
         ]
         .into_iter()
         .flatten()

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use crate::bench::{median, HEIGHT, WIDTH};
+use crate::bench::{frustum_cloud, median, HEIGHT, WIDTH};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::frame::Frame;
@@ -34,6 +34,9 @@ pub enum Feature {
     PixelCentreCulling,
     /// Dropping ellipsoids hidden behind nearer ones' inscribed spheres, in the pre-pass.
     OcclusionCulling,
+    /// Each impostor's set-up computed once in the pre-pass, not in each of its vertices, and
+    /// handed to the fragment stage through a buffer instead of flat varyings.
+    SetupOnce,
     /// Normal and ID outputs only when asked for (a colour-only pipeline and pass otherwise).
     AuxOutputsOnDemand,
     /// Instances uploaded sorted front to back by nearest depth (for early depth rejection on
@@ -43,10 +46,11 @@ pub enum Feature {
 
 impl Feature {
     /// Every feature measured.
-    pub const ALL: [Feature; 5] = [
+    pub const ALL: [Feature; 6] = [
         Feature::FrustumCulling,
         Feature::PixelCentreCulling,
         Feature::OcclusionCulling,
+        Feature::SetupOnce,
         Feature::AuxOutputsOnDemand,
         Feature::FrontToBack,
     ];
@@ -57,6 +61,7 @@ impl Feature {
             Feature::FrustumCulling => "frustum-culling",
             Feature::PixelCentreCulling => "pixel-centre-culling",
             Feature::OcclusionCulling => "occlusion-culling",
+            Feature::SetupOnce => "setup-once",
             Feature::AuxOutputsOnDemand => "aux-outputs-on-demand",
             Feature::FrontToBack => "front-to-back",
         }
@@ -68,6 +73,7 @@ impl Feature {
             Feature::FrustumCulling => "inside-field",
             Feature::PixelCentreCulling => "tiny-far",
             Feature::OcclusionCulling => "dense-block",
+            Feature::SetupOnce => "tiny-visible",
             Feature::AuxOutputsOnDemand => "heavy-overlap",
             Feature::FrontToBack => "heavy-overlap",
         }
@@ -77,6 +83,7 @@ impl Feature {
     fn apply(self, renderer: &mut OffscreenRenderer, on: bool) {
         renderer.set_culling(Culling::ON);
         renderer.set_timed_aux_outputs(false);
+        renderer.set_setup_in_prepass(true);
         match self {
             Feature::FrustumCulling => renderer.set_culling(Culling {
                 frustum: on,
@@ -90,6 +97,7 @@ impl Feature {
                 occlusion: on,
                 ..Culling::ON
             }),
+            Feature::SetupOnce => renderer.set_setup_in_prepass(on),
             Feature::AuxOutputsOnDemand => renderer.set_timed_aux_outputs(!on),
             Feature::FrontToBack => {}
         }
@@ -119,6 +127,8 @@ fn scenes(quick: bool) -> Vec<SkipScene> {
     }
     // Many layers of overlap in front of the camera.
     let overlap = random_cloud(3_000, 33, 3.0, 0.8);
+    // A million glyphs of about two pixels, all on screen.
+    let tiny_visible = frustum_cloud(1_000_000, 2.0, 36);
     // A packed block seen corner on: only its shell can show.
     let side = if quick { 40 } else { 64 };
     let block = packed_block(side, 35);
@@ -149,6 +159,11 @@ fn scenes(quick: bool) -> Vec<SkipScene> {
             name: "heavy-overlap",
             scene: overlap,
             camera: camera(DVec3::new(0.0, 0.0, 9.0), DVec3::ZERO, 45.0, 1.0),
+        },
+        SkipScene {
+            name: "tiny-visible",
+            scene: tiny_visible.scene,
+            camera: tiny_visible.camera,
         },
         SkipScene {
             name: "dense-block",
@@ -285,6 +300,7 @@ pub fn run(
     progress.finish();
     renderer.set_culling(Culling::ON);
     renderer.set_timed_aux_outputs(false);
+    renderer.set_setup_in_prepass(true);
     Ok(results)
 }
 

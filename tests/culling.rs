@@ -45,7 +45,10 @@ fn assert_culling_exact(
         .expect("render without culling");
     let plain_vertices = timing.gpu.vertices.expect("pipeline statistics");
 
-    assert!(plain.id.iter().any(|&id| id != ellipsoid_splat::NO_INSTANCE));
+    assert!(plain
+        .id
+        .iter()
+        .any(|&id| id != ellipsoid_splat::NO_INSTANCE));
     let mut vertices = Vec::new();
     for culling in VARIANTS {
         renderer.set_culling(culling);
@@ -92,7 +95,10 @@ fn frustum_and_pixel_centre_culling_change_no_pixel() {
             unreachable!()
         };
         assert!(frustum < plain, "frustum culling dropped nothing");
-        assert!(pixel_centres < plain, "pixel-centre culling dropped nothing");
+        assert!(
+            pixel_centres < plain,
+            "pixel-centre culling dropped nothing"
+        );
     }
     renderer
         .context()
@@ -137,6 +143,46 @@ fn occlusion_culling_changes_no_pixel_and_drops_the_hidden() {
                 "occlusion culling kept {} of {plain} vertices",
                 culled[3]
             );
+        }
+    }
+    renderer
+        .context()
+        .check_validation()
+        .expect("no validation messages");
+    renderer.finish().expect("clean shutdown");
+}
+
+#[test]
+fn setup_in_the_prepass_changes_no_pixel() {
+    // Glyphs of about two pixels (the pre-pass sets them up), with and without culling, in
+    // perspective and orthographic views.
+    let scene = random_cloud(20_000, 21, 10.0, 0.04);
+    let perspective =
+        Camera::look_at(DVec3::new(2.0, 3.0, 25.0), DVec3::ZERO, 45.0, 1.0, 240, 180).unwrap();
+    let mut orthographic = perspective;
+    orthographic.projection = Projection::Orthographic { height: 22.0 };
+    let mut renderer = validated_renderer();
+    renderer.upload(&scene).expect("upload");
+    for camera in [perspective, orthographic] {
+        for culling in [Culling::ON, Culling::OFF] {
+            renderer.set_culling(culling);
+            renderer.set_setup_in_prepass(false);
+            let (plain, _) = renderer.render_uploaded(&camera).expect("render");
+            assert!(!renderer.sets_up_in_prepass(&camera));
+            renderer.set_setup_in_prepass(true);
+            assert!(
+                renderer.sets_up_in_prepass(&camera),
+                "the glyphs should be small enough for the pre-pass set-up"
+            );
+            let (preset, _) = renderer.render_uploaded(&camera).expect("render");
+            assert!(plain
+                .id
+                .iter()
+                .any(|&id| id != ellipsoid_splat::NO_INSTANCE));
+            assert_eq!(plain.id, preset.id, "{culling:?}: instance IDs differ");
+            assert_eq!(plain.color, preset.color, "{culling:?}: colours differ");
+            assert_eq!(plain.depth, preset.depth, "{culling:?}: depths differ");
+            assert_eq!(plain.normal, preset.normal, "{culling:?}: normals differ");
         }
     }
     renderer

@@ -13,6 +13,36 @@ layout(constant_id = 1) const bool AUX_OUTPUTS = true;
 // Herbison-Evans' modulus-normalised gradient instead of a unit normal (no square root).
 layout(constant_id = 5) const bool FAST_NORMAL = false;
 
+// The instance's set-up (include/instance_setup.glsl): flat varyings, or with PRESET_SETUP
+// the record the culling pre-pass wrote, read at the start of main.
+layout(location = 7) flat in uint v_id;
+#ifdef PRESET_SETUP
+#define PRESET_SETUP_FRAGMENT
+#include "setup_records.glsl"
+vec3 v_ray_x, v_ray_y, v_ray_c;
+vec2 v_ray_origin;
+vec4 v_k, v_depth, v_misc;
+mat3 v_to_normal;
+uint v_flags;
+vec3 v_color;
+
+void load_setup() {
+    uint base = 8u * v_id;
+    vec4 a = shading[base], b = shading[base + 1u], c = shading[base + 2u];
+    vec4 g = shading[base + 6u], h = shading[base + 7u];
+    v_ray_x = a.xyz;
+    v_ray_y = b.xyz;
+    v_flags = floatBitsToUint(g.w);
+    bool origin = (v_flags & FLAG_OFFSET_ORIGIN) != 0u;
+    v_ray_c = origin ? vec3(0.0) : c.xyz;
+    v_ray_origin = origin ? c.xy : vec2(0.0);
+    v_k = shading[base + 3u];
+    v_depth = shading[base + 4u];
+    v_misc = shading[base + 5u];
+    v_to_normal = mat3(g.xyz, h.xyz, vec3(a.w, b.w, c.w));
+    v_color = srgb_to_linear(unpackUnorm4x8(floatBitsToUint(h.w)).rgb);
+}
+#else
 layout(location = 0) flat in vec3 v_ray_x;
 layout(location = 10) flat in vec3 v_ray_y;
 layout(location = 11) flat in vec3 v_ray_c;
@@ -21,9 +51,11 @@ layout(location = 1) flat in vec4 v_k;
 layout(location = 2) flat in vec4 v_depth;
 layout(location = 3) flat in vec4 v_misc;
 layout(location = 4) flat in mat3 v_to_normal;
-layout(location = 7) flat in uint v_id;
 layout(location = 8) flat in uint v_flags;
 layout(location = 9) flat in vec3 v_color;
+
+void load_setup() {}
+#endif
 
 layout(location = 0) out vec4 out_color;
 layout(location = 1) out vec4 out_normal;
@@ -122,6 +154,7 @@ bool hit_stable(out float depth, out vec3 normal, out bool cap) {
 
 void main() {
     count_fragment();
+    load_setup();
     float near = cam.eye_near.w;
     float depth;
     vec3 normal;

@@ -9,6 +9,13 @@ pub const ELLIPSOID_VERT: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/elli
 /// The ellipsoid impostor fragment shader.
 pub const ELLIPSOID_FRAG: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/ellipsoid.frag.spv"));
 
+/// `ELLIPSOID_VERT` reading the set-up the culling pre-pass computed (`PRESET_SETUP`).
+pub const ELLIPSOID_PRESET_VERT: &[u8] =
+    include_bytes!(concat!(env!("OUT_DIR"), "/ellipsoid_preset.vert.spv"));
+/// `ELLIPSOID_FRAG` reading the set-up the culling pre-pass computed (`PRESET_SETUP`).
+pub const ELLIPSOID_PRESET_FRAG: &[u8] =
+    include_bytes!(concat!(env!("OUT_DIR"), "/ellipsoid_preset.frag.spv"));
+
 /// The `impostor-flat-depth` fragment shader (no depth write).
 pub const ELLIPSOID_FLAT_DEPTH_FRAG: &[u8] =
     include_bytes!(concat!(env!("OUT_DIR"), "/ellipsoid_flat_depth.frag.spv"));
@@ -29,6 +36,11 @@ pub mod counted {
     /// `ELLIPSOID_FRAG` with the fragment counter.
     pub const ELLIPSOID_FRAG: &[u8] =
         include_bytes!(concat!(env!("OUT_DIR"), "/ellipsoid.frag.counted.spv"));
+    /// `ELLIPSOID_PRESET_FRAG` with the fragment counter.
+    pub const ELLIPSOID_PRESET_FRAG: &[u8] = include_bytes!(concat!(
+        env!("OUT_DIR"),
+        "/ellipsoid_preset.frag.counted.spv"
+    ));
     /// `ELLIPSOID_FLAT_DEPTH_FRAG` with the fragment counter.
     pub const ELLIPSOID_FLAT_DEPTH_FRAG: &[u8] = include_bytes!(concat!(
         env!("OUT_DIR"),
