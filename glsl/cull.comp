@@ -19,6 +19,7 @@
 #include "silhouette_bounds.glsl"
 #include "instance_setup.glsl"
 #include "setup_records.glsl"
+#include "occlusion_tiles.glsl"
 
 layout(local_size_x = 256) in;
 
@@ -49,32 +50,16 @@ layout(std430, set = 0, binding = 3) buffer Indirect {
 layout(std430, set = 0, binding = 4) buffer Groups {
     uint groups[];
 };
-// Occlusion tiles of TILE x TILE pixels, row-major from the top left: the float bits of a view
-// depth such that every pixel centre of the tile shows a surface at or before it (+inf: none
-// known). Positive floats order like their bits, so atomicMin works on them.
-layout(std430, set = 0, binding = 5) buffer OcclusionTiles {
-    uint tiles[];
-};
-
-const int TILE = 4;
 // Rectangles of more tiles than this are not tested (kept): few instances are that large.
 const int MAX_TESTED_TILES = 256;
 // An occluder writes at most this many tiles across (a subset of its tiles stays exact).
 const int MAX_WRITTEN_TILES = 64;
-// Relative depth gap that float32 rounding (here and in the fragment stage) cannot close.
-const float DEPTH_GAP = 1e-4;
 
 uint group_index() {
     return gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
 }
 uint group_count() {
     return (total + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
-}
-ivec2 screen_size() {
-    return ivec2(round(2.0 / cam.viewport.xy));
-}
-ivec2 tile_grid() {
-    return (screen_size() + TILE - 1) / TILE;
 }
 
 // The pixel centres inside an NDC rectangle with y up: (first column, first row, last column,

@@ -9,7 +9,7 @@ use gpu_allocator::MemoryLocation;
 use crate::camera::{Camera, Projection};
 pub use crate::culling::Culling;
 use crate::culling::{self, record_compute_to_compute, CullStep};
-use crate::draw::{DrawConfig, Footprint, Geometry, Shading};
+use crate::draw::{DrawConfig, Footprint, Geometry, Intersection, Shading};
 use crate::error::{Error, Result, VkCall};
 use crate::gpu::GpuBuffer;
 use crate::icosphere::icosphere;
@@ -97,9 +97,10 @@ pub struct EllipsoidRenderer {
     /// Count shaded pixels with an atomic (needs `fragmentStoresAndAtomics`; for `bench`).
     pub count_fragments: bool,
     counter: Option<GpuBuffer>,
-    /// Up to `SIZE_SAMPLE` instances (centre, pi r1 r2 of the two largest semi-axes) from
-    /// which `Footprint::Auto` estimates the mean projected glyph area.
-    size_sample: Vec<(DVec3, f64)>,
+    /// Up to `SIZE_SAMPLE` instances (centre, largest semi-axis, pi r1 r2 of the two largest)
+    /// from which `Footprint::Auto` and the pre-pass set-up estimate the mean projected area
+    /// of the glyphs on screen.
+    size_sample: Vec<(DVec3, f64, f64)>,
     /// Culling done by the pre-pass from the next `record_prepass` on (impostors only).
     pub culling: Culling,
     visible: Option<GpuBuffer>,
@@ -122,7 +123,7 @@ type CullKey = (bool, Culling, CullStep, Option<DrawConfig>);
 /// The largest mean projected glyph area (square pixels) for which the pre-pass sets up the
 /// impostors. On lavapipe the fragment stage's record loads cost more than the flat varyings
 /// they replace once glyphs cover more than a few pixels (README, `bench --skip`).
-const PRESET_MAX_AREA_PX: f64 = 16.0;
+const PRESET_MAX_AREA_PX: f64 = 12.0;
 
 /// Bytes per instance of the pre-pass's set-up records (`glsl/include/setup_records.glsl`).
 const SHADING_RECORD_BYTES: u64 = 128;
@@ -132,7 +133,7 @@ const FOOTPRINT_RECORD_BYTES: u64 = 32;
 pub const MAX_PRESET_INSTANCES: u32 = (1 << 27) / SHADING_RECORD_BYTES as u32;
 
 /// How many instances `Footprint::Auto` looks at.
-const SIZE_SAMPLE: usize = 512;
+const SIZE_SAMPLE: usize = 4096;
 
 /// A storage buffer the descriptor set points at.
 struct StorageBuffer {
@@ -410,9 +411,12 @@ impl EllipsoidRenderer {
     /// `setup_in_prepass`): only for glyphs of a few pixels, where vertex work dominates.
     fn presets(&self, config: &DrawConfig, camera: &Camera) -> bool {
         self.setup_in_prepass
-            && self.mean_projected_area(camera) <= PRESET_MAX_AREA_PX
+            && self
+                .mean_projected_area(camera)
+                .is_some_and(|area| area <= PRESET_MAX_AREA_PX)
             && config.geometry == Geometry::Impostor
             && matches!(config.shading, Shading::Exact | Shading::FastNormal)
+            && config.intersection == Intersection::Stable
             && config.footprint != Footprint::WorldQuad
             && self.count > 0
             && self.count <= MAX_PRESET_INSTANCES
@@ -737,33 +741,39 @@ impl EllipsoidRenderer {
     pub fn effective_config(&self, camera: &Camera) -> DrawConfig {
         let mut config = self.config;
         if config.footprint == Footprint::Auto {
-            config.footprint = Footprint::for_area(self.mean_projected_area(camera));
+            config.footprint = Footprint::for_area(self.mean_projected_area(camera).unwrap_or(0.0));
         }
         config
     }
 
-    /// Mean projected area in square pixels of the sampled glyphs in front of the near plane.
-    fn mean_projected_area(&self, camera: &Camera) -> f64 {
-        let (_, sy) = camera.ndc_scale();
+    /// Mean projected area in square pixels of the sampled glyphs on screen beyond the near
+    /// plane; `None` when no sampled glyph is on screen.
+    fn mean_projected_area(&self, camera: &Camera) -> Option<f64> {
+        let (sx, sy) = camera.ndc_scale();
         let pixels_per_unit = camera.height as f64 / (2.0 * sy);
+        let screen = camera.width as f64 * camera.height as f64;
+        let basis = camera.basis();
         let (mut sum, mut n) = (0.0, 0usize);
-        for &(center, area) in &self.size_sample {
+        for &(center, radius, area) in &self.size_sample {
             let depth = camera.view_depth(center);
             if depth <= camera.near {
                 continue;
             }
-            let scale = match camera.projection {
-                Projection::Perspective { .. } => pixels_per_unit / depth,
-                Projection::Orthographic { .. } => pixels_per_unit,
+            // Only glyphs that reach the screen (bounding sphere against the view rectangle,
+            // widened by the radius), each counted for at most the whole screen.
+            let offset = center - camera.eye;
+            let (x, y) = (offset.dot(basis.right), offset.dot(basis.up));
+            let (scale, half_x, half_y) = match camera.projection {
+                Projection::Perspective { .. } => (pixels_per_unit / depth, sx * depth, sy * depth),
+                Projection::Orthographic { .. } => (pixels_per_unit, sx, sy),
             };
-            sum += area * scale * scale;
+            if x.abs() > half_x + radius * 1.5 || y.abs() > half_y + radius * 1.5 {
+                continue;
+            }
+            sum += (area * scale * scale).min(screen);
             n += 1;
         }
-        if n == 0 {
-            0.0
-        } else {
-            sum / n as f64
-        }
+        (n > 0).then(|| sum / n as f64)
     }
 
     /// Creates what `config` needs with `camera` (pipeline, mesh buffers) ahead of `record`, so
@@ -817,7 +827,7 @@ impl EllipsoidRenderer {
             .map(|e| {
                 let mut r = e.radii.to_array();
                 r.sort_by(|a, b| b.total_cmp(a));
-                (e.center, std::f64::consts::PI * r[0] * r[1])
+                (e.center, r[0], std::f64::consts::PI * r[0] * r[1])
             })
             .collect();
         let bytes = packed.bytes.len();

@@ -26,21 +26,30 @@ mat3 v_to_normal;
 uint v_flags;
 vec3 v_color;
 
+// What the hit test needs (see store_setup for the layout and the derived values).
 void load_setup() {
     uint base = 8u * v_id;
     vec4 a = shading[base], b = shading[base + 1u], c = shading[base + 2u];
-    vec4 g = shading[base + 6u], h = shading[base + 7u];
+    vec4 d = shading[base + 3u];
     v_ray_x = a.xyz;
     v_ray_y = b.xyz;
-    v_flags = floatBitsToUint(g.w);
+    v_flags = floatBitsToUint(d.z);
     bool origin = (v_flags & FLAG_OFFSET_ORIGIN) != 0u;
     v_ray_c = origin ? vec3(0.0) : c.xyz;
     v_ray_origin = origin ? c.xy : vec2(0.0);
-    v_k = shading[base + 3u];
-    v_depth = shading[base + 4u];
-    v_misc = shading[base + 5u];
-    v_to_normal = mat3(g.xyz, h.xyz, vec3(a.w, b.w, c.w));
-    v_color = srgb_to_linear(unpackUnorm4x8(floatBitsToUint(h.w)).rgb);
+    v_k = vec4(origin ? 1.0 : 0.0, a.w, b.w, c.w);
+    // Only orthographic depth reads g.
+    v_depth = vec4(ORTHOGRAPHIC ? shading[base + 4u].xyz : vec3(0.0), d.y);
+    float depth_scale = origin && !ORTHOGRAPHIC ? d.y : 1.0;
+    v_misc = vec4(d.x, d.w, c.w * c.w, depth_scale);
+}
+
+// What shading a hit needs: loaded only for fragments that hit.
+void load_shading() {
+    uint base = 8u * v_id;
+    vec4 e = shading[base + 5u], f = shading[base + 6u], g = shading[base + 7u];
+    v_to_normal = mat3(e.xyz, f.xyz, g.xyz);
+    v_color = vec3(e.w, f.w, g.w);
 }
 #else
 layout(location = 0) flat in vec3 v_ray_x;
@@ -55,6 +64,7 @@ layout(location = 8) flat in uint v_flags;
 layout(location = 9) flat in vec3 v_color;
 
 void load_setup() {}
+void load_shading() {}
 #endif
 
 layout(location = 0) out vec4 out_color;
@@ -133,7 +143,7 @@ bool hit_stable(out float depth, out vec3 normal, out bool cap) {
     float u = v_misc.x, r = v_k.w;
     float alpha = sqrt(1.0 - qq);
     vec3 p = vec3(r * q, -(u + alpha)) / (1.0 + u * alpha);
-    normal = v_to_normal * p;
+    normal = p; // the caller maps it to the world (after load_shading)
     // Perspective: the ray parameter t with unit forward step is the view depth, and from the
     // eye at z = -|e~| it is t = r^2 scale / ((1 + u alpha) den) -- a product of positive
     // factors, so no cancellation when the surface is much nearer than the centre.
@@ -162,6 +172,10 @@ void main() {
     bool hit = TEXTBOOK ? hit_textbook(depth, normal, cap) : hit_stable(depth, normal, cap);
     if (!hit) {
         discard;
+    }
+    load_shading();
+    if (!TEXTBOOK) {
+        normal = v_to_normal * normal;
     }
     vec3 f = cam.forward.xyz;
     vec3 n;

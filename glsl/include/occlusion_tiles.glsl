@@ -1,0 +1,21 @@
+// Occlusion tiles of the culling pre-pass (cull.comp). Needs ellipsoid_common.glsl first.
+//
+// Tiles of TILE x TILE pixels, row-major from the top left, each holding the float bits of a
+// view depth such that every pixel centre of the tile shows a surface at or before it (+inf:
+// none known). Positive floats order like their bits, so atomicMin works on them.
+
+layout(std430, set = 0, binding = 5) buffer OcclusionTiles {
+    uint tiles[];
+};
+
+const int TILE = 4;
+// Relative depth gap that float32 rounding (in the pre-pass and the fragment stage) cannot
+// close.
+const float DEPTH_GAP = 1e-4;
+
+ivec2 screen_size() {
+    return ivec2(round(2.0 / cam.viewport.xy));
+}
+ivec2 tile_grid() {
+    return (screen_size() + TILE - 1) / TILE;
+}
