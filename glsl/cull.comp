@@ -100,37 +100,37 @@ void write_occluder(uint index) {
     vec3 r = cam.right_sx.xyz, u_axis = cam.up_sy.xyz, f = cam.forward.xyz;
     vec2 s = vec2(cam.right_sx.w, cam.up_sy.w);
     vec3 c = vec3(dot(inst.center, r), dot(inst.center, u_axis), dot(inst.center, f)) - cam.eye_near.xyz;
-    vec2 z = depth_range(inst);
     float radius = min(inst.radii.x, min(inst.radii.y, inst.radii.z));
+    float reach = ORTHOGRAPHIC ? radius : radius / length(c);
+    // The disc's radius in pixels (square: screen-plane units per pixel are sy 2 / H on both
+    // axes), shrunk so float rounding never claims a pixel the fragment stage might miss.
+    // Most glyphs vouch for no whole tile: leave before the costlier tests.
+    float per_pixel = cam.up_sy.w * cam.viewport.y;
+    float pixels = 0.99 * reach / per_pixel - 0.05;
+    if (!(pixels >= 0.5 * float(TILE))) {
+        return;
+    }
     // Only ellipsoids wholly beyond the near plane (no cap) and in front of the eye.
-    if (!(z.x - z.y > cam.eye_near.w) || !(z.x - z.y > 0.0) || !(radius > 0.0)) {
+    vec2 z = depth_range(inst);
+    if (!(z.x - z.y > cam.eye_near.w) || !(z.x - z.y > 0.0)) {
         return;
     }
     vec2 centre; // screen plane
-    float reach, bound;
+    float bound;
     if (ORTHOGRAPHIC) {
         centre = c.xy;
-        reach = radius;
         bound = c.z;
     } else {
         centre = c.xy / c.z;
-        reach = radius / length(c);
         // |f - d| = 2 sin(theta / 2) for the ray's angle theta off the view axis, at most
         // atan(|m| + reach) inside the disc.
         float t = length(centre) + reach;
         bound = c.z + radius * sqrt(max(2.0 - 2.0 / sqrt(1.0 + t * t), 0.0));
     }
-    // In pixels (square: screen-plane units per pixel are sy 2 / H on both axes), pixel
-    // centre i at coordinate i, rows from the top; shrunk so float rounding never claims a
-    // pixel the fragment stage might miss.
+    // Pixel centre i at coordinate i, rows from the top.
     ivec2 size = screen_size();
-    float per_pixel = cam.up_sy.w * cam.viewport.y;
     vec2 ndc = centre / s;
     vec2 p = vec2((ndc.x + 1.0) / cam.viewport.x - 0.5, (1.0 - ndc.y) / cam.viewport.y - 0.5);
-    float pixels = 0.99 * reach / per_pixel - 0.05;
-    if (!(pixels > 0.0)) {
-        return;
-    }
     // Tile rows, then the tiles of each row whose pixel centres all lie in the disc; a tile
     // cut by the screen's edge holds only its on-screen pixels. Large occluders write a
     // central subset of their tiles: still exact, far fewer atomics.
@@ -187,10 +187,10 @@ bool occluded(uint index, vec4 centres) {
     return true;
 }
 
-// Can the instance change a pixel?
-bool needed(uint index) {
-    vec4 rect;
-    if (!silhouette_rect(instances[index], rect)) {
+// Can the instance change a pixel? `reaches`: whether anything of it lies beyond the near
+// plane; `rect`: an NDC rectangle (y up) holding its silhouette.
+bool needed(uint index, bool reaches, vec4 rect) {
+    if (!reaches) {
         return !CULL_FRUSTUM;
     }
     if (any(isnan(rect))) {
@@ -212,6 +212,22 @@ bool needed(uint index) {
     return !(CULL_OCCLUSION && occluded(index, centres));
 }
 
+// The rectangle of `needed` from a set-up instance: around the ellipse its footprint polygon
+// circumscribes (which holds the silhouette), or the whole screen. No rectangle when the
+// vertex stage culls the instance as off screen or before the near plane.
+bool setup_rect(Setup s, out vec4 rect) {
+    rect = vec4(-1.0, -1.0, 1.0, 1.0);
+    if (s.culled) {
+        return false;
+    }
+    if (s.bounded && !s.screen_polygon) {
+        vec2 sxy = vec2(cam.right_sx.w, cam.up_sy.w);
+        vec2 extent = sqrt(s.axis1 * s.axis1 + s.axis2 * s.axis2);
+        rect = vec4((s.centre - extent) / sxy, (s.centre + extent) / sxy);
+    }
+    return true;
+}
+
 shared uint keep_bits[8];
 
 void classify(uint group, uint index) {
@@ -220,10 +236,21 @@ void classify(uint group, uint index) {
         keep_bits[lane] = 0u;
     }
     barrier();
-    if (index < total && needed(index)) {
-        atomicOr(keep_bits[lane / 32u], 1u << (lane % 32u));
+    if (index < total) {
+        vec4 rect;
+        bool keep;
         if (CULL_SETUP) {
-            store_setup(index, setup_instance(instances[index]));
+            // The set-up holds the footprint: no second projection for the rectangle.
+            Setup s = setup_instance(instances[index]);
+            keep = needed(index, setup_rect(s, rect), rect);
+            if (keep) {
+                store_setup(index, s);
+            }
+        } else {
+            keep = needed(index, silhouette_rect(instances[index], rect), rect);
+        }
+        if (keep) {
+            atomicOr(keep_bits[lane / 32u], 1u << (lane % 32u));
         }
     }
     barrier();

@@ -8,6 +8,7 @@ use glam::DVec3;
 
 use crate::bench::{frustum_cloud, median, HEIGHT, WIDTH};
 use crate::camera::Camera;
+use crate::draw::Footprint;
 use crate::error::{Error, Result};
 use crate::frame::Frame;
 use crate::offscreen::OffscreenRenderer;
@@ -37,6 +38,10 @@ pub enum Feature {
     /// Each impostor's set-up computed once in the pre-pass, not in each of its vertices, and
     /// handed to the fragment stage through a buffer instead of flat varyings.
     SetupOnce,
+    /// The footprint polygon chosen from the glyphs' projected size (an oriented rectangle,
+    /// hexagon or octagon around the exact silhouette) instead of the silhouette's
+    /// axis-aligned bounding rectangle: fragments outside the silhouette skipped.
+    TightFootprint,
     /// Normal and ID outputs only when asked for (a colour-only pipeline and pass otherwise).
     AuxOutputsOnDemand,
     /// Instances uploaded sorted front to back by nearest depth (for early depth rejection on
@@ -46,11 +51,12 @@ pub enum Feature {
 
 impl Feature {
     /// Every feature measured.
-    pub const ALL: [Feature; 6] = [
+    pub const ALL: [Feature; 7] = [
         Feature::FrustumCulling,
         Feature::PixelCentreCulling,
         Feature::OcclusionCulling,
         Feature::SetupOnce,
+        Feature::TightFootprint,
         Feature::AuxOutputsOnDemand,
         Feature::FrontToBack,
     ];
@@ -62,6 +68,7 @@ impl Feature {
             Feature::PixelCentreCulling => "pixel-centre-culling",
             Feature::OcclusionCulling => "occlusion-culling",
             Feature::SetupOnce => "setup-once",
+            Feature::TightFootprint => "tight-footprint",
             Feature::AuxOutputsOnDemand => "aux-outputs-on-demand",
             Feature::FrontToBack => "front-to-back",
         }
@@ -74,6 +81,7 @@ impl Feature {
             Feature::PixelCentreCulling => "tiny-far",
             Feature::OcclusionCulling => "dense-block",
             Feature::SetupOnce => "tiny-visible",
+            Feature::TightFootprint => "heavy-overlap",
             Feature::AuxOutputsOnDemand => "heavy-overlap",
             Feature::FrontToBack => "heavy-overlap",
         }
@@ -84,6 +92,7 @@ impl Feature {
         renderer.set_culling(Culling::ON);
         renderer.set_timed_aux_outputs(false);
         renderer.set_setup_in_prepass(true);
+        renderer.set_footprint(Footprint::Auto);
         match self {
             Feature::FrustumCulling => renderer.set_culling(Culling {
                 frustum: on,
@@ -98,6 +107,11 @@ impl Feature {
                 ..Culling::ON
             }),
             Feature::SetupOnce => renderer.set_setup_in_prepass(on),
+            Feature::TightFootprint => renderer.set_footprint(if on {
+                Footprint::Auto
+            } else {
+                Footprint::AxisRect
+            }),
             Feature::AuxOutputsOnDemand => renderer.set_timed_aux_outputs(!on),
             Feature::FrontToBack => {}
         }
@@ -301,6 +315,7 @@ pub fn run(
     renderer.set_culling(Culling::ON);
     renderer.set_timed_aux_outputs(false);
     renderer.set_setup_in_prepass(true);
+    renderer.set_footprint(Footprint::Auto);
     Ok(results)
 }
 
