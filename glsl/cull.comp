@@ -84,7 +84,7 @@ void tiles_touched(vec4 centres, out ivec2 lo, out ivec2 hi) {
 // View depth of the instance's centre and its half-extent along the view axis.
 vec2 depth_range(Instance inst) {
     vec3 f = cam.forward.xyz;
-    vec3 a_f = (transpose(quat_to_mat3(inst.rotation)) * f) * inst.radii.xyz;
+    vec3 a_f = (transpose(instance_rotation(inst)) * f) * instance_radii(inst);
     return vec2(dot(inst.center, f) - cam.eye_near.z, length(a_f));
 }
 

@@ -20,6 +20,13 @@ pub struct PackedInstances {
     pub origin: DVec3,
     /// `INSTANCE_BYTES` per ellipsoid, in scene order.
     pub bytes: Vec<u8>,
+    /// Every instance is a sphere (equal float32 semi-axes): the shaders may take the sphere
+    /// path. Spheres are stored with the identity rotation, so both paths compute the same
+    /// bits.
+    pub all_spheres: bool,
+    /// Corners of a box holding every ellipsoid whole (centre +- largest semi-axis), in world
+    /// coordinates; `None` for an empty scene.
+    pub extent: Option<(DVec3, DVec3)>,
 }
 
 impl PackedInstances {
@@ -47,10 +54,24 @@ pub fn pack_instances(scene: &Scene) -> Result<PackedInstances> {
         .map(|(lo, hi)| (lo + hi) * 0.5)
         .unwrap_or(DVec3::ZERO);
     let mut bytes = Vec::with_capacity(INSTANCE_BYTES * scene.len());
+    let mut all_spheres = true;
+    let mut extent: Option<(DVec3, DVec3)> = None;
     for (index, e) in scene.ellipsoids.iter().enumerate() {
         let c = (e.center - origin).as_vec3();
-        let q = e.rotation.as_quat();
         let r = e.radii.as_vec3();
+        let sphere = r.x == r.y && r.y == r.z;
+        all_spheres &= sphere;
+        // A sphere's orientation changes nothing but rounding: store none.
+        let q = if sphere {
+            glam::Quat::IDENTITY
+        } else {
+            e.rotation.as_quat()
+        };
+        let reach = DVec3::splat(e.radii.max_element());
+        extent = Some(match extent {
+            None => (e.center - reach, e.center + reach),
+            Some((lo, hi)) => (lo.min(e.center - reach), hi.max(e.center + reach)),
+        });
         if !(r.is_finite() && r.min_element() > 0.0 && c.is_finite()) {
             return Err(Error::invalid(
                 format!("ellipsoid {index}"),
@@ -70,7 +91,12 @@ pub fn pack_instances(scene: &Scene) -> Result<PackedInstances> {
             bytes.extend_from_slice(&v.to_ne_bytes());
         }
     }
-    Ok(PackedInstances { origin, bytes })
+    Ok(PackedInstances {
+        origin,
+        bytes,
+        all_spheres: all_spheres && !scene.is_empty(),
+        extent,
+    })
 }
 
 #[cfg(test)]

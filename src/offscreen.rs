@@ -174,6 +174,23 @@ impl OffscreenRenderer {
         self.renderer_mut().setup_in_prepass = on;
     }
 
+    /// Whether the shaders take the sphere path for all-sphere scenes (on by default).
+    pub fn set_sphere_path(&mut self, on: bool) {
+        self.renderer_mut().sphere_path = on;
+    }
+
+    /// Whether the cap code is left out when nothing reaches the near plane (on by default).
+    pub fn set_cap_free_path(&mut self, on: bool) {
+        self.renderer_mut().cap_free_path = on;
+    }
+
+    /// The scene-chosen shader variants a draw with `camera` uses: (sphere path, cap-free).
+    pub fn shader_variants(&self, camera: &Camera) -> (bool, bool) {
+        self.renderer
+            .as_ref()
+            .map_or((false, false), |r| r.shader_variants(camera))
+    }
+
     /// Whether a draw of the uploaded scene with `camera` takes its set-up from the pre-pass.
     pub fn sets_up_in_prepass(&self, camera: &Camera) -> bool {
         self.renderer

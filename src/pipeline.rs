@@ -21,6 +21,10 @@ pub(crate) struct PipelineKey {
     pub culled: bool,
     /// The impostor stages read the set-up the pre-pass computed (`PRESET_SETUP`).
     pub preset: bool,
+    /// Every instance is a sphere (`SPHERES`).
+    pub spheres: bool,
+    /// Nothing reaches in front of the near plane (`NO_CAPS`).
+    pub no_caps: bool,
 }
 
 /// The SPIR-V of the two stages for `key`.
@@ -107,8 +111,9 @@ fn build(
     let config = key.config;
     // Specialization constants, 4 bytes each (glsl/include/ellipsoid_common.glsl and the
     // fragment shaders): 0 ORTHOGRAPHIC, 1 AUX_OUTPUTS, 2 TEXTBOOK, 3 BOUNDS, 4 CORNERS,
-    // 5 FAST_NORMAL, 8 CULLED. Stages ignore the ones they do not declare.
-    let values: [u32; 7] = [
+    // 5 FAST_NORMAL, 8 CULLED, 13 SPHERES, 14 NO_CAPS. Stages ignore the ones they do not
+    // declare.
+    let values: [u32; 9] = [
         key.orthographic as u32,
         formats.aux_outputs as u32,
         (config.intersection == Intersection::Textbook) as u32,
@@ -116,8 +121,10 @@ fn build(
         config.footprint.vertices(),
         (config.shading == Shading::FastNormal) as u32,
         key.culled as u32,
+        key.spheres as u32,
+        key.no_caps as u32,
     ];
-    let ids: [u32; 7] = [0, 1, 2, 3, 4, 5, 8];
+    let ids: [u32; 9] = [0, 1, 2, 3, 4, 5, 8, 13, 14];
     let spec_data: Vec<u8> = values.iter().flat_map(|v| v.to_ne_bytes()).collect();
     let entries: Vec<vk::SpecializationMapEntry> = (0..values.len() as u32)
         .map(|i| vk::SpecializationMapEntry {
@@ -236,13 +243,14 @@ pub(crate) fn create_cull_pipeline(
     culling: Culling,
     step: CullStep,
     setup: Option<DrawConfig>,
+    spheres: bool,
 ) -> Result<vk::Pipeline> {
     let module = shaders::create_module(device, shaders::CULL_COMP)?;
     // Specialization constants 0 ORTHOGRAPHIC, 6 CULL_FRUSTUM, 7 CULL_PIXEL_CENTRES,
     // 9 CULL_STEP, 10 CULL_OCCLUSION, 11 CULL_SETUP, and for the set-up the footprint and
-    // intersection of the draw: 2 TEXTBOOK, 3 BOUNDS, 4 CORNERS.
+    // intersection of the draw: 2 TEXTBOOK, 3 BOUNDS, 4 CORNERS; 13 SPHERES.
     let config = setup.unwrap_or_default();
-    let values: [(u32, u32); 9] = [
+    let values: [(u32, u32); 10] = [
         (0, orthographic as u32),
         (6, culling.frustum as u32),
         (7, culling.pixel_centres as u32),
@@ -252,6 +260,7 @@ pub(crate) fn create_cull_pipeline(
         (2, (config.intersection == Intersection::Textbook) as u32),
         (3, config.footprint.bounds_mode()),
         (4, config.footprint.vertices()),
+        (13, spheres as u32),
     ];
     let data: Vec<u8> = values.iter().flat_map(|(_, v)| v.to_ne_bytes()).collect();
     let entries: Vec<vk::SpecializationMapEntry> = values

@@ -114,11 +114,18 @@ pub struct EllipsoidRenderer {
     pub setup_in_prepass: bool,
     shading_records: Option<GpuBuffer>,
     footprint_records: Option<GpuBuffer>,
+    /// Take the sphere path when every instance uploaded is a sphere (on by default).
+    pub sphere_path: bool,
+    /// Leave out the near-plane cap code when no ellipsoid reaches in front of the near plane
+    /// (on by default).
+    pub cap_free_path: bool,
+    all_spheres: bool,
+    extent: Option<(DVec3, DVec3)>,
 }
 
-/// What one culling pipeline is specialised for: projection, culling, step, and the draw
-/// whose set-up it computes (if it does).
-type CullKey = (bool, Culling, CullStep, Option<DrawConfig>);
+/// What one culling pipeline is specialised for: projection, culling, step, the draw whose
+/// set-up it computes (if it does), and whether every instance is a sphere.
+type CullKey = (bool, Culling, CullStep, Option<DrawConfig>, bool);
 
 /// The largest mean projected glyph area (square pixels) for which the pre-pass sets up the
 /// impostors. On lavapipe the fragment stage's record loads cost more than the flat varyings
@@ -185,6 +192,10 @@ impl EllipsoidRenderer {
             setup_in_prepass: true,
             shading_records: None,
             footprint_records: None,
+            sphere_path: true,
+            cap_free_path: true,
+            all_spheres: false,
+            extent: None,
         };
         // On failure, `destroy` releases whatever was created (null handles are skipped).
         match renderer
@@ -422,6 +433,33 @@ impl EllipsoidRenderer {
             && self.count <= MAX_PRESET_INSTANCES
     }
 
+    /// Whether the shaders take the sphere path.
+    fn spheres(&self) -> bool {
+        self.sphere_path && self.all_spheres
+    }
+
+    /// Whether the fragment stage can leave out the cap code with `camera`: the box holding
+    /// every ellipsoid lies wholly beyond the near plane (view depth is linear, so its
+    /// nearest point is a corner).
+    fn cap_free(&self, camera: &Camera) -> bool {
+        self.cap_free_path
+            && self.extent.is_some_and(|(lo, hi)| {
+                (0..8).all(|k| {
+                    let corner = DVec3::new(
+                        if k & 1 == 0 { lo.x } else { hi.x },
+                        if k & 2 == 0 { lo.y } else { hi.y },
+                        if k & 4 == 0 { lo.z } else { hi.z },
+                    );
+                    camera.view_depth(corner) > camera.near
+                })
+            })
+    }
+
+    /// The scene-chosen shader variants a draw with `camera` uses: (sphere path, cap-free).
+    pub fn shader_variants(&self, camera: &Camera) -> (bool, bool) {
+        (self.spheres(), self.cap_free(camera))
+    }
+
     /// Whether a draw with `camera` takes its impostors' set-up from the pre-pass.
     pub fn sets_up_in_prepass(&self, camera: &Camera) -> bool {
         self.presets(&self.effective_config(camera), camera)
@@ -443,7 +481,8 @@ impl EllipsoidRenderer {
         step: CullStep,
         setup: Option<DrawConfig>,
     ) -> Result<vk::Pipeline> {
-        let key = (orthographic, self.culling, step, setup);
+        let spheres = self.spheres();
+        let key = (orthographic, self.culling, step, setup, spheres);
         if let Some((_, p)) = self.cull_pipelines.iter().find(|(k, _)| *k == key) {
             return Ok(*p);
         }
@@ -454,6 +493,7 @@ impl EllipsoidRenderer {
             self.culling,
             step,
             setup,
+            spheres,
         )?;
         self.cull_pipelines.push((key, pipeline));
         Ok(pipeline)
@@ -804,6 +844,8 @@ impl EllipsoidRenderer {
                 count_fragments: self.count_fragments,
                 culled: self.runs_prepass(&config, camera),
                 preset: self.presets(&config, camera),
+                spheres: self.spheres(),
+                no_caps: self.cap_free(camera),
             },
         )?;
         Ok(())
@@ -832,6 +874,8 @@ impl EllipsoidRenderer {
             .collect();
         let bytes = packed.bytes.len();
         self.origin = packed.origin;
+        self.all_spheres = packed.all_spheres;
+        self.extent = packed.extent;
         let count = packed.len() as u32;
         let data = packed.bytes;
         self.resize_cull_buffers(device, allocator, count as usize)?;
@@ -891,6 +935,8 @@ impl EllipsoidRenderer {
             count_fragments: self.count_fragments,
             culled: self.runs_prepass(&config, camera),
             preset: self.presets(&config, camera),
+            spheres: self.spheres(),
+            no_caps: self.cap_free(camera),
         };
         let pipeline = self.pipeline(device, key)?;
         let viewport = vk::Viewport {

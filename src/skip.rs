@@ -38,6 +38,10 @@ pub enum Feature {
     /// Each impostor's set-up computed once in the pre-pass, not in each of its vertices, and
     /// handed to the fragment stage through a buffer instead of flat varyings.
     SetupOnce,
+    /// The sphere path (no rotation, one radius) when every instance is a sphere.
+    SpherePath,
+    /// No near-plane cap code when no ellipsoid reaches in front of the near plane.
+    CapFreePath,
     /// The footprint polygon chosen from the glyphs' projected size (an oriented rectangle,
     /// hexagon or octagon around the exact silhouette) instead of the silhouette's
     /// axis-aligned bounding rectangle: fragments outside the silhouette skipped.
@@ -51,11 +55,13 @@ pub enum Feature {
 
 impl Feature {
     /// Every feature measured.
-    pub const ALL: [Feature; 7] = [
+    pub const ALL: [Feature; 9] = [
         Feature::FrustumCulling,
         Feature::PixelCentreCulling,
         Feature::OcclusionCulling,
         Feature::SetupOnce,
+        Feature::SpherePath,
+        Feature::CapFreePath,
         Feature::TightFootprint,
         Feature::AuxOutputsOnDemand,
         Feature::FrontToBack,
@@ -68,6 +74,8 @@ impl Feature {
             Feature::PixelCentreCulling => "pixel-centre-culling",
             Feature::OcclusionCulling => "occlusion-culling",
             Feature::SetupOnce => "setup-once",
+            Feature::SpherePath => "sphere-path",
+            Feature::CapFreePath => "cap-free-path",
             Feature::TightFootprint => "tight-footprint",
             Feature::AuxOutputsOnDemand => "aux-outputs-on-demand",
             Feature::FrontToBack => "front-to-back",
@@ -81,9 +89,20 @@ impl Feature {
             Feature::PixelCentreCulling => "tiny-far",
             Feature::OcclusionCulling => "dense-block",
             Feature::SetupOnce => "tiny-visible",
+            Feature::SpherePath => "sphere-only",
+            Feature::CapFreePath => "tiny-visible",
             Feature::TightFootprint => "heavy-overlap",
             Feature::AuxOutputsOnDemand => "heavy-overlap",
             Feature::FrontToBack => "heavy-overlap",
+        }
+    }
+
+    /// A scene that does not need it: the plain one, or for the cap-free path one whose
+    /// glyphs cross the near plane.
+    fn scene_not_needing_it(self) -> &'static str {
+        match self {
+            Feature::CapFreePath => "inside-field",
+            _ => "plain",
         }
     }
 
@@ -93,6 +112,8 @@ impl Feature {
         renderer.set_timed_aux_outputs(false);
         renderer.set_setup_in_prepass(true);
         renderer.set_footprint(Footprint::Auto);
+        renderer.set_sphere_path(true);
+        renderer.set_cap_free_path(true);
         match self {
             Feature::FrustumCulling => renderer.set_culling(Culling {
                 frustum: on,
@@ -107,6 +128,8 @@ impl Feature {
                 ..Culling::ON
             }),
             Feature::SetupOnce => renderer.set_setup_in_prepass(on),
+            Feature::SpherePath => renderer.set_sphere_path(on),
+            Feature::CapFreePath => renderer.set_cap_free_path(on),
             Feature::TightFootprint => renderer.set_footprint(if on {
                 Footprint::Auto
             } else {
@@ -143,6 +166,12 @@ fn scenes(quick: bool) -> Vec<SkipScene> {
     let overlap = random_cloud(3_000, 33, 3.0, 0.8);
     // A million glyphs of about two pixels, all on screen.
     let tiny_visible = frustum_cloud(1_000_000, 2.0, 36);
+    // Spheres of about three pixels, all on screen (a molecule-like load).
+    let mut spheres = frustum_cloud(300_000, 3.0, 37);
+    for e in &mut spheres.scene.ellipsoids {
+        let r = e.radii.max_element();
+        e.radii = DVec3::splat(r);
+    }
     // A packed block seen corner on: only its shell can show.
     let side = if quick { 40 } else { 64 };
     let block = packed_block(side, 35);
@@ -178,6 +207,11 @@ fn scenes(quick: bool) -> Vec<SkipScene> {
             name: "tiny-visible",
             scene: tiny_visible.scene,
             camera: tiny_visible.camera,
+        },
+        SkipScene {
+            name: "sphere-only",
+            scene: spheres.scene,
+            camera: spheres.camera,
         },
         SkipScene {
             name: "dense-block",
@@ -253,10 +287,7 @@ pub fn run(
     let progress = Progress::new((Feature::ALL.len() * 2) as u64, "skip");
     let mut results = Vec::new();
     for feature in Feature::ALL {
-        let mut targets = vec![feature.scene_needing_it()];
-        if feature.scene_needing_it() != "plain" {
-            targets.push("plain");
-        }
+        let targets = [feature.scene_needing_it(), feature.scene_not_needing_it()];
         for name in targets {
             progress.inc(&format!("{} on {name}", feature.name()));
             let s = scenes
@@ -316,6 +347,8 @@ pub fn run(
     renderer.set_timed_aux_outputs(false);
     renderer.set_setup_in_prepass(true);
     renderer.set_footprint(Footprint::Auto);
+    renderer.set_sphere_path(true);
+    renderer.set_cap_free_path(true);
     Ok(results)
 }
 

@@ -41,6 +41,9 @@ layout(constant_id = 3) const int BOUNDS = BOUNDS_TIGHT;
 layout(constant_id = 4) const int CORNERS = 4;
 // The draw reads instance indices compacted by the culling pre-pass (cull.comp).
 layout(constant_id = 8) const bool CULLED = false;
+// Every instance is a sphere, stored with the identity rotation: rotation and per-axis radii
+// drop out of the set-up (same bits as the general path, less work).
+layout(constant_id = 13) const bool SPHERES = false;
 #ifndef CULL_PASS
 layout(std430, set = 0, binding = 2) readonly buffer VisibleInstances {
     uint visible_instances[];
@@ -61,6 +64,14 @@ mat3 quat_to_mat3(vec4 q) {
         vec3(1.0 - (yy + zz), xy + wz, xz - wy),
         vec3(xy - wz, 1.0 - (xx + zz), yz + wx),
         vec3(xz + wy, yz - wx, 1.0 - (xx + yy)));
+}
+
+// The instance's rotation and semi-axes, as the set-up uses them.
+mat3 instance_rotation(Instance inst) {
+    return SPHERES ? mat3(1.0) : quat_to_mat3(inst.rotation);
+}
+vec3 instance_radii(Instance inst) {
+    return SPHERES ? vec3(inst.radii.x) : inst.radii.xyz;
 }
 
 // sRGB transfer function, decoded: instance colours are display (sRGB) values, shading is linear.

@@ -12,6 +12,8 @@
 layout(constant_id = 1) const bool AUX_OUTPUTS = true;
 // Herbison-Evans' modulus-normalised gradient instead of a unit normal (no square root).
 layout(constant_id = 5) const bool FAST_NORMAL = false;
+// No ellipsoid reaches in front of the near plane (nor holds the eye): no cap code.
+layout(constant_id = 14) const bool NO_CAPS = false;
 
 // The instance's set-up (include/instance_setup.glsl): flat varyings, or with PRESET_SETUP
 // the record the culling pre-pass wrote, read at the start of main.
@@ -118,7 +120,7 @@ bool hit_stable(out float depth, out vec3 normal, out bool cap) {
     cap = false;
     depth = near;
     normal = vec3(0.0);
-    if ((v_flags & FLAG_EYE_INSIDE) != 0u) {
+    if (!NO_CAPS && (v_flags & FLAG_EYE_INSIDE) != 0u) {
         // Eye inside: from O = (0, 0, -|e~|) along D the ray leaves the unit sphere once ahead;
         // the pixel shows the cap wherever that exit lies beyond the near plane.
         float eye_dist = v_misc.y;
@@ -151,7 +153,7 @@ bool hit_stable(out float depth, out vec3 normal, out bool cap) {
     float r2 = v_misc.z, scale = v_misc.w;
     depth = ORTHOGRAPHIC ? cz + dot(g, p) : r2 * scale / ((1.0 + u * alpha) * den);
     if (depth < near) {
-        if ((v_flags & FLAG_MAY_CAP) == 0u) {
+        if (NO_CAPS || (v_flags & FLAG_MAY_CAP) == 0u) {
             return false;
         }
         // Entered before the near plane: a cap if the ray leaves after it.

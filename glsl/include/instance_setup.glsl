@@ -97,9 +97,9 @@ Setup setup_instance(Instance inst) {
 
     vec3 r = cam.right_sx.xyz, u_axis = cam.up_sy.xyz, f = cam.forward.xyz;
     float sx = cam.right_sx.w, sy = cam.up_sy.w, near = cam.eye_near.w;
-    mat3 R = quat_to_mat3(inst.rotation);
+    mat3 R = instance_rotation(inst);
     mat3 Rt = transpose(R);
-    vec3 radii = inst.radii.xyz;
+    vec3 radii = instance_radii(inst);
 
     // Centre relative to the eye in view coordinates (cx, cy, cz): V centre - V eye.
     vec3 c = vec3(dot(inst.center, r), dot(inst.center, u_axis), dot(inst.center, f)) - cam.eye_near.xyz;

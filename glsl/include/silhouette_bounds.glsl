@@ -22,8 +22,8 @@ vec2 tangent_slopes(vec3 a, vec3 b, float c_side, float cz, float b_len) {
 bool silhouette_rect(Instance inst, out vec4 rect) {
     vec3 r = cam.right_sx.xyz, u_axis = cam.up_sy.xyz, f = cam.forward.xyz;
     float sx = cam.right_sx.w, sy = cam.up_sy.w, near = cam.eye_near.w;
-    mat3 Rt = transpose(quat_to_mat3(inst.rotation));
-    vec3 radii = inst.radii.xyz;
+    mat3 Rt = transpose(instance_rotation(inst));
+    vec3 radii = instance_radii(inst);
     vec3 c = vec3(dot(inst.center, r), dot(inst.center, u_axis), dot(inst.center, f)) - cam.eye_near.xyz;
     vec3 a_r = (Rt * r) * radii, a_u = (Rt * u_axis) * radii, a_f = (Rt * f) * radii;
     float half_z = length(a_f);

@@ -1,0 +1,76 @@
+//! Shader variants chosen from the scene compute the same bits as the general shaders: the
+//! sphere path for all-sphere scenes and the cap-free fragment stage when nothing reaches the
+//! near plane.
+
+mod common;
+
+use common::validated_renderer;
+use ellipsoid_splat::offscreen::OffscreenRenderer;
+use ellipsoid_splat::scene::{random_cloud, Scene};
+use ellipsoid_splat::{Camera, Projection};
+use glam::{DQuat, DVec3};
+
+/// Renders with the variants off and on; returns which variants the draw took.
+fn assert_same_frames(
+    renderer: &mut OffscreenRenderer,
+    scene: &Scene,
+    camera: &Camera,
+) -> (bool, bool) {
+    renderer.upload(scene).expect("upload");
+    renderer.set_sphere_path(false);
+    renderer.set_cap_free_path(false);
+    let (general, _) = renderer.render_uploaded(camera).expect("render");
+    assert!(general
+        .id
+        .iter()
+        .any(|&id| id != ellipsoid_splat::NO_INSTANCE));
+    renderer.set_sphere_path(true);
+    renderer.set_cap_free_path(true);
+    let (variant, _) = renderer.render_uploaded(camera).expect("render");
+    assert_eq!(general.id, variant.id, "instance IDs differ");
+    assert_eq!(general.color, variant.color, "colours differ");
+    assert_eq!(general.depth, variant.depth, "depths differ");
+    assert_eq!(general.normal, variant.normal, "normals differ");
+    renderer.shader_variants(camera)
+}
+
+#[test]
+fn variants_change_no_pixel() {
+    // Spheres, some stored with a rotation (which a sphere's path ignores), in front of the
+    // camera and, in the second view, around and behind the near plane.
+    let mut spheres = random_cloud(2_000, 41, 6.0, 0.6);
+    for (k, e) in spheres.ellipsoids.iter_mut().enumerate() {
+        e.radii = DVec3::splat(e.radii.x);
+        if k % 2 == 0 {
+            e.rotation = DQuat::from_axis_angle(DVec3::new(1.0, 2.0, 3.0).normalize(), 0.7);
+        }
+    }
+    let ellipsoids = random_cloud(2_000, 42, 6.0, 0.6);
+    let outside = Camera::look_at(DVec3::new(3.0, 4.0, 20.0), DVec3::ZERO, 45.0, 1.0, 160, 120)
+        .expect("camera");
+    let inside = Camera::look_at(
+        DVec3::new(0.5, 0.2, 1.0),
+        DVec3::new(-4.0, -3.0, -6.0),
+        70.0,
+        0.05,
+        160,
+        120,
+    )
+    .expect("camera");
+    let mut orthographic = outside;
+    orthographic.projection = Projection::Orthographic { height: 14.0 };
+    let mut renderer = validated_renderer();
+    for (scene, all_spheres) in [(&spheres, true), (&ellipsoids, false)] {
+        for (camera, clear_of_near_plane) in
+            [(&outside, true), (&inside, false), (&orthographic, true)]
+        {
+            let taken = assert_same_frames(&mut renderer, scene, camera);
+            assert_eq!(taken, (all_spheres, clear_of_near_plane), "variants chosen");
+        }
+    }
+    renderer
+        .context()
+        .check_validation()
+        .expect("no validation messages");
+    renderer.finish().expect("clean shutdown");
+}
