@@ -18,10 +18,13 @@ pub enum Intersection {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Footprint {
     /// Chosen per draw from the glyphs' mean projected area (the shipped default): the
-    /// oriented rectangle for small glyphs, where vertex work dominates; the hexagon and then
-    /// the octagon as glyphs grow and fragments dominate. See [`Footprint::for_area`].
+    /// triangle for glyphs of a few pixels and the oriented rectangle for small ones, where
+    /// vertex work dominates; the hexagon and then the octagon as glyphs grow and fragments
+    /// dominate. See [`Footprint::for_area`].
     #[default]
     Auto,
+    /// A triangle around the projected ellipse (area ratio 1.65; 3 vertices, one primitive).
+    Triangle,
     /// The oriented rectangle around the projected ellipse: 4/pi of its area for any shape
     /// and orientation.
     OrientedRect,
@@ -44,6 +47,10 @@ impl Footprint {
     pub const HEXAGON_AREA: f64 = 360.0;
     /// See [`Footprint::HEXAGON_AREA`].
     pub const OCTAGON_AREA: f64 = 1200.0;
+    /// Mean projected area below which the triangle's one primitive and three vertices cost
+    /// less than the rectangle's two and four, its larger area notwithstanding (measured like
+    /// the others, README "Skipping what a scene doesn't need").
+    pub const TRIANGLE_AREA: f64 = 250.0;
 
     /// The footprint `Auto` resolves to for glyphs of this mean projected area.
     pub fn for_area(mean_area_px: f64) -> Footprint {
@@ -51,8 +58,10 @@ impl Footprint {
             Footprint::Octagon
         } else if mean_area_px >= Self::HEXAGON_AREA {
             Footprint::Hexagon
-        } else {
+        } else if mean_area_px >= Self::TRIANGLE_AREA {
             Footprint::OrientedRect
+        } else {
+            Footprint::Triangle
         }
     }
 
@@ -61,6 +70,7 @@ impl Footprint {
         match self {
             Footprint::Hexagon => 6,
             Footprint::Octagon => 8,
+            Footprint::Triangle => 3,
             _ => 4,
         }
     }
@@ -68,9 +78,11 @@ impl Footprint {
     /// The `BOUNDS` specialization constant of `ellipsoid.vert`.
     pub(crate) fn bounds_mode(self) -> u32 {
         match self {
-            Footprint::Auto | Footprint::OrientedRect | Footprint::Hexagon | Footprint::Octagon => {
-                0
-            }
+            Footprint::Auto
+            | Footprint::Triangle
+            | Footprint::OrientedRect
+            | Footprint::Hexagon
+            | Footprint::Octagon => 0,
             Footprint::AxisRect => 1,
             Footprint::WorldQuad => 2,
         }

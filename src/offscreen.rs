@@ -174,6 +174,12 @@ impl OffscreenRenderer {
         self.renderer_mut().setup_in_prepass = on;
     }
 
+    /// Whether `Footprint::Auto` may draw glyphs of a few pixels as one triangle (on by
+    /// default).
+    pub fn set_small_glyph_triangles(&mut self, on: bool) {
+        self.renderer_mut().small_glyph_triangles = on;
+    }
+
     /// Whether the shaders take the sphere path for all-sphere scenes (on by default).
     pub fn set_sphere_path(&mut self, on: bool) {
         self.renderer_mut().sphere_path = on;

@@ -121,6 +121,9 @@ pub struct EllipsoidRenderer {
     pub cap_free_path: bool,
     all_spheres: bool,
     extent: Option<(DVec3, DVec3)>,
+    /// Let `Footprint::Auto` draw glyphs of a few pixels as one triangle (on by default;
+    /// off: the oriented rectangle).
+    pub small_glyph_triangles: bool,
 }
 
 /// What one culling pipeline is specialised for: projection, culling, step, the draw whose
@@ -196,6 +199,7 @@ impl EllipsoidRenderer {
             cap_free_path: true,
             all_spheres: false,
             extent: None,
+            small_glyph_triangles: true,
         };
         // On failure, `destroy` releases whatever was created (null handles are skipped).
         match renderer
@@ -781,7 +785,11 @@ impl EllipsoidRenderer {
     pub fn effective_config(&self, camera: &Camera) -> DrawConfig {
         let mut config = self.config;
         if config.footprint == Footprint::Auto {
-            config.footprint = Footprint::for_area(self.mean_projected_area(camera).unwrap_or(0.0));
+            let area = self.mean_projected_area(camera).unwrap_or(0.0);
+            config.footprint = match Footprint::for_area(area) {
+                Footprint::Triangle if !self.small_glyph_triangles => Footprint::OrientedRect,
+                chosen => chosen,
+            };
         }
         config
     }

@@ -42,10 +42,9 @@ pub enum Feature {
     SpherePath,
     /// No near-plane cap code when no ellipsoid reaches in front of the near plane.
     CapFreePath,
-    /// The footprint polygon chosen from the glyphs' projected size (an oriented rectangle,
-    /// hexagon or octagon around the exact silhouette) instead of the silhouette's
-    /// axis-aligned bounding rectangle: fragments outside the silhouette skipped.
-    TightFootprint,
+    /// Glyphs of a few pixels drawn as one triangle (three vertices, one primitive) instead of
+    /// the oriented rectangle's four and two.
+    SmallGlyphTriangles,
     /// Normal and ID outputs only when asked for (a colour-only pipeline and pass otherwise).
     AuxOutputsOnDemand,
     /// Instances uploaded sorted front to back by nearest depth (for early depth rejection on
@@ -62,7 +61,7 @@ impl Feature {
         Feature::SetupOnce,
         Feature::SpherePath,
         Feature::CapFreePath,
-        Feature::TightFootprint,
+        Feature::SmallGlyphTriangles,
         Feature::AuxOutputsOnDemand,
         Feature::FrontToBack,
     ];
@@ -76,7 +75,7 @@ impl Feature {
             Feature::SetupOnce => "setup-once",
             Feature::SpherePath => "sphere-path",
             Feature::CapFreePath => "cap-free-path",
-            Feature::TightFootprint => "tight-footprint",
+            Feature::SmallGlyphTriangles => "small-glyph-triangles",
             Feature::AuxOutputsOnDemand => "aux-outputs-on-demand",
             Feature::FrontToBack => "front-to-back",
         }
@@ -91,7 +90,7 @@ impl Feature {
             Feature::SetupOnce => "tiny-visible",
             Feature::SpherePath => "sphere-only",
             Feature::CapFreePath => "tiny-visible",
-            Feature::TightFootprint => "heavy-overlap",
+            Feature::SmallGlyphTriangles => "tiny-visible",
             Feature::AuxOutputsOnDemand => "heavy-overlap",
             Feature::FrontToBack => "heavy-overlap",
         }
@@ -102,6 +101,8 @@ impl Feature {
     fn scene_not_needing_it(self) -> &'static str {
         match self {
             Feature::CapFreePath => "inside-field",
+            // Its glyphs are large enough for the hexagon and octagon either way.
+            Feature::SmallGlyphTriangles => "heavy-overlap",
             _ => "plain",
         }
     }
@@ -112,6 +113,7 @@ impl Feature {
         renderer.set_timed_aux_outputs(false);
         renderer.set_setup_in_prepass(true);
         renderer.set_footprint(Footprint::Auto);
+        renderer.set_small_glyph_triangles(true);
         renderer.set_sphere_path(true);
         renderer.set_cap_free_path(true);
         match self {
@@ -130,11 +132,7 @@ impl Feature {
             Feature::SetupOnce => renderer.set_setup_in_prepass(on),
             Feature::SpherePath => renderer.set_sphere_path(on),
             Feature::CapFreePath => renderer.set_cap_free_path(on),
-            Feature::TightFootprint => renderer.set_footprint(if on {
-                Footprint::Auto
-            } else {
-                Footprint::AxisRect
-            }),
+            Feature::SmallGlyphTriangles => renderer.set_small_glyph_triangles(on),
             Feature::AuxOutputsOnDemand => renderer.set_timed_aux_outputs(!on),
             Feature::FrontToBack => {}
         }
@@ -347,6 +345,7 @@ pub fn run(
     renderer.set_timed_aux_outputs(false);
     renderer.set_setup_in_prepass(true);
     renderer.set_footprint(Footprint::Auto);
+    renderer.set_small_glyph_triangles(true);
     renderer.set_sphere_path(true);
     renderer.set_cap_free_path(true);
     Ok(results)

@@ -110,6 +110,7 @@ fn every_footprint_covers_exactly() {
     ortho_cam.projection = Projection::Orthographic { height: 8.0 };
     let mut renderer = validated_renderer();
     for footprint in [
+        Footprint::Triangle,
         Footprint::OrientedRect,
         Footprint::Hexagon,
         Footprint::Octagon,

@@ -5,7 +5,7 @@ mod common;
 
 use common::validated_renderer;
 use ellipsoid_splat::compare::{compare, Bounds};
-use ellipsoid_splat::draw::Method;
+use ellipsoid_splat::draw::{DrawConfig, Footprint, Method};
 use ellipsoid_splat::reference::render_reference;
 use ellipsoid_splat::scene::random_cloud;
 use ellipsoid_splat::{Camera, Projection, NO_INSTANCE};
@@ -124,6 +124,18 @@ fn footprints_shade_their_area_ratio() {
     renderer.upload(&scene).unwrap();
     renderer.set_count_fragments(true);
     let mut ratios = Vec::new();
+    let triangle = DrawConfig {
+        footprint: Footprint::Triangle,
+        ..DrawConfig::default()
+    };
+    renderer.set_config(triangle);
+    let (_, timing) = renderer.render_uploaded(&camera).unwrap();
+    let ratio = timing.shaded_fragments.expect("counted") as f64 / silhouette;
+    let expected = 3.0 * (std::f64::consts::PI / 3.0).tan() / std::f64::consts::PI;
+    assert!(
+        (ratio - expected).abs() < 0.03,
+        "triangle: {ratio} vs {expected}"
+    );
     for (method, expected) in [
         (Method::ImpostorOrientedRect, 4.0 / std::f64::consts::PI),
         (

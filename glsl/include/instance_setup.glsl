@@ -68,7 +68,8 @@ void ellipse_axes(float s00, float s01, float s11, float det, out vec2 axis1, ou
 
 // Corner k of the regular CORNERS-gon circumscribing the unit circle: angle (2k+1) pi / n at
 // radius 1 / cos(pi / n). Tables, so no vertex evaluates a trigonometric function.
-const float RHO = CORNERS == 8 ? 1.0823922 : (CORNERS == 6 ? 1.1547005 : 1.4142136);
+const float RHO = CORNERS == 8 ? 1.0823922
+    : (CORNERS == 6 ? 1.1547005 : (CORNERS == 3 ? 2.0 : 1.4142136));
 vec2 corner_direction(int k) {
     if (CORNERS == 8) {
         const vec2 oct[8] = vec2[8](vec2(1.0, 0.41421356), vec2(0.41421356, 1.0),
@@ -80,6 +81,9 @@ vec2 corner_direction(int k) {
             vec2(-1.0, 0.57735027), vec2(-1.0, -0.57735027), vec2(0.0, -1.1547005),
             vec2(1.0, -0.57735027));
         return hex[k];
+    } else if (CORNERS == 3) {
+        const vec2 tri[3] = vec2[3](vec2(1.0, 1.7320508), vec2(-2.0, 0.0), vec2(1.0, -1.7320508));
+        return tri[k];
     }
     const vec2 quad[4] = vec2[4](vec2(1.0, 1.0), vec2(-1.0, 1.0), vec2(-1.0, -1.0), vec2(1.0, -1.0));
     return quad[k];
