@@ -18,9 +18,9 @@ pub enum Intersection {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Footprint {
     /// Chosen per draw from the glyphs' mean projected area (the shipped default): the
-    /// triangle for glyphs of a few pixels and the oriented rectangle for small ones, where
-    /// vertex work dominates; the hexagon and then the octagon as glyphs grow and fragments
-    /// dominate. See [`Footprint::for_area`].
+    /// oriented rectangle for small glyphs (or, opted into, the triangle), where vertex work
+    /// dominates; the hexagon and then the octagon as glyphs grow and fragments dominate. See
+    /// [`Footprint::for_area`].
     #[default]
     Auto,
     /// A triangle around the projected ellipse (area ratio 1.65; 3 vertices, one primitive).

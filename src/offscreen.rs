@@ -174,7 +174,7 @@ impl OffscreenRenderer {
         self.renderer_mut().setup_in_prepass = on;
     }
 
-    /// Whether `Footprint::Auto` may draw glyphs of a few pixels as one triangle (on by
+    /// Whether `Footprint::Auto` may draw glyphs of a few pixels as one triangle (off by
     /// default).
     pub fn set_small_glyph_triangles(&mut self, on: bool) {
         self.renderer_mut().small_glyph_triangles = on;

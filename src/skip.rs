@@ -43,7 +43,7 @@ pub enum Feature {
     /// No near-plane cap code when no ellipsoid reaches in front of the near plane.
     CapFreePath,
     /// Glyphs of a few pixels drawn as one triangle (three vertices, one primitive) instead of
-    /// the oriented rectangle's four and two.
+    /// the oriented rectangle's four and two (opt-in: it shades more fragments).
     SmallGlyphTriangles,
     /// Normal and ID outputs only when asked for (a colour-only pipeline and pass otherwise).
     AuxOutputsOnDemand,
@@ -113,7 +113,7 @@ impl Feature {
         renderer.set_timed_aux_outputs(false);
         renderer.set_setup_in_prepass(true);
         renderer.set_footprint(Footprint::Auto);
-        renderer.set_small_glyph_triangles(true);
+        renderer.set_small_glyph_triangles(false);
         renderer.set_sphere_path(true);
         renderer.set_cap_free_path(true);
         match self {
@@ -345,7 +345,7 @@ pub fn run(
     renderer.set_timed_aux_outputs(false);
     renderer.set_setup_in_prepass(true);
     renderer.set_footprint(Footprint::Auto);
-    renderer.set_small_glyph_triangles(true);
+    renderer.set_small_glyph_triangles(false);
     renderer.set_sphere_path(true);
     renderer.set_cap_free_path(true);
     Ok(results)
