@@ -5,11 +5,12 @@
 mod common;
 
 use common::validated_renderer;
+use ellipsoid_splat::ellipsoid::Ellipsoid;
 use ellipsoid_splat::offscreen::OffscreenRenderer;
 use ellipsoid_splat::renderer::Culling;
 use ellipsoid_splat::scene::{packed_block, random_cloud, Scene};
 use ellipsoid_splat::{Camera, Projection};
-use glam::DVec3;
+use glam::{DQuat, DVec3};
 
 /// Every kind alone, and all together.
 const VARIANTS: [Culling; 4] = [
@@ -155,10 +156,30 @@ fn occlusion_culling_changes_no_pixel_and_drops_the_hidden() {
 #[test]
 fn setup_in_the_prepass_changes_no_pixel() {
     // Glyphs of about two pixels (the pre-pass sets them up), with and without culling, in
-    // perspective and orthographic views.
-    let scene = random_cloud(20_000, 21, 10.0, 0.04);
-    let perspective =
-        Camera::look_at(DVec3::new(2.0, 3.0, 25.0), DVec3::ZERO, 45.0, 1.0, 240, 180).unwrap();
+    // perspective and orthographic views; plus three large ones the size sample skips (it
+    // takes every fifth instance): one holding the eye, one crossing the eye plane and one
+    // cut by the near plane, so every path of the set-up is exercised.
+    let mut scene = random_cloud(20_000, 21, 10.0, 0.04);
+    let eye = DVec3::new(2.0, 3.0, 25.0);
+    let perspective = Camera::look_at(eye, DVec3::ZERO, 45.0, 1.0, 240, 180).unwrap();
+    let basis = perspective.basis();
+    for (k, (center, radius)) in [
+        (eye, 2.0),
+        (eye + basis.right * 3.0, 2.5),
+        (eye + basis.forward * 1.2 + basis.up * 0.3, 0.8),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let big = Ellipsoid::new(
+            center,
+            DVec3::new(radius, radius * 0.7, radius * 0.5),
+            DQuat::from_rotation_y(0.4),
+            Some([0.9, 0.5, 0.2]),
+        )
+        .unwrap();
+        scene.ellipsoids.insert(1 + k, big);
+    }
     let mut orthographic = perspective;
     orthographic.projection = Projection::Orthographic { height: 22.0 };
     let mut renderer = validated_renderer();

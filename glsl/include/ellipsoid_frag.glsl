@@ -32,18 +32,24 @@ vec3 v_color;
 void load_setup() {
     uint base = 8u * v_id;
     vec4 a = shading[base], b = shading[base + 1u], c = shading[base + 2u];
-    vec4 d = shading[base + 3u];
+    float r = a.w, u = b.w, cz = c.z, eye_dist = 0.0;
     v_ray_x = a.xyz;
     v_ray_y = b.xyz;
-    v_flags = floatBitsToUint(d.z);
+    v_flags = floatBitsToUint(c.w);
     bool origin = (v_flags & FLAG_OFFSET_ORIGIN) != 0u;
-    v_ray_c = origin ? vec3(0.0) : c.xyz;
-    v_ray_origin = origin ? c.xy : vec2(0.0);
-    v_k = vec4(origin ? 1.0 : 0.0, a.w, b.w, c.w);
+    v_ray_origin = c.xy;
+    v_ray_c = vec3(0.0);
+    if (!origin) {
+        vec4 d = shading[base + 3u];
+        v_ray_c = d.xyz;
+        eye_dist = d.w;
+    }
+    v_k = ORTHOGRAPHIC ? vec4(1.0, 1.0, 0.0, 1.0)
+        : (origin ? vec4(1.0, r * cz, cz * u, r) : vec4(0.0, r, u, r));
     // Only orthographic depth reads g.
-    v_depth = vec4(ORTHOGRAPHIC ? shading[base + 4u].xyz : vec3(0.0), d.y);
-    float depth_scale = origin && !ORTHOGRAPHIC ? d.y : 1.0;
-    v_misc = vec4(d.x, d.w, c.w * c.w, depth_scale);
+    v_depth = vec4(ORTHOGRAPHIC ? shading[base + 4u].xyz : vec3(0.0), cz);
+    float depth_scale = origin && !ORTHOGRAPHIC ? cz : 1.0;
+    v_misc = vec4(u, eye_dist, r * r, depth_scale);
 }
 
 // What shading a hit needs: loaded only for fragments that hit.

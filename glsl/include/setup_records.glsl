@@ -34,19 +34,20 @@ void store_setup(uint id, Setup s) {
     uint flags = (s.culled ? FOOTPRINT_CULLED : 0u) | (s.screen_polygon ? FOOTPRINT_SCREEN : 0u);
     footprints[2u * id] = vec4(s.centre, s.axis1);
     footprints[2u * id + 1u] = vec4(s.axis2, s.quad_z, uintBitsToFloat(flags));
-    // Offset mode has ray_c = 0; otherwise o = 0: one slot holds whichever is not zero. The
-    // fragment stage derives k0 (1 in offset mode, else 0), r^2 = r r and the depth scale
-    // (cz in perspective offset mode, else 1) exactly as instance_setup.glsl sets them, and
-    // needs only the first four vec4 to test for a hit in perspective (five orthographic).
+    // Offset mode (o, ray_c = 0) is the common case: its hit test needs the first three vec4
+    // only; the fourth holds ray_c (and |e~|) for rays that are pixel directions, the fifth g
+    // for orthographic depth. The fragment stage derives k = (1, r cz, cz u, r) in perspective
+    // offset mode, (0, r, u, r) otherwise, (1, 1, 0, 1) orthographic; r^2 = r r; and the depth
+    // scale (cz in perspective offset mode, else 1) -- the same operations on the same values
+    // as instance_setup.glsl, so the same bits.
     bool origin = s.ray_c == vec3(0.0);
-    vec3 ray_c = origin ? vec3(s.ray_origin, 0.0) : s.ray_c;
     uint shading_flags = s.flags | (origin ? FLAG_OFFSET_ORIGIN : 0u);
     vec3 color = srgb_to_linear(unpackUnorm4x8(s.color).rgb);
     uint base = 8u * id;
-    shading[base] = vec4(s.ray_x, s.k.y);
-    shading[base + 1u] = vec4(s.ray_y, s.k.z);
-    shading[base + 2u] = vec4(ray_c, s.k.w);
-    shading[base + 3u] = vec4(s.misc.x, s.depth.w, uintBitsToFloat(shading_flags), s.misc.y);
+    shading[base] = vec4(s.ray_x, s.k.w);
+    shading[base + 1u] = vec4(s.ray_y, s.misc.x);
+    shading[base + 2u] = vec4(s.ray_origin, s.depth.w, uintBitsToFloat(shading_flags));
+    shading[base + 3u] = vec4(s.ray_c, s.misc.y);
     shading[base + 4u] = vec4(s.depth.xyz, 0.0);
     shading[base + 5u] = vec4(s.to_normal[0], color.r);
     shading[base + 6u] = vec4(s.to_normal[1], color.g);
