@@ -65,8 +65,9 @@ uint group_count() {
 // The pixel centres inside an NDC rectangle with y up: (first column, first row, last column,
 // last row), rows from the top, unclamped (may lie off screen); empty when first > last.
 vec4 pixel_centres(vec4 rect) {
-    // Pixel centre i sits at NDC (2i + 1) / W - 1.
-    vec2 size = 2.0 / cam.viewport.xy;
+    // Pixel centre i sits at NDC (2i + 1) / W - 1. The sizes are exact integers (2 / (2 / H)
+    // in float32 can fall just short of H).
+    vec2 size = vec2(screen_size());
     vec2 lo = ceil(((rect.xy + 1.0) * size - 1.0) * 0.5);
     vec2 hi = floor(((rect.zw + 1.0) * size - 1.0) * 0.5);
     // Rows count from the top.
@@ -130,13 +131,22 @@ void write_occluder(uint index) {
     // Pixel centre i at coordinate i, rows from the top.
     ivec2 size = screen_size();
     vec2 ndc = centre / s;
-    vec2 p = vec2((ndc.x + 1.0) / cam.viewport.x - 0.5, (1.0 - ndc.y) / cam.viewport.y - 0.5);
+    vec2 p = vec2(ndc.x + 1.0, 1.0 - ndc.y) * 0.5 * vec2(size) - 0.5;
+    if (any(isnan(p))) {
+        return;
+    }
     // Tile rows, then the tiles of each row whose pixel centres all lie in the disc; a tile
     // cut by the screen's edge holds only its on-screen pixels. Large occluders write a
-    // central subset of their tiles: still exact, far fewer atomics.
+    // central subset of their tiles: still exact, far fewer atomics. Clamped in float before
+    // any conversion to int, so far-off discs stay harmless.
     ivec2 grid = tile_grid();
-    int ty0 = max(int(ceil(p.y - pixels)) / TILE, 0);
-    int ty1 = min(int(floor(p.y + pixels)) / TILE, grid.y - 1);
+    float y_lo = clamp(ceil(p.y - pixels), 0.0, float(size.y));
+    float y_hi = clamp(floor(p.y + pixels), -1.0, float(size.y - 1));
+    if (y_lo > y_hi) {
+        return;
+    }
+    int ty0 = int(y_lo) / TILE;
+    int ty1 = int(y_hi) / TILE;
     int excess = max(ty1 - ty0 + 1 - MAX_WRITTEN_TILES, 0);
     ty0 += excess / 2;
     ty1 -= excess - excess / 2;
@@ -148,8 +158,13 @@ void write_occluder(uint index) {
             continue;
         }
         float half_width = sqrt(pixels * pixels - dy * dy);
-        int x0 = int(ceil(max(p.x - half_width, 0.0)));
-        int x1 = int(floor(min(p.x + half_width, float(size.x - 1))));
+        float x_lo = clamp(ceil(p.x - half_width), 0.0, float(size.x));
+        float x_hi = clamp(floor(p.x + half_width), -1.0, float(size.x - 1));
+        if (x_lo > x_hi) {
+            continue;
+        }
+        int x0 = int(x_lo);
+        int x1 = int(x_hi);
         int tx0 = (x0 + TILE - 1) / TILE;
         int tx1 = x1 == size.x - 1 ? grid.x - 1 : (x1 + 1) / TILE - 1;
         int extra = max(tx1 - tx0 + 1 - MAX_WRITTEN_TILES, 0);

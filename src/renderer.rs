@@ -121,6 +121,8 @@ pub struct EllipsoidRenderer {
     pub cap_free_path: bool,
     all_spheres: bool,
     extent: Option<(DVec3, DVec3)>,
+    /// `record_prepass` recorded the pre-pass that the next `record` draws from.
+    prepass_recorded: bool,
     /// Let `Footprint::Auto` draw glyphs below `Footprint::TRIANGLE_AREA` as one triangle
     /// instead of the oriented rectangle. Off by default: faster on lavapipe (fewer vertices
     /// and primitives), but it shades 1.65 fragments per covered pixel, beyond the 1.35 that
@@ -202,6 +204,7 @@ impl EllipsoidRenderer {
             all_spheres: false,
             extent: None,
             small_glyph_triangles: false,
+            prepass_recorded: false,
         };
         // On failure, `destroy` releases whatever was created (null handles are skipped).
         match renderer
@@ -448,17 +451,28 @@ impl EllipsoidRenderer {
     /// every ellipsoid lies wholly beyond the near plane (view depth is linear, so its
     /// nearest point is a corner).
     fn cap_free(&self, camera: &Camera) -> bool {
-        self.cap_free_path
-            && self.extent.is_some_and(|(lo, hi)| {
-                (0..8).all(|k| {
-                    let corner = DVec3::new(
-                        if k & 1 == 0 { lo.x } else { hi.x },
-                        if k & 2 == 0 { lo.y } else { hi.y },
-                        if k & 4 == 0 { lo.z } else { hi.z },
-                    );
-                    camera.view_depth(corner) > camera.near
-                })
+        let Some((lo, hi)) = self.extent.filter(|_| self.cap_free_path) else {
+            return false;
+        };
+        let corners: Vec<DVec3> = (0..8)
+            .map(|k| {
+                DVec3::new(
+                    if k & 1 == 0 { lo.x } else { hi.x },
+                    if k & 2 == 0 { lo.y } else { hi.y },
+                    if k & 4 == 0 { lo.z } else { hi.z },
+                )
             })
+            .collect();
+        // The shaders decide "reaches the near plane" in float32 from positions relative to
+        // the scene origin: keep clear of the plane by many times that rounding.
+        let reach = corners
+            .iter()
+            .map(|c| (*c - camera.eye).length())
+            .fold(0.0, f64::max);
+        let margin = 1e-5 * (reach + (camera.eye - self.origin).length() + camera.near);
+        corners
+            .iter()
+            .all(|&c| camera.view_depth(c) > camera.near + margin)
     }
 
     /// The scene-chosen shader variants a draw with `camera` uses: (sphere path, cap-free).
@@ -471,10 +485,22 @@ impl EllipsoidRenderer {
         self.presets(&self.effective_config(camera), camera)
     }
 
+    /// The culling the pre-pass does: `culling`, without occlusion unless depth is float32
+    /// (its 1e-4 depth gap must survive the depth buffer's rounding).
+    fn active_culling(&self) -> Culling {
+        Culling {
+            occlusion: self.culling.occlusion && self.formats.depth == vk::Format::D32_SFLOAT,
+            ..self.culling
+        }
+    }
+
     /// Whether a draw with `config` and `camera` goes through the pre-pass: to cull, or to
-    /// set up.
+    /// set up. Only the exact impostor: the textbook baseline's coverage and depth errors and
+    /// `flat-fill`'s whole polygons are not what the culling proofs assume.
     fn runs_prepass(&self, config: &DrawConfig, camera: &Camera) -> bool {
         config.geometry == Geometry::Impostor
+            && config.intersection == Intersection::Stable
+            && config.shading != Shading::FlatFill
             && self.count > 0
             && (self.culling.any() || self.presets(config, camera))
     }
@@ -488,7 +514,8 @@ impl EllipsoidRenderer {
         setup: Option<DrawConfig>,
     ) -> Result<vk::Pipeline> {
         let spheres = self.spheres();
-        let key = (orthographic, self.culling, step, setup, spheres);
+        let active = self.active_culling();
+        let key = (orthographic, active, step, setup, spheres);
         if let Some((_, p)) = self.cull_pipelines.iter().find(|(k, _)| *k == key) {
             return Ok(*p);
         }
@@ -496,7 +523,7 @@ impl EllipsoidRenderer {
             device,
             self.cull_layout,
             orthographic,
-            self.culling,
+            active,
             step,
             setup,
             spheres,
@@ -512,7 +539,8 @@ impl EllipsoidRenderer {
     ///
     /// It writes the indirect command with `vkCmdUpdateBuffer`, clears the occlusion tiles
     /// with `vkCmdFillBuffer`, then runs the steps of `glsl/cull.comp`, each after a
-    /// compute-to-compute barrier.
+    /// compute-to-compute barrier. When the image grew since the last frame the tiles buffer
+    /// is replaced: the GPU must then be done with earlier frames, as for `upload`.
     pub fn record_prepass(
         &mut self,
         device: &ash::Device,
@@ -526,12 +554,13 @@ impl EllipsoidRenderer {
             return Ok(());
         }
         self.prepare(device, allocator, camera)?;
-        if self.culling.occlusion {
+        let active = self.active_culling();
+        if active.occlusion {
             self.resize_occlusion_tiles(device, allocator, camera.width, camera.height)?;
         }
         let orthographic = matches!(camera.projection, Projection::Orthographic { .. });
         let setup = self.presets(&config, camera).then_some(config);
-        let steps = culling::steps(self.culling)
+        let steps = culling::steps(active)
             .into_iter()
             .map(|step| Ok((step, self.cull_pipeline(device, orthographic, step, setup)?)))
             .collect::<Result<Vec<_>>>()?;
@@ -565,8 +594,16 @@ impl EllipsoidRenderer {
         // SAFETY: `cmd` is recording outside a pass (caller contract); every handle is owned
         // by `self` and lives until the submission completes.
         unsafe {
-            // The previous frame's draw and pre-pass used these buffers: finish that before
-            // rewriting them (write-after-read needs no memory barrier).
+            // The previous frame's draw read these buffers and its pre-pass wrote them: finish
+            // both before rewriting them (the reads need only the execution dependency, the
+            // writes a memory one too).
+            let rewritten = [vk::MemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+                .dst_access_mask(
+                    vk::AccessFlags::TRANSFER_WRITE
+                        | vk::AccessFlags::SHADER_READ
+                        | vk::AccessFlags::SHADER_WRITE,
+                )];
             device.cmd_pipeline_barrier(
                 cmd,
                 vk::PipelineStageFlags::DRAW_INDIRECT
@@ -575,12 +612,12 @@ impl EllipsoidRenderer {
                     | vk::PipelineStageFlags::COMPUTE_SHADER,
                 vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
                 vk::DependencyFlags::empty(),
-                &[],
+                &rewritten,
                 &[],
                 &[],
             );
             device.cmd_update_buffer(cmd, indirect, 0, &command);
-            if self.culling.occlusion {
+            if active.occlusion {
                 // +inf: no surface known in front of any tile yet.
                 device.cmd_fill_buffer(cmd, tiles, 0, vk::WHOLE_SIZE, f32::INFINITY.to_bits());
             }
@@ -602,7 +639,7 @@ impl EllipsoidRenderer {
                 vk::PipelineStageFlags::COMPUTE_SHADER,
                 vk::DependencyFlags::empty(),
                 &[],
-                &cleared[..if self.culling.occlusion { 2 } else { 1 }],
+                &cleared[..if active.occlusion { 2 } else { 1 }],
                 &[],
             );
             device.cmd_bind_descriptor_sets(
@@ -664,6 +701,7 @@ impl EllipsoidRenderer {
                 &[],
             );
         }
+        self.prepass_recorded = true;
         Ok(())
     }
 
@@ -923,7 +961,9 @@ impl EllipsoidRenderer {
 
     /// Records the draw into `cmd`, which must be inside a dynamic-rendering pass whose
     /// attachments match the `TargetFormats` and whose viewport is the camera's image size.
-    /// Sets viewport and scissor itself. Records nothing if the scene is empty.
+    /// Sets viewport and scissor itself. Records nothing if the scene is empty. A draw through
+    /// the pre-pass needs `record_prepass` first, in the same command buffer before the pass
+    /// (an error otherwise).
     pub fn record(
         &mut self,
         device: &ash::Device,
@@ -938,6 +978,14 @@ impl EllipsoidRenderer {
         self.prepare(device, allocator, camera)?;
         let push = self.push_constants(camera);
         let config = self.effective_config(camera);
+        // The indirect draw needs this frame's pre-pass, recorded with the same state.
+        let prepass_recorded = std::mem::take(&mut self.prepass_recorded);
+        if self.runs_prepass(&config, camera) && !prepass_recorded {
+            return Err(Error::invalid(
+                "record",
+                "this draw goes through the culling pre-pass: call record_prepass first",
+            ));
+        }
         let key = PipelineKey {
             orthographic: matches!(camera.projection, Projection::Orthographic { .. }),
             config,

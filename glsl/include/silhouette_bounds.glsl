@@ -11,8 +11,11 @@ vec2 tangent_slopes(vec3 a, vec3 b, float c_side, float cz, float b_len) {
     vec3 w = cz * a - c_side * b;
     vec3 ab = cross(a, b);
     float s = sqrt(max(dot(w, w) - dot(ab, ab), 0.0));
-    float k1 = (half_b + s) / lead;
-    float k2 = (half_b - s) / lead;
+    // The root away from zero directly, the other as C / q (Vieta, C = |a|^2 - c_side^2): no
+    // cancellation as lead -> 0, when the ellipsoid nearly touches the eye plane.
+    float q = half_b + (half_b >= 0.0 ? s : -s);
+    float k1 = q / lead;
+    float k2 = q != 0.0 ? (dot(a, a) - c_side * c_side) / q : (half_b - s) / lead;
     return vec2(min(k1, k2), max(k1, k2));
 }
 
