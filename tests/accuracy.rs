@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{assert_matches_reference, validated_renderer};
+use common::{assert_matches_reference, finish_validated, validated_renderer};
 use ellipsoid_splat::compare::compare;
 use ellipsoid_splat::compare::Bounds;
 use ellipsoid_splat::draw::Footprint;
@@ -139,9 +139,5 @@ fn every_footprint_covers_exactly() {
             assert_eq!(stats.coverage_mismatch, 0, "{footprint:?} {name}: {stats}");
         }
     }
-    renderer
-        .context()
-        .check_validation()
-        .expect("no validation messages");
-    renderer.finish().expect("clean shutdown");
+    finish_validated(renderer);
 }

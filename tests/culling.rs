@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::validated_renderer;
+use common::{finish_validated, validated_renderer};
 use ellipsoid_splat::ellipsoid::Ellipsoid;
 use ellipsoid_splat::offscreen::OffscreenRenderer;
 use ellipsoid_splat::renderer::Culling;
@@ -101,11 +101,7 @@ fn frustum_and_pixel_centre_culling_change_no_pixel() {
             "pixel-centre culling dropped nothing"
         );
     }
-    renderer
-        .context()
-        .check_validation()
-        .expect("no validation messages");
-    renderer.finish().expect("clean shutdown");
+    finish_validated(renderer);
 }
 
 #[test]
@@ -149,11 +145,7 @@ fn occlusion_culling_changes_no_pixel_and_drops_the_hidden() {
             );
         }
     }
-    renderer
-        .context()
-        .check_validation()
-        .expect("no validation messages");
-    renderer.finish().expect("clean shutdown");
+    finish_validated(renderer);
 }
 
 #[test]
@@ -209,9 +201,5 @@ fn setup_in_the_prepass_changes_no_pixel() {
             assert_eq!(plain.normal, preset.normal, "{culling:?}: normals differ");
         }
     }
-    renderer
-        .context()
-        .check_validation()
-        .expect("no validation messages");
-    renderer.finish().expect("clean shutdown");
+    finish_validated(renderer);
 }

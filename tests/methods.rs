@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::validated_renderer;
+use common::{finish_validated, validated_renderer};
 use ellipsoid_splat::compare::{compare, Bounds};
 use ellipsoid_splat::draw::{DrawConfig, Footprint, Method};
 use ellipsoid_splat::reference::render_reference;
@@ -87,11 +87,7 @@ fn every_method_renders_what_it_promises() {
         mesh_mismatch.windows(2).all(|w| w[1] < w[0]),
         "{mesh_mismatch:?}"
     );
-    renderer
-        .context()
-        .check_validation()
-        .expect("no validation messages");
-    renderer.finish().expect("clean shutdown");
+    finish_validated(renderer);
 }
 
 /// The footprints shade what their geometry promises: an n-gon circumscribing an ellipse
@@ -167,9 +163,5 @@ fn footprints_shade_their_area_ratio() {
         axis_rect > ratios[0] + 0.1,
         "axis-aligned boxes waste more on thin glyphs"
     );
-    renderer
-        .context()
-        .check_validation()
-        .expect("no validation messages");
-    renderer.finish().expect("clean shutdown");
+    finish_validated(renderer);
 }

@@ -33,11 +33,7 @@ fn run_sweep(sweep: &str) {
             ));
         }
     }
-    renderer
-        .context()
-        .check_validation()
-        .expect("no validation messages");
-    renderer.finish().expect("clean shutdown");
+    common::finish_validated(renderer);
     assert!(
         failures.is_empty(),
         "bounds broken:\n{}",

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::validated_renderer;
+use common::{finish_validated, validated_renderer};
 use ellipsoid_splat::offscreen::OffscreenRenderer;
 use ellipsoid_splat::scene::{random_cloud, Scene};
 use ellipsoid_splat::{Camera, Projection};
@@ -68,9 +68,5 @@ fn variants_change_no_pixel() {
             assert_eq!(taken, (all_spheres, clear_of_near_plane), "variants chosen");
         }
     }
-    renderer
-        .context()
-        .check_validation()
-        .expect("no validation messages");
-    renderer.finish().expect("clean shutdown");
+    finish_validated(renderer);
 }

@@ -15,11 +15,9 @@ pub fn validated_renderer() -> OffscreenRenderer {
         .expect("validated Vulkan device (lavapipe)")
 }
 
-/// Renders `scene` on the GPU under validation and returns the frame; fails the test on any
-/// validation message, leak, or error.
-pub fn render_gpu(scene: &Scene, camera: &Camera) -> Frame {
-    let mut renderer = validated_renderer();
-    let frame = renderer.render(scene, camera).expect("GPU render");
+/// Fails the test on any validation message so far, then tears the renderer down checking
+/// for leaks and late messages.
+pub fn finish_validated(renderer: OffscreenRenderer) {
     renderer
         .context()
         .check_validation()
@@ -27,6 +25,14 @@ pub fn render_gpu(scene: &Scene, camera: &Camera) -> Frame {
     renderer
         .finish()
         .expect("clean shutdown: no leaks, no validation messages");
+}
+
+/// Renders `scene` on the GPU under validation and returns the frame; fails the test on any
+/// validation message, leak, or error.
+pub fn render_gpu(scene: &Scene, camera: &Camera) -> Frame {
+    let mut renderer = validated_renderer();
+    let frame = renderer.render(scene, camera).expect("GPU render");
+    finish_validated(renderer);
     frame
 }
 
