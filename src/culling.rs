@@ -95,13 +95,167 @@ pub(crate) fn steps(culling: Culling) -> Vec<CullStep> {
     steps
 }
 
+/// The buffers the pre-pass writes (bindings 2-7 of the renderer's descriptor set).
+pub(crate) struct PrepassBuffers {
+    pub visible: vk::Buffer,
+    pub indirect: vk::Buffer,
+    pub tiles: vk::Buffer,
+    pub shading: vk::Buffer,
+    pub footprints: vk::Buffer,
+}
+
+/// One frame's pre-pass, ready to record.
+pub(crate) struct Prepass {
+    pub layout: vk::PipelineLayout,
+    pub descriptor_set: vk::DescriptorSet,
+    /// The camera push constants.
+    pub push: Vec<u8>,
+    /// The `VkDrawIndirectCommand` and total the steps start from.
+    pub command: Vec<u8>,
+    pub steps: Vec<(CullStep, vk::Pipeline)>,
+    /// The dispatch grid of the per-group steps.
+    pub groups: (u32, u32),
+    /// Occlusion runs: reset the tiles first.
+    pub clear_tiles: bool,
+    pub buffers: PrepassBuffers,
+}
+
+/// A barrier over the whole of `buffer`.
+fn whole(
+    buffer: vk::Buffer,
+    src: vk::AccessFlags,
+    dst: vk::AccessFlags,
+) -> vk::BufferMemoryBarrier<'static> {
+    vk::BufferMemoryBarrier::default()
+        .src_access_mask(src)
+        .dst_access_mask(dst)
+        .buffer(buffer)
+        .offset(0)
+        .size(vk::WHOLE_SIZE)
+}
+
+impl Prepass {
+    /// Records the pre-pass with its barriers: after the previous frame's draw (its reads)
+    /// and pre-pass (its writes); the indirect command written with `vkCmdUpdateBuffer` and
+    /// the tiles cleared with `vkCmdFillBuffer`; each step after a compute-to-compute
+    /// barrier; and before this frame's indirect, vertex and fragment reads.
+    ///
+    /// # Safety
+    /// `cmd` must be recording outside a render pass, and every handle must stay alive until
+    /// the submission completes.
+    pub unsafe fn record(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        let b = &self.buffers;
+        // The reads need only the execution dependency, the writes a memory one too.
+        let rewritten = [vk::MemoryBarrier::default()
+            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
+            .dst_access_mask(
+                vk::AccessFlags::TRANSFER_WRITE
+                    | vk::AccessFlags::SHADER_READ
+                    | vk::AccessFlags::SHADER_WRITE,
+            )];
+        let written = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
+        let cleared = [
+            whole(b.indirect, vk::AccessFlags::TRANSFER_WRITE, written),
+            whole(b.tiles, vk::AccessFlags::TRANSFER_WRITE, written),
+        ];
+        let produced = [
+            whole(
+                b.visible,
+                vk::AccessFlags::SHADER_WRITE,
+                vk::AccessFlags::SHADER_READ,
+            ),
+            whole(
+                b.indirect,
+                vk::AccessFlags::SHADER_WRITE,
+                vk::AccessFlags::INDIRECT_COMMAND_READ,
+            ),
+            whole(
+                b.footprints,
+                vk::AccessFlags::SHADER_WRITE,
+                vk::AccessFlags::SHADER_READ,
+            ),
+            whole(
+                b.shading,
+                vk::AccessFlags::SHADER_WRITE,
+                vk::AccessFlags::SHADER_READ,
+            ),
+        ];
+        // SAFETY: the caller guarantees the command buffer's state and the handles' lifetime;
+        // every barrier and region lies within the buffers.
+        unsafe {
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::DRAW_INDIRECT
+                    | vk::PipelineStageFlags::VERTEX_SHADER
+                    | vk::PipelineStageFlags::FRAGMENT_SHADER
+                    | vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::DependencyFlags::empty(),
+                &rewritten,
+                &[],
+                &[],
+            );
+            device.cmd_update_buffer(cmd, b.indirect, 0, &self.command);
+            if self.clear_tiles {
+                // +inf: no surface known in front of any tile yet.
+                device.cmd_fill_buffer(cmd, b.tiles, 0, vk::WHOLE_SIZE, f32::INFINITY.to_bits());
+            }
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::DependencyFlags::empty(),
+                &[],
+                &cleared[..if self.clear_tiles { 2 } else { 1 }],
+                &[],
+            );
+            device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                self.layout,
+                0,
+                &[self.descriptor_set],
+                &[],
+            );
+            device.cmd_push_constants(
+                cmd,
+                self.layout,
+                vk::ShaderStageFlags::COMPUTE,
+                0,
+                &self.push,
+            );
+            for (k, &(step, pipeline)) in self.steps.iter().enumerate() {
+                if k > 0 {
+                    record_compute_to_compute(device, cmd);
+                }
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
+                match step {
+                    CullStep::Scan => device.cmd_dispatch(cmd, 1, 1, 1),
+                    _ => device.cmd_dispatch(cmd, self.groups.0, self.groups.1, 1),
+                }
+            }
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::PipelineStageFlags::DRAW_INDIRECT
+                    | vk::PipelineStageFlags::VERTEX_SHADER
+                    | vk::PipelineStageFlags::FRAGMENT_SHADER,
+                vk::DependencyFlags::empty(),
+                &[],
+                &produced,
+                &[],
+            );
+        }
+    }
+}
+
 /// A barrier making one compute step's storage writes visible to the next.
-pub(crate) fn record_compute_to_compute(device: &ash::Device, cmd: vk::CommandBuffer) {
+fn record_compute_to_compute(device: &ash::Device, cmd: vk::CommandBuffer) {
     let barrier = vk::MemoryBarrier::default()
         .src_access_mask(vk::AccessFlags::SHADER_WRITE)
         .dst_access_mask(vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE);
-    // SAFETY: `cmd` is recording outside a pass (caller contract); a global memory barrier
-    // references no object.
+    // SAFETY: `cmd` is recording outside a pass (the caller of `Prepass::record`); a global
+    // memory barrier references no object.
     unsafe {
         device.cmd_pipeline_barrier(
             cmd,

@@ -8,7 +8,7 @@ use gpu_allocator::MemoryLocation;
 
 use crate::camera::{Camera, Projection};
 pub use crate::culling::Culling;
-use crate::culling::{self, record_compute_to_compute, CullStep};
+use crate::culling::{self, CullStep, Prepass, PrepassBuffers};
 use crate::draw::{DrawConfig, Footprint, Geometry, Intersection, Shading};
 use crate::error::{Error, Result, VkCall};
 use crate::gpu::GpuBuffer;
@@ -569,138 +569,35 @@ impl EllipsoidRenderer {
             .iter()
             .flat_map(|v| v.to_ne_bytes())
             .collect();
-        let push = self.push_constants(camera);
-        let (visible, indirect, tiles, shading, footprints) = match (
+        let buffers = match (
             self.visible.as_ref(),
             self.indirect.as_ref(),
             self.occlusion_tiles.as_ref(),
             self.shading_records.as_ref(),
             self.footprint_records.as_ref(),
         ) {
-            (Some(v), Some(i), Some(t), Some(s), Some(f)) => {
-                (v.handle(), i.handle(), t.handle(), s.handle(), f.handle())
-            }
+            (Some(v), Some(i), Some(t), Some(s), Some(f)) => PrepassBuffers {
+                visible: v.handle(),
+                indirect: i.handle(),
+                tiles: t.handle(),
+                shading: s.handle(),
+                footprints: f.handle(),
+            },
             _ => return Err(Error::invalid("culling", "buffers missing")),
         };
-        let (groups_x, groups_y) = culling::dispatch_grid(culling::group_count(self.count));
-        let whole = |buffer, src, dst| {
-            vk::BufferMemoryBarrier::default()
-                .src_access_mask(src)
-                .dst_access_mask(dst)
-                .buffer(buffer)
-                .offset(0)
-                .size(vk::WHOLE_SIZE)
+        let prepass = Prepass {
+            layout: self.cull_layout,
+            descriptor_set: self.descriptor_set,
+            push: self.push_constants(camera),
+            command,
+            steps,
+            groups: culling::dispatch_grid(culling::group_count(self.count)),
+            clear_tiles: active.occlusion,
+            buffers,
         };
         // SAFETY: `cmd` is recording outside a pass (caller contract); every handle is owned
         // by `self` and lives until the submission completes.
-        unsafe {
-            // The previous frame's draw read these buffers and its pre-pass wrote them: finish
-            // both before rewriting them (the reads need only the execution dependency, the
-            // writes a memory one too).
-            let rewritten = [vk::MemoryBarrier::default()
-                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-                .dst_access_mask(
-                    vk::AccessFlags::TRANSFER_WRITE
-                        | vk::AccessFlags::SHADER_READ
-                        | vk::AccessFlags::SHADER_WRITE,
-                )];
-            device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::DRAW_INDIRECT
-                    | vk::PipelineStageFlags::VERTEX_SHADER
-                    | vk::PipelineStageFlags::FRAGMENT_SHADER
-                    | vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::DependencyFlags::empty(),
-                &rewritten,
-                &[],
-                &[],
-            );
-            device.cmd_update_buffer(cmd, indirect, 0, &command);
-            if active.occlusion {
-                // +inf: no surface known in front of any tile yet.
-                device.cmd_fill_buffer(cmd, tiles, 0, vk::WHOLE_SIZE, f32::INFINITY.to_bits());
-            }
-            let cleared = [
-                whole(
-                    indirect,
-                    vk::AccessFlags::TRANSFER_WRITE,
-                    vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
-                ),
-                whole(
-                    tiles,
-                    vk::AccessFlags::TRANSFER_WRITE,
-                    vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE,
-                ),
-            ];
-            device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::DependencyFlags::empty(),
-                &[],
-                &cleared[..if active.occlusion { 2 } else { 1 }],
-                &[],
-            );
-            device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                self.cull_layout,
-                0,
-                &[self.descriptor_set],
-                &[],
-            );
-            device.cmd_push_constants(
-                cmd,
-                self.cull_layout,
-                vk::ShaderStageFlags::COMPUTE,
-                0,
-                &push,
-            );
-            for (k, &(step, pipeline)) in steps.iter().enumerate() {
-                if k > 0 {
-                    record_compute_to_compute(device, cmd);
-                }
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
-                match step {
-                    CullStep::Scan => device.cmd_dispatch(cmd, 1, 1, 1),
-                    _ => device.cmd_dispatch(cmd, groups_x, groups_y, 1),
-                }
-            }
-            let barriers = [
-                whole(
-                    visible,
-                    vk::AccessFlags::SHADER_WRITE,
-                    vk::AccessFlags::SHADER_READ,
-                ),
-                whole(
-                    indirect,
-                    vk::AccessFlags::SHADER_WRITE,
-                    vk::AccessFlags::INDIRECT_COMMAND_READ,
-                ),
-                whole(
-                    footprints,
-                    vk::AccessFlags::SHADER_WRITE,
-                    vk::AccessFlags::SHADER_READ,
-                ),
-                whole(
-                    shading,
-                    vk::AccessFlags::SHADER_WRITE,
-                    vk::AccessFlags::SHADER_READ,
-                ),
-            ];
-            device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::DRAW_INDIRECT
-                    | vk::PipelineStageFlags::VERTEX_SHADER
-                    | vk::PipelineStageFlags::FRAGMENT_SHADER,
-                vk::DependencyFlags::empty(),
-                &[],
-                &barriers,
-                &[],
-            );
-        }
+        unsafe { prepass.record(device, cmd) };
         self.prepass_recorded = true;
         Ok(())
     }
