@@ -91,7 +91,7 @@ impl Feature {
             Feature::SpherePath => "sphere-only",
             Feature::CapFreePath => "tiny-visible",
             Feature::SmallGlyphTriangles => "tiny-visible",
-            Feature::AuxOutputsOnDemand => "heavy-overlap",
+            Feature::AuxOutputsOnDemand => "molecule",
             Feature::FrontToBack => "heavy-overlap",
         }
     }
@@ -170,6 +170,16 @@ fn scenes(quick: bool) -> Vec<SkipScene> {
         let r = e.radii.max_element();
         e.radii = DVec3::splat(r);
     }
+    // A small molecule: about 1,600 atoms as spheres in a ball, filling the view. Light
+    // enough that per-pixel output work is a large share of the frame.
+    let mut molecule = random_cloud(3_000, 38, 18.0, 1.0);
+    molecule.ellipsoids.retain(|e| e.center.length() < 18.0);
+    for e in &mut molecule.ellipsoids {
+        e.radii = DVec3::splat(1.2 + 0.6 * e.radii.x);
+    }
+    let (centre, radius) = molecule.bounding_sphere().expect("the molecule has atoms");
+    let molecule_camera =
+        Camera::framing(centre, radius, WIDTH, HEIGHT).expect("skip-bench camera is valid");
     // A packed block seen corner on: only its shell can show.
     let side = if quick { 40 } else { 64 };
     let block = packed_block(side, 35);
@@ -210,6 +220,11 @@ fn scenes(quick: bool) -> Vec<SkipScene> {
             name: "sphere-only",
             scene: spheres.scene,
             camera: spheres.camera,
+        },
+        SkipScene {
+            name: "molecule",
+            scene: molecule,
+            camera: molecule_camera,
         },
         SkipScene {
             name: "dense-block",
