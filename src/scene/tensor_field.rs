@@ -18,7 +18,7 @@ const SPHERICAL_FLOOR: f64 = 0.2;
 /// With `u` the lattice position scaled to `[-1, 1]^3`:
 /// - shape: `a = 0.8 u_x + 0.2 sin(pi u_y) sin(pi u_z)`, `t = (1 + sin(pi a / 2)) / 2`, and the
 ///   quadratic Bernstein weights `(1-t)^2, 2t(1-t), t^2` become the Westin measures
-///   linear, spherical, planar (the spherical one lifted to at least [`SPHERICAL_FLOOR`]), so
+///   linear, spherical, planar (the spherical one lifted to at least 0.2), so
 ///   cigars, balls and pancakes each fill a large slab that bends with `y` and `z`;
 /// - eigenvalues from the measures (`l3 = cs/3`, `l2 = l3 + cp/2`, `l1 = l2 + cl`), scaled so the
 ///   largest semi-axis is `0.5 + 0.1 cos(pi u_y) cos(pi u_z)`: neighbours nearly touch and
