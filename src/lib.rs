@@ -30,6 +30,7 @@
 #![deny(missing_docs)]
 
 pub mod bench;
+pub mod bounds;
 pub mod camera;
 pub mod cli;
 pub mod compare;
