@@ -22,17 +22,25 @@ pub struct ContextOptions {
     pub synchronization_validation: bool,
     /// Also enable GPU-assisted validation (needs `validation`; slow, can hang on layer 1.3.239).
     pub gpu_assisted_validation: bool,
+    /// Also enable the best-practices checks (needs `validation`); their warnings count as
+    /// messages like any other.
+    pub best_practices_validation: bool,
     /// Choose a device by index or by a substring of its name; `None` prefers a real GPU.
     /// The environment variable `ELLIPSOID_SPLAT_DEVICE` is used when this is `None`.
     pub device: Option<String>,
 }
 
 impl ContextOptions {
-    /// Validation with synchronization checks, as every test runs.
+    /// Validation with synchronization checks, as every test runs. The opt-in runs of
+    /// `scripts/validation-modes.sh` add GPU-assisted validation or the best-practices checks
+    /// through `ELLIPSOID_SPLAT_EXTRA_VALIDATION` (`gpu-assisted` or `best-practices`).
     pub fn validated() -> Self {
+        let extra = std::env::var("ELLIPSOID_SPLAT_EXTRA_VALIDATION").unwrap_or_default();
         Self {
             validation: true,
             synchronization_validation: true,
+            gpu_assisted_validation: extra == "gpu-assisted",
+            best_practices_validation: extra == "best-practices",
             ..Self::default()
         }
     }
@@ -106,6 +114,9 @@ impl Context {
             }
             if options.gpu_assisted_validation {
                 enabled_features.push(vk::ValidationFeatureEnableEXT::GPU_ASSISTED);
+            }
+            if options.best_practices_validation {
+                enabled_features.push(vk::ValidationFeatureEnableEXT::BEST_PRACTICES);
             }
         }
         let mut validation_features =

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# The opt-in validation runs (not part of the default suite): the whole test suite again with
+# GPU-assisted validation, then with the best-practices checks, each message printed as it
+# arrives. Prints each run's outcome and the distinct message IDs with their counts.
+# Usage: bash scripts/validation-modes.sh [minutes per run, default 30]
+set -uo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+source "$here/scripts/setup.sh"
+cd "$here"
+minutes="${1:-30}"
+cargo test --release --no-run >/dev/null 2>&1 || { echo "build failed"; exit 1; }
+for mode in gpu-assisted best-practices; do
+    log="target/validation-$mode.log"
+    echo "== $mode (up to $minutes min) =="
+    start=$(date +%s)
+    ELLIPSOID_SPLAT_EXTRA_VALIDATION="$mode" ELLIPSOID_SPLAT_PRINT_VALIDATION=1 \
+        timeout "${minutes}m" cargo test --release -- --test-threads=1 >"$log" 2>&1
+    status=$?
+    echo "exit status $status after $(( $(date +%s) - start )) s (124: timed out); log: $log"
+    grep -E "^test result" "$log" | awk '{p+=$4; f+=$6} END {print "tests passed", p, "failed", f}'
+    echo "distinct messages (count, ID):"
+    grep -oE "\[(ERROR|WARNING|INFO|VERBOSE)\] [A-Za-z0-9_:-]+" "$log" | sort | uniq -c | sort -rn
+done
