@@ -32,8 +32,11 @@ fn main() {
         }
         for (spv, define) in builds {
             let mut command = Command::new(&tool);
+            // Compute shaders target SPIR-V 1.6 (Vulkan 1.3), whose LocalSizeId replaces the
+            // WorkgroupSize built-in that 1.6 deprecates (a best-practices warning).
+            let env = if ext == "comp" { "vulkan1.3" } else { "vulkan1.2" };
             command
-                .args(["-V", "--target-env", "vulkan1.2", "--spirv-val"])
+                .args(["-V", "--target-env", env, "--spirv-val"])
                 .arg(format!("-I{}", glsl.join("include").display()));
             if let Some(define) = define {
                 command.arg(define);

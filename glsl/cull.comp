@@ -21,7 +21,10 @@
 #include "setup_records.glsl"
 #include "occlusion_tiles.glsl"
 
+// The workgroup size, named here rather than read from gl_WorkGroupSize (a built-in SPIR-V
+// 1.6 deprecates).
 layout(local_size_x = 256) in;
+const uint GROUP = 256u;
 
 layout(constant_id = 6) const bool CULL_FRUSTUM = true;
 layout(constant_id = 7) const bool CULL_PIXEL_CENTRES = true;
@@ -59,7 +62,7 @@ uint group_index() {
     return gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
 }
 uint group_count() {
-    return (total + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
+    return (total + GROUP - 1u) / GROUP;
 }
 
 // The pixel centres inside an NDC rectangle with y up: (first column, first row, last column,
@@ -281,7 +284,7 @@ void classify(uint group, uint index) {
     }
 }
 
-shared uint block_sums[gl_WorkGroupSize.x];
+shared uint block_sums[GROUP];
 
 // One workgroup: each lane sums a run of consecutive groups, the runs are prefixed, then each
 // lane rewrites its groups' counts as first slots.
@@ -289,7 +292,7 @@ void scan() {
     uint lane = gl_LocalInvocationIndex;
     uint n = group_count();
     uint base = n * 8u;
-    uint per = (n + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
+    uint per = (n + GROUP - 1u) / GROUP;
     uint first = min(lane * per, n), last = min(first + per, n);
     uint sum = 0u;
     for (uint g = first; g < last; g++) {
@@ -299,7 +302,7 @@ void scan() {
     barrier();
     if (lane == 0u) {
         uint running = 0u;
-        for (uint l = 0u; l < gl_WorkGroupSize.x; l++) {
+        for (uint l = 0u; l < GROUP; l++) {
             uint s = block_sums[l];
             block_sums[l] = running;
             running += s;
@@ -338,7 +341,7 @@ void main() {
     if (group >= group_count()) {
         return; // the whole workgroup: the dispatch grid's padding
     }
-    uint index = group * gl_WorkGroupSize.x + gl_LocalInvocationIndex;
+    uint index = group * GROUP + gl_LocalInvocationIndex;
     if (CULL_STEP == STEP_OCCLUDERS) {
         if (index < total) {
             write_occluder(index);

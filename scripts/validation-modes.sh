@@ -14,7 +14,7 @@ for mode in gpu-assisted best-practices; do
     echo "== $mode (up to $minutes min) =="
     start=$(date +%s)
     ELLIPSOID_SPLAT_EXTRA_VALIDATION="$mode" ELLIPSOID_SPLAT_PRINT_VALIDATION=1 \
-        timeout "${minutes}m" cargo test --release -- --test-threads=1 >"$log" 2>&1
+        timeout "${minutes}m" cargo test --release --no-fail-fast -- --test-threads=1 >"$log" 2>&1
     status=$?
     echo "exit status $status after $(( $(date +%s) - start )) s (124: timed out); log: $log"
     grep -E "^test result" "$log" | awk '{p+=$4; f+=$6} END {print "tests passed", p, "failed", f}'

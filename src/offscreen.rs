@@ -100,9 +100,7 @@ impl OffscreenRenderer {
     fn create_objects(&mut self) -> Result<()> {
         let (_, family) = self.context.queue();
         let (device, allocator) = self.context.device_and_allocator();
-        let info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        let info = vk::CommandPoolCreateInfo::default().queue_family_index(family);
         // SAFETY: valid create info; owned by `self`, destroyed in `Drop`.
         self.command_pool =
             unsafe { device.create_command_pool(&info, None) }.call("vkCreateCommandPool")?;
@@ -380,12 +378,13 @@ impl OffscreenRenderer {
         } else {
             vec![&targets.color]
         };
-        // SAFETY: the command buffer is not pending (every submit is waited for); all recorded
+        // SAFETY: the pool's one command buffer is not pending (every submit is waited for), so
+        // the pool may be reset (best practice over resetting the buffer); all recorded
         // handles are owned by `self` and live until the submission completes.
         unsafe {
             device
-                .reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
-                .call("vkResetCommandBuffer")?;
+                .reset_command_pool(self.command_pool, vk::CommandPoolResetFlags::empty())
+                .call("vkResetCommandPool")?;
             let begin = vk::CommandBufferBeginInfo::default()
                 .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
             device

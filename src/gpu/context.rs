@@ -406,6 +406,10 @@ fn create_device(
     if supported13.dynamic_rendering == vk::FALSE {
         return Err(Error::NoDevice("device lacks dynamicRendering".into()));
     }
+    // The culling pre-pass is SPIR-V 1.6 with a LocalSizeId workgroup size.
+    if supported13.maintenance4 == vk::FALSE {
+        return Err(Error::NoDevice("device lacks maintenance4".into()));
+    }
     let enabled = EnabledFeatures {
         pipeline_statistics: supported.pipeline_statistics_query == vk::TRUE,
         fragment_stores_and_atomics: supported.fragment_stores_and_atomics == vk::TRUE,
@@ -416,6 +420,7 @@ fn create_device(
         .sample_rate_shading(supported.sample_rate_shading == vk::TRUE);
     let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
         .dynamic_rendering(true)
+        .maintenance4(true)
         .synchronization2(supported13.synchronization2 == vk::TRUE);
     let priorities = [1.0f32];
     let queues = [vk::DeviceQueueCreateInfo::default()
