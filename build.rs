@@ -34,7 +34,11 @@ fn main() {
             let mut command = Command::new(&tool);
             // Compute shaders target SPIR-V 1.6 (Vulkan 1.3), whose LocalSizeId replaces the
             // WorkgroupSize built-in that 1.6 deprecates (a best-practices warning).
-            let env = if ext == "comp" { "vulkan1.3" } else { "vulkan1.2" };
+            let env = if ext == "comp" {
+                "vulkan1.3"
+            } else {
+                "vulkan1.2"
+            };
             command
                 .args(["-V", "--target-env", env, "--spirv-val"])
                 .arg(format!("-I{}", glsl.join("include").display()));

@@ -38,6 +38,7 @@ pub mod culling;
 pub mod draw;
 pub mod ellipsoid;
 pub mod error;
+pub mod features;
 pub mod frame;
 pub mod reference;
 pub mod report;

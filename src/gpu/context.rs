@@ -403,12 +403,12 @@ fn create_device(
     let mut supported2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut supported13);
     // SAFETY: as above; the chain points at locals.
     unsafe { instance.get_physical_device_features2(pd, &mut supported2) };
-    if supported13.dynamic_rendering == vk::FALSE {
-        return Err(Error::NoDevice("device lacks dynamicRendering".into()));
-    }
-    // The culling pre-pass is SPIR-V 1.6 with a LocalSizeId workgroup size.
-    if supported13.maintenance4 == vk::FALSE {
-        return Err(Error::NoDevice("device lacks maintenance4".into()));
+    let missing = crate::features::missing_features(&supported13);
+    if !missing.is_empty() {
+        return Err(Error::NoDevice(format!(
+            "device lacks {}",
+            missing.join(", ")
+        )));
     }
     let enabled = EnabledFeatures {
         pipeline_statistics: supported.pipeline_statistics_query == vk::TRUE,
@@ -418,9 +418,7 @@ fn create_device(
         .pipeline_statistics_query(enabled.pipeline_statistics)
         .fragment_stores_and_atomics(enabled.fragment_stores_and_atomics)
         .sample_rate_shading(supported.sample_rate_shading == vk::TRUE);
-    let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
-        .dynamic_rendering(true)
-        .maintenance4(true)
+    let mut features13 = crate::features::required_vulkan13_features()
         .synchronization2(supported13.synchronization2 == vk::TRUE);
     let priorities = [1.0f32];
     let queues = [vk::DeviceQueueCreateInfo::default()
