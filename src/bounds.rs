@@ -112,7 +112,9 @@ impl ViewEllipsoid {
             let lead = s_zz - cz * cz;
             let half_b = s_iz - ci * cz;
             let c0 = s_ii - ci * ci;
-            let disc = half_b * half_b - lead * c0;
+            // half_b^2 - lead c0 expanded so the large c_i^2 cz^2 terms cancel exactly.
+            let disc = s_zz * ci * ci - 2.0 * s_iz * ci * cz + s_ii * cz * cz
+                - (s_ii * s_zz - s_iz * s_iz);
             if disc >= 0.0 {
                 let q = half_b + disc.sqrt().copysign(half_b);
                 for k in [q / lead, c0 / q] {

@@ -166,7 +166,8 @@ struct MeshBuffers {
 }
 
 impl EllipsoidRenderer {
-    /// Creates the descriptor and pipeline layouts; pipelines are built on first use of each
+    /// The device must have the features of [`crate::features::required_vulkan13_features`]
+    /// enabled (dynamicRendering, maintenance4). Creates the descriptor and pipeline layouts; pipelines are built on first use of each
     /// variant (projection kind x intersection), so a scene pays only for what it draws.
     pub fn new(
         device: &ash::Device,
