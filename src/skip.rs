@@ -109,13 +109,7 @@ impl Feature {
 
     /// Puts the renderer in the feature's on or off state (everything else as shipped).
     fn apply(self, renderer: &mut OffscreenRenderer, on: bool) {
-        renderer.set_culling(Culling::ON);
-        renderer.set_timed_aux_outputs(false);
-        renderer.set_setup_in_prepass(true);
-        renderer.set_footprint(Footprint::Auto);
-        renderer.set_small_glyph_triangles(false);
-        renderer.set_sphere_path(true);
-        renderer.set_cap_free_path(true);
+        reset_to_shipped(renderer);
         match self {
             Feature::FrustumCulling => renderer.set_culling(Culling {
                 frustum: on,
@@ -137,6 +131,17 @@ impl Feature {
             Feature::FrontToBack => {}
         }
     }
+}
+
+/// Every skippable piece as shipped.
+fn reset_to_shipped(renderer: &mut OffscreenRenderer) {
+    renderer.set_culling(Culling::ON);
+    renderer.set_timed_aux_outputs(false);
+    renderer.set_setup_in_prepass(true);
+    renderer.set_footprint(Footprint::Auto);
+    renderer.set_small_glyph_triangles(false);
+    renderer.set_sphere_path(true);
+    renderer.set_cap_free_path(true);
 }
 
 /// One scene of the skip benchmark.
@@ -358,13 +363,7 @@ pub fn run(
         }
     }
     progress.finish();
-    renderer.set_culling(Culling::ON);
-    renderer.set_timed_aux_outputs(false);
-    renderer.set_setup_in_prepass(true);
-    renderer.set_footprint(Footprint::Auto);
-    renderer.set_small_glyph_triangles(false);
-    renderer.set_sphere_path(true);
-    renderer.set_cap_free_path(true);
+    reset_to_shipped(renderer);
     Ok(results)
 }
 
