@@ -55,5 +55,5 @@ void main() {
     v_flags = FLAG_MAY_CAP;
     v_id = uint(gl_InstanceIndex);
     v_color = srgb_to_linear(unpackUnorm4x8(inst.color).rgb);
-    gl_Position = vec4(v.x / cam.right_sx.w, -v.y / cam.up_sy.w, cam.eye_near.w, v.z);
+    gl_Position = vec4(v.x / cam.right_sx.w, -v.y / cam.up_sy.w, depth_clip_z(v.z), v.z);
 }

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // `mesh-L*`: an icosphere per instance, the tessellation users pick instead of impostors.
-// Perspective only: clip = (x/sx, -y/sy, near, z) gives reversed-Z depth near / z directly.
+// Perspective only: clip = (x/sx, -y/sy, depth_clip_z(z), z) gives depth_value(z) directly.
 #include "ellipsoid_common.glsl"
 
 layout(location = 0) in vec3 in_position; // on the unit sphere: parameter-space point and normal
@@ -20,5 +20,5 @@ void main() {
     v_normal = R * (in_position / radii);
     v_id = uint(gl_InstanceIndex);
     v_color = srgb_to_linear(unpackUnorm4x8(inst.color).rgb);
-    gl_Position = vec4(v.x / cam.right_sx.w, -v.y / cam.up_sy.w, cam.eye_near.w, v.z);
+    gl_Position = vec4(v.x / cam.right_sx.w, -v.y / cam.up_sy.w, depth_clip_z(v.z), v.z);
 }

@@ -8,6 +8,7 @@
 
 use glam::DVec3;
 
+use crate::depth::{DepthConvention, DepthMap};
 use crate::error::{Error, Result};
 
 /// How the view volume is shaped.
@@ -42,6 +43,8 @@ pub struct Camera {
     pub width: u32,
     /// Image height in pixels.
     pub height: u32,
+    /// How view depth maps to the depth buffer (reversed Z, infinite far plane unless set).
+    pub depth: DepthConvention,
 }
 
 /// The orthonormal camera frame: right, up, forward.
@@ -84,9 +87,22 @@ impl Camera {
             near,
             width,
             height,
+            depth: DepthConvention::default(),
         };
         camera.validate()?;
         Ok(camera)
+    }
+
+    /// This camera with the depth convention `depth`, checked.
+    pub fn with_depth(self, depth: DepthConvention) -> Result<Self> {
+        let camera = Self { depth, ..self };
+        camera.validate()?;
+        Ok(camera)
+    }
+
+    /// The map from view depth to depth-buffer value of this camera.
+    pub fn depth_map(&self) -> DepthMap {
+        self.depth.map(self.near, self.is_orthographic())
     }
 
     /// Checks every field; called by `new` and by the renderers before use.
@@ -123,6 +139,7 @@ impl Camera {
                 format!("{}x{} is outside 1..=16384", self.width, self.height),
             ));
         }
+        self.depth.validate(self.near)?;
         match self.projection {
             Projection::Perspective { fov_y_deg } => {
                 if !(fov_y_deg.is_finite() && fov_y_deg > 0.0 && fov_y_deg < 180.0) {

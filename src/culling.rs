@@ -3,6 +3,8 @@
 
 use ash::vk;
 
+use crate::barriers;
+
 /// Which exact culling the pre-pass does before the draw (none: no pre-pass). Nothing culled
 /// can change a pixel: see `glsl/cull.comp`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -95,13 +97,11 @@ pub(crate) fn steps(culling: Culling) -> Vec<CullStep> {
     steps
 }
 
-/// The buffers the pre-pass writes (bindings 2-7 of the renderer's descriptor set).
+/// The buffers the pre-pass fills with transfer commands (the rest it writes through the
+/// descriptor set).
 pub(crate) struct PrepassBuffers {
-    pub visible: vk::Buffer,
     pub indirect: vk::Buffer,
     pub tiles: vk::Buffer,
-    pub shading: vk::Buffer,
-    pub footprints: vk::Buffer,
 }
 
 /// One frame's pre-pass, ready to record.
@@ -120,20 +120,6 @@ pub(crate) struct Prepass {
     pub buffers: PrepassBuffers,
 }
 
-/// A barrier over the whole of `buffer`.
-fn whole(
-    buffer: vk::Buffer,
-    src: vk::AccessFlags,
-    dst: vk::AccessFlags,
-) -> vk::BufferMemoryBarrier<'static> {
-    vk::BufferMemoryBarrier::default()
-        .src_access_mask(src)
-        .dst_access_mask(dst)
-        .buffer(buffer)
-        .offset(0)
-        .size(vk::WHOLE_SIZE)
-}
-
 impl Prepass {
     /// Records the pre-pass with its barriers: after the previous frame's draw (its reads)
     /// and pre-pass (its writes); the indirect command written with `vkCmdUpdateBuffer` and
@@ -145,70 +131,16 @@ impl Prepass {
     /// the submission completes.
     pub unsafe fn record(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
         let b = &self.buffers;
-        // The reads need only the execution dependency, the writes a memory one too.
-        let rewritten = [vk::MemoryBarrier::default()
-            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-            .dst_access_mask(
-                vk::AccessFlags::TRANSFER_WRITE
-                    | vk::AccessFlags::SHADER_READ
-                    | vk::AccessFlags::SHADER_WRITE,
-            )];
-        let written = vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE;
-        let cleared = [
-            whole(b.indirect, vk::AccessFlags::TRANSFER_WRITE, written),
-            whole(b.tiles, vk::AccessFlags::TRANSFER_WRITE, written),
-        ];
-        let produced = [
-            whole(
-                b.visible,
-                vk::AccessFlags::SHADER_WRITE,
-                vk::AccessFlags::SHADER_READ,
-            ),
-            whole(
-                b.indirect,
-                vk::AccessFlags::SHADER_WRITE,
-                vk::AccessFlags::INDIRECT_COMMAND_READ,
-            ),
-            whole(
-                b.footprints,
-                vk::AccessFlags::SHADER_WRITE,
-                vk::AccessFlags::SHADER_READ,
-            ),
-            whole(
-                b.shading,
-                vk::AccessFlags::SHADER_WRITE,
-                vk::AccessFlags::SHADER_READ,
-            ),
-        ];
         // SAFETY: the caller guarantees the command buffer's state and the handles' lifetime;
-        // every barrier and region lies within the buffers.
+        // every region lies within the buffers.
         unsafe {
-            device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::DRAW_INDIRECT
-                    | vk::PipelineStageFlags::VERTEX_SHADER
-                    | vk::PipelineStageFlags::FRAGMENT_SHADER
-                    | vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::DependencyFlags::empty(),
-                &rewritten,
-                &[],
-                &[],
-            );
+            barriers::PREPASS_AFTER_PREVIOUS_FRAME.record(device, cmd);
             device.cmd_update_buffer(cmd, b.indirect, 0, &self.command);
             if self.clear_tiles {
                 // +inf: no surface known in front of any tile yet.
                 device.cmd_fill_buffer(cmd, b.tiles, 0, vk::WHOLE_SIZE, f32::INFINITY.to_bits());
             }
-            device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::DependencyFlags::empty(),
-                &[],
-                &cleared[..if self.clear_tiles { 2 } else { 1 }],
-                &[],
-            );
+            barriers::PREPASS_CLEARED.record(device, cmd);
             device.cmd_bind_descriptor_sets(
                 cmd,
                 vk::PipelineBindPoint::COMPUTE,
@@ -226,7 +158,7 @@ impl Prepass {
             );
             for (k, &(step, pipeline)) in self.steps.iter().enumerate() {
                 if k > 0 {
-                    record_compute_to_compute(device, cmd);
+                    barriers::PREPASS_STEP.record(device, cmd);
                 }
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
                 match step {
@@ -234,39 +166,9 @@ impl Prepass {
                     _ => device.cmd_dispatch(cmd, self.groups.0, self.groups.1, 1),
                 }
             }
-            device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::COMPUTE_SHADER,
-                vk::PipelineStageFlags::DRAW_INDIRECT
-                    | vk::PipelineStageFlags::VERTEX_SHADER
-                    | vk::PipelineStageFlags::FRAGMENT_SHADER,
-                vk::DependencyFlags::empty(),
-                &[],
-                &produced,
-                &[],
-            );
+            barriers::PREPASS_TO_DRAW.record(device, cmd);
         }
     }
-}
-
-/// A barrier making one compute step's storage writes visible to the next.
-fn record_compute_to_compute(device: &ash::Device, cmd: vk::CommandBuffer) {
-    let barrier = vk::MemoryBarrier::default()
-        .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-        .dst_access_mask(vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE);
-    // SAFETY: `cmd` is recording outside a pass (the caller of `Prepass::record`); a global
-    // memory barrier references no object.
-    unsafe {
-        device.cmd_pipeline_barrier(
-            cmd,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::PipelineStageFlags::COMPUTE_SHADER,
-            vk::DependencyFlags::empty(),
-            &[barrier],
-            &[],
-            &[],
-        )
-    };
 }
 
 #[cfg(test)]

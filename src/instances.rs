@@ -6,6 +6,7 @@
 
 use glam::DVec3;
 
+use crate::ellipsoid::Ellipsoid;
 use crate::error::{Error, Result};
 use crate::scene::Scene;
 
@@ -53,10 +54,21 @@ pub fn pack_instances(scene: &Scene) -> Result<PackedInstances> {
         .bounds()
         .map(|(lo, hi)| (lo + hi) * 0.5)
         .unwrap_or(DVec3::ZERO);
-    let mut bytes = Vec::with_capacity(INSTANCE_BYTES * scene.len());
+    pack_relative(&scene.ellipsoids, origin, 0)
+}
+
+/// Packs `ellipsoids` relative to `origin` (an update of instances `first..` of a scene
+/// already on the GPU keeps its origin); errors name the scene index `first + k`.
+pub fn pack_relative(
+    ellipsoids: &[Ellipsoid],
+    origin: DVec3,
+    first: usize,
+) -> Result<PackedInstances> {
+    let mut bytes = Vec::with_capacity(INSTANCE_BYTES * ellipsoids.len());
     let mut all_spheres = true;
     let mut extent: Option<(DVec3, DVec3)> = None;
-    for (index, e) in scene.ellipsoids.iter().enumerate() {
+    for (k, e) in ellipsoids.iter().enumerate() {
+        let index = first + k;
         let c = (e.center - origin).as_vec3();
         let r = e.radii.as_vec3();
         let sphere = r.x == r.y && r.y == r.z;
@@ -94,7 +106,7 @@ pub fn pack_instances(scene: &Scene) -> Result<PackedInstances> {
     Ok(PackedInstances {
         origin,
         bytes,
-        all_spheres: all_spheres && !scene.is_empty(),
+        all_spheres: all_spheres && !ellipsoids.is_empty(),
         extent,
     })
 }
@@ -102,7 +114,6 @@ pub fn pack_instances(scene: &Scene) -> Result<PackedInstances> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ellipsoid::Ellipsoid;
     use glam::DQuat;
 
     #[test]

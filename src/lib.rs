@@ -29,17 +29,21 @@
 
 #![deny(missing_docs)]
 
+pub mod barriers;
 pub mod bench;
 pub mod bounds;
 pub mod camera;
 pub mod cli;
 pub mod compare;
 pub mod culling;
+pub mod depth;
 pub mod draw;
 pub mod ellipsoid;
 pub mod error;
 pub mod features;
 pub mod frame;
+mod frame_slots;
+mod host_camera;
 pub mod reference;
 pub mod report;
 pub mod scene;
@@ -47,6 +51,7 @@ pub mod skip;
 pub mod stress;
 
 pub use camera::{Camera, Projection};
+pub use depth::DepthConvention;
 pub use ellipsoid::Ellipsoid;
 pub use error::{Error, Result};
 pub use frame::{Frame, NO_INSTANCE};
@@ -58,6 +63,7 @@ pub mod offscreen;
 pub mod output;
 mod pipeline;
 pub mod renderer;
+pub mod target;
 
 pub use offscreen::OffscreenRenderer;
 pub use renderer::EllipsoidRenderer;

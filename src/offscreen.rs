@@ -14,7 +14,8 @@ use crate::gpu::image::full_range;
 use crate::gpu::queries::{FrameQueries, QueryResults};
 use crate::gpu::{Context, ContextOptions, GpuBuffer, GpuImage};
 use crate::renderer::{
-    Culling, EllipsoidRenderer, Material, TargetFormats, ID_FORMAT, NORMAL_FORMAT,
+    Culling, EllipsoidRenderer, HostDevice, Material, Pass, RendererOptions, Target, ID_FORMAT,
+    NORMAL_FORMAT,
 };
 use crate::scene::Scene;
 
@@ -99,7 +100,7 @@ impl OffscreenRenderer {
 
     fn create_objects(&mut self) -> Result<()> {
         let (_, family) = self.context.queue();
-        let (device, allocator) = self.context.device_and_allocator();
+        let device = self.context.device();
         let info = vk::CommandPoolCreateInfo::default().queue_family_index(family);
         // SAFETY: valid create info; owned by `self`, destroyed in `Drop`.
         self.command_pool =
@@ -114,12 +115,22 @@ impl OffscreenRenderer {
         // SAFETY: valid create info; owned by `self`.
         self.fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
             .call("vkCreateFence")?;
-        let formats = TargetFormats {
-            color: COLOR_FORMAT,
-            depth: DEPTH_FORMAT,
-            aux_outputs: true,
+        // ash's instance and device are tables of function pointers: cheap to clone.
+        let (instance, device) = (
+            self.context.instance().clone(),
+            self.context.device().clone(),
+        );
+        let host = HostDevice {
+            instance: &instance,
+            physical_device: self.context.physical_device(),
+            device: &device,
+            queue_family_index: family,
         };
-        self.renderer = Some(EllipsoidRenderer::new(device, allocator, formats)?);
+        let (_, allocator) = self.context.device_and_allocator();
+        // SAFETY: the context's handles belong together and have the required features.
+        let renderer =
+            unsafe { EllipsoidRenderer::new(&host, allocator, RendererOptions::new(target(true))) };
+        self.renderer = Some(renderer?);
         let info = self.context.info();
         let (statistics, period) = (info.pipeline_statistics, info.timestamp_period);
         self.queries = Some(FrameQueries::new(
@@ -213,14 +224,47 @@ impl OffscreenRenderer {
             .expect("renderer exists after construction")
     }
 
-    /// Uploads the scene's instances (replacing the previous scene).
+    /// Uploads the scene's instances (replacing the previous scene), in a submission of its
+    /// own.
     pub fn upload(&mut self, scene: &Scene) -> Result<()> {
+        let cmd = self.begin_commands()?;
         let renderer = self
             .renderer
             .as_mut()
             .expect("renderer exists after construction");
         let (device, allocator) = self.context.device_and_allocator();
-        renderer.upload(device, allocator, scene)
+        // SAFETY: `cmd` is recording outside a pass; it is submitted and waited for below.
+        let recorded = unsafe { renderer.upload(device, allocator, cmd, scene) };
+        // SAFETY: `cmd` is recording.
+        unsafe { device.end_command_buffer(cmd) }.call("vkEndCommandBuffer")?;
+        recorded?;
+        self.submit_and_wait()
+    }
+
+    /// Starts the renderer's frame (every earlier submission was waited for) and begins the
+    /// one command buffer.
+    fn begin_commands(&mut self) -> Result<vk::CommandBuffer> {
+        let cmd = self.command_buffer;
+        let renderer = self
+            .renderer
+            .as_mut()
+            .expect("renderer exists after construction");
+        let (device, allocator) = self.context.device_and_allocator();
+        // SAFETY: every submit is waited for, so nothing recorded earlier is pending: the
+        // renderer's one frame slot may begin and the pool may be reset (best practice over
+        // resetting the buffer).
+        unsafe {
+            renderer.begin_frame(device, allocator, 0)?;
+            device
+                .reset_command_pool(self.command_pool, vk::CommandPoolResetFlags::empty())
+                .call("vkResetCommandPool")?;
+            let begin = vk::CommandBufferBeginInfo::default()
+                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            device
+                .begin_command_buffer(cmd, &begin)
+                .call("vkBeginCommandBuffer")?;
+        }
+        Ok(cmd)
     }
 
     /// Uploads `scene` and renders it with `camera`.
@@ -259,7 +303,7 @@ impl OffscreenRenderer {
                 .as_mut()
                 .expect("renderer exists after construction");
             let (device, allocator) = self.context.device_and_allocator();
-            renderer.set_aux_outputs(readback || self.timed_aux);
+            renderer.set_target(target(readback || self.timed_aux))?;
             renderer.count_fragments = readback && counting;
             renderer.reset_fragment_counter()?;
             renderer.prepare(device, allocator, camera)?;
@@ -360,9 +404,9 @@ impl OffscreenRenderer {
     }
 
     fn record(&mut self, camera: &Camera, extent: vk::Extent2D, readback: bool) -> Result<()> {
+        let cmd = self.begin_commands()?;
         let (device, allocator) = self.context.device_and_allocator();
         let queries = self.queries.as_ref();
-        let cmd = self.command_buffer;
         let targets = self
             .targets
             .as_ref()
@@ -378,18 +422,9 @@ impl OffscreenRenderer {
         } else {
             vec![&targets.color]
         };
-        // SAFETY: the pool's one command buffer is not pending (every submit is waited for), so
-        // the pool may be reset (best practice over resetting the buffer); all recorded
-        // handles are owned by `self` and live until the submission completes.
+        // SAFETY: `cmd` is recording (begin_commands) outside a pass; all recorded handles are
+        // owned by `self` and live until the submission, which is waited for, completes.
         unsafe {
-            device
-                .reset_command_pool(self.command_pool, vk::CommandPoolResetFlags::empty())
-                .call("vkResetCommandPool")?;
-            let begin = vk::CommandBufferBeginInfo::default()
-                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-            device
-                .begin_command_buffer(cmd, &begin)
-                .call("vkBeginCommandBuffer")?;
             if let Some(q) = queries {
                 q.begin(device, cmd);
             }
@@ -461,7 +496,7 @@ impl OffscreenRenderer {
                 .store_op(vk::AttachmentStoreOp::STORE)
                 .clear_value(vk::ClearValue {
                     depth_stencil: vk::ClearDepthStencilValue {
-                        depth: 0.0,
+                        depth: camera.depth.clear_value(),
                         stencil: 0,
                     },
                 });
@@ -618,7 +653,8 @@ impl OffscreenRenderer {
             let at = base as usize + 4 * i;
             [bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]
         };
-        let near = camera.near;
+        let map = camera.depth_map();
+        let far_value = camera.depth.clear_value();
         let mut frame = Frame {
             width: extent.width,
             height: extent.height,
@@ -629,10 +665,10 @@ impl OffscreenRenderer {
         };
         for i in 0..pixels {
             frame.color.push(word(offsets[0], i));
-            // Reversed-Z stores near / view depth; 0 (the clear value) is infinitely far.
+            // The clear value is "nothing here": infinitely far.
             let z = f32::from_ne_bytes(word(offsets[1], i));
-            frame.depth.push(if z > 0.0 {
-                (near / z as f64) as f32
+            frame.depth.push(if z != far_value {
+                map.view_depth(z as f64) as f32
             } else {
                 f32::INFINITY
             });
@@ -682,7 +718,8 @@ impl OffscreenRenderer {
         let (pool, fence) = (self.command_pool, self.fence);
         let (device, allocator) = self.context.device_and_allocator();
         if let Some(r) = renderer {
-            r.destroy(device, allocator);
+            // SAFETY: the device is idle (waited above).
+            unsafe { r.destroy(device, allocator) };
         }
         if let Some(t) = targets {
             for image in [t.color, t.depth, t.normal, t.id] {
@@ -704,5 +741,22 @@ impl OffscreenRenderer {
 impl Drop for OffscreenRenderer {
     fn drop(&mut self) {
         self.release();
+    }
+}
+
+/// The offscreen pass: colour and depth, plus the normal and ID targets with `aux_outputs`.
+fn target(aux_outputs: bool) -> Target {
+    let color_formats = if aux_outputs {
+        vec![COLOR_FORMAT, NORMAL_FORMAT, ID_FORMAT]
+    } else {
+        vec![COLOR_FORMAT]
+    };
+    Target {
+        pass: Pass::Dynamic {
+            color_formats,
+            depth_format: DEPTH_FORMAT,
+        },
+        samples: vk::SampleCountFlags::TYPE_1,
+        aux_outputs,
     }
 }

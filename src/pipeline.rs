@@ -6,15 +6,17 @@ use crate::culling::{CullStep, Culling};
 use crate::draw::{DrawConfig, Geometry, Intersection, Shading};
 use crate::error::{Error, Result};
 use crate::gpu::shaders;
-use crate::renderer::{TargetFormats, ID_FORMAT, NORMAL_FORMAT};
+use crate::target::{Pass, Target};
 
 /// What a pipeline is specialised for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub(crate) struct PipelineKey {
     pub orthographic: bool,
     pub config: DrawConfig,
-    /// The pass has the normal and ID attachments (and the shaders write them).
-    pub aux_outputs: bool,
+    /// Index of the renderer's `Target` the pipeline draws into.
+    pub target: usize,
+    /// Reversed Z (compare `GREATER`, `depth_less`) or standard (`LESS`, `depth_greater`).
+    pub reversed_z: bool,
     /// Fragment shaders count shaded pixels into binding 1.
     pub count_fragments: bool,
     /// The vertex stage reads instance indices compacted by the culling pre-pass.
@@ -70,16 +72,18 @@ fn stage_code(key: &PipelineKey) -> (&'static [u8], &'static [u8]) {
     }
 }
 
-/// Creates the pipeline; the caller owns it.
+/// Creates the pipeline for `key`, drawing into `target`; the caller owns it.
 pub(crate) fn create_pipeline(
     device: &ash::Device,
+    cache: vk::PipelineCache,
     layout: vk::PipelineLayout,
-    formats: TargetFormats,
+    target: &Target,
     key: PipelineKey,
 ) -> Result<vk::Pipeline> {
     let (vert_code, frag_code) = stage_code(&key);
     let vert = shaders::create_module(device, vert_code)?;
-    let frag = match shaders::create_module(device, frag_code) {
+    // The fragment shaders declare `depth_less` (reversed Z); standard Z needs the mirror.
+    let frag = match shaders::create_fragment_module(device, frag_code, key.reversed_z) {
         Ok(m) => m,
         Err(e) => {
             // SAFETY: just created, unused.
@@ -87,11 +91,7 @@ pub(crate) fn create_pipeline(
             return Err(e);
         }
     };
-    let formats = TargetFormats {
-        aux_outputs: key.aux_outputs,
-        ..formats
-    };
-    let result = build(device, layout, formats, key, vert, frag);
+    let result = build(device, cache, layout, target, key, vert, frag);
     // SAFETY: modules are no longer needed once pipeline creation returned.
     unsafe {
         device.destroy_shader_module(vert, None);
@@ -102,8 +102,9 @@ pub(crate) fn create_pipeline(
 
 fn build(
     device: &ash::Device,
+    cache: vk::PipelineCache,
     layout: vk::PipelineLayout,
-    formats: TargetFormats,
+    target: &Target,
     key: PipelineKey,
     vert: vk::ShaderModule,
     frag: vk::ShaderModule,
@@ -115,7 +116,7 @@ fn build(
     // declare.
     let values: [u32; 9] = [
         key.orthographic as u32,
-        formats.aux_outputs as u32,
+        target.aux_outputs as u32,
         (config.intersection == Intersection::Textbook) as u32,
         config.footprint.bounds_mode(),
         config.footprint.vertices(),
@@ -186,32 +187,39 @@ fn build(
         .cull_mode(cull)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
+    // Multisampled: every sample runs the fragment shader at its own position (gl_FragCoord
+    // is the sample's), so coverage and depth are exact per sample.
     let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-    // Reversed-Z: larger is nearer, cleared to 0 (infinitely far). Flat fill tests nothing.
+        .rasterization_samples(target.samples)
+        .sample_shading_enable(target.multisampled())
+        .min_sample_shading(1.0);
+    // Reversed Z: larger is nearer; standard Z: smaller. Flat fill tests nothing.
     let depth_on = config.shading != Shading::FlatFill || config.geometry != Geometry::Impostor;
+    let compare = if key.reversed_z {
+        vk::CompareOp::GREATER
+    } else {
+        vk::CompareOp::LESS
+    };
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(depth_on)
         .depth_write_enable(depth_on)
-        .depth_compare_op(vk::CompareOp::GREATER);
-    let attachment_count = if formats.aux_outputs { 3 } else { 1 };
-    let blend_attachments = vec![
-        vk::PipelineColorBlendAttachmentState::default()
-            .color_write_mask(vk::ColorComponentFlags::RGBA);
-        attachment_count
-    ];
+        .depth_compare_op(compare);
+    // Attachment 0, and 1-2 with aux outputs; the pass's other attachments are left alone.
+    let written = if target.aux_outputs { 3 } else { 1 };
+    let blend_attachments: Vec<_> = (0..target.color_attachment_count())
+        .map(|k| {
+            let mask = if k < written {
+                vk::ColorComponentFlags::RGBA
+            } else {
+                vk::ColorComponentFlags::empty()
+            };
+            vk::PipelineColorBlendAttachmentState::default().color_write_mask(mask)
+        })
+        .collect();
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-    let color_formats: Vec<vk::Format> = if formats.aux_outputs {
-        vec![formats.color, NORMAL_FORMAT, ID_FORMAT]
-    } else {
-        vec![formats.color]
-    };
-    let mut rendering = vk::PipelineRenderingCreateInfo::default()
-        .color_attachment_formats(&color_formats)
-        .depth_attachment_format(formats.depth);
-    let info = vk::GraphicsPipelineCreateInfo::default()
+    let mut info = vk::GraphicsPipelineCreateInfo::default()
         .stages(&stages)
         .vertex_input_state(&vertex_input)
         .input_assembly_state(&assembly)
@@ -221,23 +229,41 @@ fn build(
         .depth_stencil_state(&depth)
         .color_blend_state(&blend)
         .dynamic_state(&dynamic)
-        .layout(layout)
-        .push_next(&mut rendering);
+        .layout(layout);
+    let mut rendering;
+    match &target.pass {
+        Pass::Dynamic {
+            color_formats,
+            depth_format,
+        } => {
+            rendering = vk::PipelineRenderingCreateInfo::default()
+                .color_attachment_formats(color_formats)
+                .depth_attachment_format(*depth_format);
+            info = info.push_next(&mut rendering);
+        }
+        Pass::RenderPass {
+            render_pass,
+            subpass,
+            ..
+        } => info = info.render_pass(*render_pass).subpass(*subpass),
+    }
     // SAFETY: every pointer in `info` refers to locals alive for the call; the pipeline is owned
-    // by the caller.
-    let pipelines =
-        unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
-            .map_err(|(_, result)| Error::Vulkan {
-                call: "vkCreateGraphicsPipelines",
-                result,
-            })?;
+    // by the caller; `cache` is the host's (or null) and outlives the renderer.
+    let pipelines = unsafe { device.create_graphics_pipelines(cache, &[info], None) }.map_err(
+        |(_, result)| Error::Vulkan {
+            call: "vkCreateGraphicsPipelines",
+            result,
+        },
+    )?;
     Ok(pipelines[0])
 }
 
 /// One step of the culling pre-pass (`glsl/cull.comp`) for one projection kind and choice of
 /// culling; with `setup`, it also computes the set-up of that draw's impostors.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn create_cull_pipeline(
     device: &ash::Device,
+    cache: vk::PipelineCache,
     layout: vk::PipelineLayout,
     orthographic: bool,
     culling: Culling,
@@ -284,8 +310,7 @@ pub(crate) fn create_cull_pipeline(
         .stage(stage)
         .layout(layout);
     // SAFETY: `info` points at locals alive for the call; the module is destroyed right after.
-    let result =
-        unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
+    let result = unsafe { device.create_compute_pipelines(cache, &[info], None) };
     // SAFETY: pipeline creation has returned; the module is no longer needed.
     unsafe { device.destroy_shader_module(module, None) };
     result.map(|p| p[0]).map_err(|(_, result)| Error::Vulkan {

@@ -1,21 +1,49 @@
-//! `EllipsoidRenderer`: the pipeline, the instance buffer and the recorded draw. It records into
-//! a command buffer it is given and never submits.
+//! `EllipsoidRenderer`: the pipelines, the instance buffer and the recorded draw, embeddable in
+//! a host's frame. It records into command buffers it is given; it never submits, never waits,
+//! and never destroys what the host owns.
+//!
+//! # Barriers and layouts
+//!
+//! Everything is recorded for one queue (the `HostDevice::queue_family_index`), in the order
+//! the host records the calls:
+//! - [`EllipsoidRenderer::upload`] and [`EllipsoidRenderer::update`] (outside a pass): a barrier
+//!   from earlier vertex/compute reads of the instance buffer to the transfer write, the copy
+//!   from a staging buffer, and a barrier from the transfer write to vertex and compute shader
+//!   reads.
+//! - [`EllipsoidRenderer::record_prepass`] (outside a pass): a barrier from the previous draw's
+//!   indirect, vertex, fragment and compute reads to its transfer and compute writes, its
+//!   dispatches with compute-to-compute barriers between them, and a barrier from its compute
+//!   writes to indirect-command, vertex and fragment shader reads.
+//! - [`EllipsoidRenderer::record`] (inside the host's pass): binds its pipeline, descriptor set
+//!   and push constants, sets viewport and scissor to the camera's image, and draws. It
+//!   records no barrier and leaves the host's dynamic state other than viewport and scissor
+//!   as it was; the host rebinds its own pipeline afterwards.
+//!
+//! The renderer never touches the host's images: their layouts and the barriers around the
+//! pass (attachment writes before sampling, resolve, present) are the host's, as for any draw.
+//! It reads depth with the camera's compare op and writes depth and the colour attachments of
+//! its [`Target`] with no blending.
 
 use ash::vk;
 use glam::DVec3;
 use gpu_allocator::vulkan::Allocator;
 use gpu_allocator::MemoryLocation;
 
+use crate::barriers;
 use crate::camera::{Camera, Projection};
 pub use crate::culling::Culling;
 use crate::culling::{self, CullStep, Prepass, PrepassBuffers};
 use crate::draw::{DrawConfig, Footprint, Geometry, Intersection, Shading};
+use crate::ellipsoid::Ellipsoid;
 use crate::error::{Error, Result, VkCall};
+use crate::frame_slots::{FrameSlots, Retired};
 use crate::gpu::GpuBuffer;
 use crate::icosphere::icosphere;
-use crate::instances::pack_instances;
+use crate::instances::{pack_instances, pack_relative, INSTANCE_BYTES};
 use crate::pipeline::{create_cull_pipeline, create_pipeline, PipelineKey};
 use crate::scene::Scene;
+use crate::target::DeviceCaps;
+pub use crate::target::{HostDevice, Pass, RendererOptions, Target, ID_FORMAT, NORMAL_FORMAT};
 
 /// Bytes of camera push constants (`CameraPush` in the shader).
 const PUSH_BYTES: usize = 112;
@@ -59,31 +87,24 @@ impl Default for Material {
     }
 }
 
-/// Formats of the attachments the renderer draws into (dynamic rendering).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TargetFormats {
-    /// Colour attachment 0.
-    pub color: vk::Format,
-    /// Depth attachment; the renderer writes reversed-Z depth (`near / view depth`).
-    pub depth: vk::Format,
-    /// With `true`, attachment 1 is the world normal (`R32G32B32A32_SFLOAT`) and attachment 2
-    /// the instance ID (`R32_UINT`).
-    pub aux_outputs: bool,
-}
-
-/// Normal attachment format when `aux_outputs` is set.
-pub const NORMAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
-/// Instance-ID attachment format when `aux_outputs` is set.
-pub const ID_FORMAT: vk::Format = vk::Format::R32_UINT;
-
 /// Pipeline, descriptor and instance data for drawing one scene.
 pub struct EllipsoidRenderer {
     set_layout: vk::DescriptorSetLayout,
     pipeline_layout: vk::PipelineLayout,
     cull_layout: vk::PipelineLayout,
+    /// The pool holding `descriptor_set` alone: a set is never rewritten once recorded, so
+    /// replacing a buffer makes a new pool and set and retires the old pair.
     descriptor_pool: vk::DescriptorPool,
     descriptor_set: vk::DescriptorSet,
-    formats: TargetFormats,
+    /// A buffer was replaced since `descriptor_set` was written.
+    descriptors_stale: bool,
+    /// Every target drawn into so far; `target` indexes the current one.
+    targets: Vec<Target>,
+    target: usize,
+    caps: DeviceCaps,
+    /// The host's pipeline cache (borrowed; may be null).
+    pipeline_cache: vk::PipelineCache,
+    slots: FrameSlots<Retired>,
     pipelines: Vec<(PipelineKey, vk::Pipeline)>,
     instances: Option<GpuBuffer>,
     /// Icosphere vertex and index buffers by level, made on first use.
@@ -155,7 +176,6 @@ struct StorageBuffer {
     bytes: u64,
     usage: vk::BufferUsageFlags,
     location: MemoryLocation,
-    binding: u32,
 }
 
 /// One icosphere level on the GPU.
@@ -166,21 +186,37 @@ struct MeshBuffers {
 }
 
 impl EllipsoidRenderer {
-    /// The device must have the features of [`crate::features::required_vulkan13_features`]
-    /// enabled (dynamicRendering, maintenance4). Creates the descriptor and pipeline layouts; pipelines are built on first use of each
-    /// variant (projection kind x intersection), so a scene pays only for what it draws.
-    pub fn new(
-        device: &ash::Device,
+    /// A renderer for the host's device, drawing into `options.target`. Creates the
+    /// descriptor-set and pipeline layouts and a few small buffers through `allocator`;
+    /// pipelines are built on first use of each variant, so a scene pays only for what it
+    /// draws. Errors name what the host's device or target lacks.
+    ///
+    /// # Safety
+    /// `host`'s handles are valid and belong together (the device was created from
+    /// `physical_device`, which comes from `instance`), the device has the features of
+    /// [`crate::features::required_device_features`] enabled, `allocator` allocates from
+    /// that device, and `options.target`'s render pass (if any) and `options.pipeline_cache`
+    /// outlive the renderer.
+    pub unsafe fn new(
+        host: &HostDevice,
         allocator: &mut Allocator,
-        formats: TargetFormats,
+        options: RendererOptions,
     ) -> Result<Self> {
+        let caps = host.caps()?;
+        options.target.validate(&caps)?;
+        let device = host.device;
         let mut renderer = Self {
             set_layout: vk::DescriptorSetLayout::null(),
             pipeline_layout: vk::PipelineLayout::null(),
             cull_layout: vk::PipelineLayout::null(),
             descriptor_pool: vk::DescriptorPool::null(),
             descriptor_set: vk::DescriptorSet::null(),
-            formats,
+            descriptors_stale: true,
+            targets: vec![options.target],
+            target: 0,
+            caps,
+            pipeline_cache: options.pipeline_cache,
+            slots: FrameSlots::new(options.frames_in_flight)?,
             pipelines: Vec::new(),
             instances: None,
             count: 0,
@@ -216,7 +252,8 @@ impl EllipsoidRenderer {
         {
             Ok(()) => Ok(renderer),
             Err(e) => {
-                renderer.destroy(device, allocator);
+                // SAFETY: nothing was recorded with the renderer's objects yet.
+                unsafe { renderer.destroy(device, allocator) };
                 Err(e)
             }
         }
@@ -266,23 +303,94 @@ impl EllipsoidRenderer {
         };
         self.pipeline_layout = pipeline_layout(PUSH_STAGES)?;
         self.cull_layout = pipeline_layout(vk::ShaderStageFlags::COMPUTE)?;
+        Ok(())
+    }
 
+    /// The descriptor set pointing at the current buffers: a new one (in a pool of its own)
+    /// when a buffer was replaced since the last was written; the old pair is retired, since
+    /// command buffers recorded earlier may still use it.
+    fn current_descriptor_set(&mut self, device: &ash::Device) -> Result<vk::DescriptorSet> {
+        if !self.descriptors_stale {
+            return Ok(self.descriptor_set);
+        }
+        let bound = [
+            (0, self.instances.as_ref()),
+            (1, self.counter.as_ref()),
+            (2, self.visible.as_ref()),
+            (3, self.indirect.as_ref()),
+            (4, self.cull_groups.as_ref()),
+            (5, self.occlusion_tiles.as_ref()),
+            (6, self.shading_records.as_ref()),
+            (7, self.footprint_records.as_ref()),
+        ];
+        let mut buffers = Vec::with_capacity(bound.len());
+        for (binding, buffer) in bound {
+            match buffer {
+                Some(b) => buffers.push((binding, b.handle())),
+                None => {
+                    return Err(Error::invalid(
+                        "descriptor set",
+                        format!("binding {binding} has no buffer (nothing uploaded yet?)"),
+                    ))
+                }
+            }
+        }
         let sizes = [vk::DescriptorPoolSize::default()
             .ty(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(8)];
+            .descriptor_count(buffers.len() as u32)];
         let info = vk::DescriptorPoolCreateInfo::default()
             .max_sets(1)
             .pool_sizes(&sizes);
-        // SAFETY: as above.
-        self.descriptor_pool =
+        // SAFETY: valid create info; the pool is owned by `self` (destroyed through the frame
+        // slots or in `destroy`).
+        let pool =
             unsafe { device.create_descriptor_pool(&info, None) }.call("vkCreateDescriptorPool")?;
+        let layouts = [self.set_layout];
         let info = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(self.descriptor_pool)
+            .descriptor_pool(pool)
             .set_layouts(&layouts);
         // SAFETY: the pool has room for exactly this set; freed with the pool.
-        self.descriptor_set =
-            unsafe { device.allocate_descriptor_sets(&info) }.call("vkAllocateDescriptorSets")?[0];
-        Ok(())
+        let set = match unsafe { device.allocate_descriptor_sets(&info) } {
+            Ok(sets) => sets[0],
+            Err(result) => {
+                // SAFETY: just created, unused.
+                unsafe { device.destroy_descriptor_pool(pool, None) };
+                return Err(Error::Vulkan {
+                    call: "vkAllocateDescriptorSets",
+                    result,
+                });
+            }
+        };
+        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+            .iter()
+            .map(|&(_, buffer)| {
+                [vk::DescriptorBufferInfo::default()
+                    .buffer(buffer)
+                    .offset(0)
+                    .range(vk::WHOLE_SIZE)]
+            })
+            .collect();
+        let writes: Vec<vk::WriteDescriptorSet> = buffers
+            .iter()
+            .zip(&infos)
+            .map(|(&(binding, _), info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(set)
+                    .dst_binding(binding)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .buffer_info(info)
+            })
+            .collect();
+        // SAFETY: the set is new (no command buffer uses it); every buffer is live.
+        unsafe { device.update_descriptor_sets(&writes, &[]) };
+        if self.descriptor_pool != vk::DescriptorPool::null() {
+            self.slots
+                .retire(Retired::DescriptorPool(self.descriptor_pool));
+        }
+        self.descriptor_pool = pool;
+        self.descriptor_set = set;
+        self.descriptors_stale = false;
+        Ok(set)
     }
 
     /// The fragment counter buffer, bound at binding 1.
@@ -295,25 +403,9 @@ impl EllipsoidRenderer {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryLocation::GpuToCpu,
         )?;
-        self.bind_storage_buffer(device, 1, &buffer);
         self.counter = Some(buffer);
+        self.descriptors_stale = true;
         Ok(())
-    }
-
-    /// Points `binding` of the descriptor set at the whole of `buffer`. The set must not be in
-    /// use by pending work.
-    fn bind_storage_buffer(&self, device: &ash::Device, binding: u32, buffer: &GpuBuffer) {
-        let infos = [vk::DescriptorBufferInfo::default()
-            .buffer(buffer.handle())
-            .offset(0)
-            .range(vk::WHOLE_SIZE)];
-        let write = vk::WriteDescriptorSet::default()
-            .dst_set(self.descriptor_set)
-            .dst_binding(binding)
-            .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-            .buffer_info(&infos);
-        // SAFETY: the set is owned by `self` and idle (caller contract); the buffer is live.
-        unsafe { device.update_descriptor_sets(&[write], &[]) };
     }
 
     /// Makes the culling buffers hold `count` instances (bindings 2, 3 and 4); they always
@@ -330,7 +422,6 @@ impl EllipsoidRenderer {
             bytes: 4 * count.max(1) as u64,
             usage: vk::BufferUsageFlags::STORAGE_BUFFER,
             location: MemoryLocation::GpuOnly,
-            binding: 2,
         };
         self.visible = Some(self.storage_at_least(device, allocator, current, visible)?);
         let current = self.indirect.take();
@@ -341,7 +432,6 @@ impl EllipsoidRenderer {
                 | vk::BufferUsageFlags::INDIRECT_BUFFER
                 | vk::BufferUsageFlags::TRANSFER_DST,
             location: MemoryLocation::GpuOnly,
-            binding: 3,
         };
         self.indirect = Some(self.storage_at_least(device, allocator, current, indirect)?);
         let current = self.cull_groups.take();
@@ -350,7 +440,6 @@ impl EllipsoidRenderer {
             bytes: culling::groups_bytes(count as u32),
             usage: vk::BufferUsageFlags::STORAGE_BUFFER,
             location: MemoryLocation::GpuOnly,
-            binding: 4,
         };
         self.cull_groups = Some(self.storage_at_least(device, allocator, current, groups)?);
         // Set-up records only for scenes that can use them.
@@ -365,7 +454,6 @@ impl EllipsoidRenderer {
             bytes: records * SHADING_RECORD_BYTES,
             usage: vk::BufferUsageFlags::STORAGE_BUFFER,
             location: MemoryLocation::GpuOnly,
-            binding: 6,
         };
         self.shading_records = Some(self.storage_at_least(device, allocator, current, shading)?);
         let current = self.footprint_records.take();
@@ -374,7 +462,6 @@ impl EllipsoidRenderer {
             bytes: records * FOOTPRINT_RECORD_BYTES,
             usage: vk::BufferUsageFlags::STORAGE_BUFFER,
             location: MemoryLocation::GpuOnly,
-            binding: 7,
         };
         self.footprint_records =
             Some(self.storage_at_least(device, allocator, current, footprints)?);
@@ -395,16 +482,15 @@ impl EllipsoidRenderer {
             bytes: culling::tiles_bytes(width, height),
             usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             location: MemoryLocation::GpuOnly,
-            binding: 5,
         };
         self.occlusion_tiles = Some(self.storage_at_least(device, allocator, current, tiles)?);
         Ok(())
     }
 
-    /// `current` if it holds `spec.bytes`; otherwise a new buffer of that size, bound at
-    /// `spec.binding` (the old one is destroyed: the GPU must be done with it).
+    /// `current` if it holds `spec.bytes`; otherwise a new buffer of that size for
+    /// `spec.binding` (the old one is retired until no recorded frame can use it).
     fn storage_at_least(
-        &self,
+        &mut self,
         device: &ash::Device,
         allocator: &mut Allocator,
         current: Option<GpuBuffer>,
@@ -414,7 +500,7 @@ impl EllipsoidRenderer {
             if buffer.size() >= spec.bytes {
                 return Ok(buffer);
             }
-            buffer.destroy(device, allocator);
+            self.slots.retire(Retired::Buffer(buffer));
         }
         let buffer = GpuBuffer::new(
             device,
@@ -424,7 +510,7 @@ impl EllipsoidRenderer {
             spec.usage,
             spec.location,
         )?;
-        self.bind_storage_buffer(device, spec.binding, &buffer);
+        self.descriptors_stale = true;
         Ok(buffer)
     }
 
@@ -486,11 +572,22 @@ impl EllipsoidRenderer {
         self.presets(&self.effective_config(camera), camera)
     }
 
+    /// The current target.
+    fn target(&self) -> &Target {
+        &self.targets[self.target]
+    }
+
     /// The culling the pre-pass does: `culling`, without occlusion unless depth is float32
-    /// (its 1e-4 depth gap must survive the depth buffer's rounding).
+    /// (its 1e-4 depth gap must survive the depth buffer's rounding). Pixel-centre and
+    /// occlusion culling reason about pixel centres, so multisampled targets (whose samples
+    /// lie elsewhere) keep frustum culling only.
     fn active_culling(&self) -> Culling {
+        let single = !self.target().multisampled();
         Culling {
-            occlusion: self.culling.occlusion && self.formats.depth == vk::Format::D32_SFLOAT,
+            occlusion: self.culling.occlusion
+                && single
+                && self.target().depth_format() == vk::Format::D32_SFLOAT,
+            pixel_centres: self.culling.pixel_centres && single,
             ..self.culling
         }
     }
@@ -503,7 +600,7 @@ impl EllipsoidRenderer {
             && config.intersection == Intersection::Stable
             && config.shading != Shading::FlatFill
             && self.count > 0
-            && (self.culling.any() || self.presets(config, camera))
+            && (self.active_culling().any() || self.presets(config, camera))
     }
 
     /// One step's culling compute pipeline, built on first use.
@@ -522,6 +619,7 @@ impl EllipsoidRenderer {
         }
         let pipeline = create_cull_pipeline(
             device,
+            self.pipeline_cache,
             self.cull_layout,
             orthographic,
             active,
@@ -541,8 +639,13 @@ impl EllipsoidRenderer {
     /// It writes the indirect command with `vkCmdUpdateBuffer`, clears the occlusion tiles
     /// with `vkCmdFillBuffer`, then runs the steps of `glsl/cull.comp`, each after a
     /// compute-to-compute barrier. When the image grew since the last frame the tiles buffer
-    /// is replaced: the GPU must then be done with earlier frames, as for `upload`.
-    pub fn record_prepass(
+    /// is replaced (the old one retired).
+    ///
+    /// # Safety
+    /// `device` is the renderer's device, `cmd` a command buffer of it in the recording state
+    /// outside any pass, for the queue family the renderer was made for, and submitted before
+    /// the slot that is current (`begin_frame`) begins again.
+    pub unsafe fn record_prepass(
         &mut self,
         device: &ash::Device,
         allocator: &mut Allocator,
@@ -570,25 +673,17 @@ impl EllipsoidRenderer {
             .iter()
             .flat_map(|v| v.to_ne_bytes())
             .collect();
-        let buffers = match (
-            self.visible.as_ref(),
-            self.indirect.as_ref(),
-            self.occlusion_tiles.as_ref(),
-            self.shading_records.as_ref(),
-            self.footprint_records.as_ref(),
-        ) {
-            (Some(v), Some(i), Some(t), Some(s), Some(f)) => PrepassBuffers {
-                visible: v.handle(),
+        let buffers = match (self.indirect.as_ref(), self.occlusion_tiles.as_ref()) {
+            (Some(i), Some(t)) => PrepassBuffers {
                 indirect: i.handle(),
                 tiles: t.handle(),
-                shading: s.handle(),
-                footprints: f.handle(),
             },
             _ => return Err(Error::invalid("culling", "buffers missing")),
         };
+        let descriptor_set = self.current_descriptor_set(device)?;
         let prepass = Prepass {
             layout: self.cull_layout,
-            descriptor_set: self.descriptor_set,
+            descriptor_set,
             push: self.push_constants(camera),
             command,
             steps,
@@ -619,28 +714,14 @@ impl EllipsoidRenderer {
     }
 
     /// Makes the counter's atomic writes visible to the host; record after the pass.
-    pub fn record_counter_barrier(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
-        let Some(counter) = self.counter.as_ref() else {
-            return;
-        };
-        let barrier = vk::BufferMemoryBarrier::default()
-            .src_access_mask(vk::AccessFlags::SHADER_WRITE)
-            .dst_access_mask(vk::AccessFlags::HOST_READ)
-            .buffer(counter.handle())
-            .offset(0)
-            .size(vk::WHOLE_SIZE);
-        // SAFETY: `cmd` is recording outside a pass; the buffer is owned by `self`.
-        unsafe {
-            device.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::FRAGMENT_SHADER,
-                vk::PipelineStageFlags::HOST,
-                vk::DependencyFlags::empty(),
-                &[],
-                &[barrier],
-                &[],
-            )
-        };
+    ///
+    /// # Safety
+    /// `cmd` is a command buffer of `device` recording outside a pass.
+    pub unsafe fn record_counter_barrier(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        if self.counter.is_some() {
+            // SAFETY: caller contract.
+            unsafe { barriers::COUNTER_TO_HOST.record(device, cmd) };
+        }
     }
 
     /// The pipeline for `key`, built now if this is its first use.
@@ -648,7 +729,13 @@ impl EllipsoidRenderer {
         if let Some((_, p)) = self.pipelines.iter().find(|(k, _)| *k == key) {
             return Ok(*p);
         }
-        let pipeline = create_pipeline(device, self.pipeline_layout, self.formats, key)?;
+        let pipeline = create_pipeline(
+            device,
+            self.pipeline_cache,
+            self.pipeline_layout,
+            &self.targets[key.target],
+            key,
+        )?;
         self.pipelines.push((key, pipeline));
         Ok(pipeline)
     }
@@ -781,34 +868,47 @@ impl EllipsoidRenderer {
         if let Geometry::Mesh(level) = config.geometry {
             self.ensure_mesh(device, allocator, level)?;
         }
-        self.pipeline(
-            device,
-            PipelineKey {
-                orthographic,
-                config,
-                aux_outputs: self.formats.aux_outputs,
-                count_fragments: self.count_fragments,
-                culled: self.runs_prepass(&config, camera),
-                preset: self.presets(&config, camera),
-                spheres: self.spheres(),
-                no_caps: self.cap_free(camera),
-            },
-        )?;
+        self.pipeline(device, self.pipeline_key(camera))?;
         Ok(())
     }
 
-    /// Replaces the instance data with `scene`. Positions are stored relative to a scene origin
-    /// chosen at the centre of the data's bounds, so float32 keeps its precision where the data
-    /// is, however far that is from the world origin. The GPU must not be using the old buffer.
-    pub fn upload(
+    /// What the pipeline of a draw with `camera` is specialised for.
+    fn pipeline_key(&self, camera: &Camera) -> PipelineKey {
+        let config = self.effective_config(camera);
+        PipelineKey {
+            orthographic: camera.is_orthographic(),
+            config,
+            target: self.target,
+            reversed_z: camera.depth.reversed,
+            count_fragments: self.count_fragments,
+            culled: self.runs_prepass(&config, camera),
+            preset: self.presets(&config, camera),
+            spheres: self.spheres(),
+            no_caps: self.cap_free(camera),
+        }
+    }
+
+    /// Replaces the instance data with `scene`, recording the copy into `cmd`. Positions are
+    /// stored relative to a scene origin chosen at the centre of the data's bounds, so float32
+    /// keeps its precision where the data is, however far that is from the world origin.
+    ///
+    /// The bytes go to a staging buffer now; `cmd` gets a barrier ordering earlier reads of
+    /// the instance buffer before the copy, the copy, and a barrier ordering it before vertex
+    /// and compute shader reads. Buffers that are replaced are retired, not destroyed.
+    ///
+    /// # Safety
+    /// As for [`EllipsoidRenderer::record_prepass`]: `cmd` is recording outside any pass and
+    /// is submitted before, or is, the command buffer that draws this scene.
+    pub unsafe fn upload(
         &mut self,
         device: &ash::Device,
         allocator: &mut Allocator,
+        cmd: vk::CommandBuffer,
         scene: &Scene,
     ) -> Result<()> {
         let packed = pack_instances(scene)?;
         let step = scene.len().div_ceil(SIZE_SAMPLE).max(1);
-        self.size_sample = scene
+        let size_sample = scene
             .ellipsoids
             .iter()
             .step_by(step)
@@ -818,33 +918,148 @@ impl EllipsoidRenderer {
                 (e.center, r[0], std::f64::consts::PI * r[0] * r[1])
             })
             .collect();
-        let bytes = packed.bytes.len();
-        self.origin = packed.origin;
-        self.all_spheres = packed.all_spheres;
-        self.extent = packed.extent;
         let count = packed.len() as u32;
-        let data = packed.bytes;
         self.resize_cull_buffers(device, allocator, count as usize)?;
         let current = self.instances.take();
         let spec = StorageBuffer {
             name: "ellipsoid instances",
-            bytes: bytes.max(1) as u64,
-            usage: vk::BufferUsageFlags::STORAGE_BUFFER,
-            location: MemoryLocation::CpuToGpu,
-            binding: 0,
+            bytes: packed.bytes.len().max(1) as u64,
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            location: MemoryLocation::GpuOnly,
         };
-        let mut buffer = self.storage_at_least(device, allocator, current, spec)?;
-        let written = buffer.write(&data);
-        self.instances = Some(buffer);
-        written?;
+        let buffer = self.storage_at_least(device, allocator, current, spec);
+        self.instances = Some(buffer?);
+        // SAFETY: forwarded caller contract.
+        unsafe { self.record_copy(device, allocator, cmd, 0, &packed.bytes)? };
+        self.origin = packed.origin;
+        self.all_spheres = packed.all_spheres;
+        self.extent = packed.extent;
+        self.size_sample = size_sample;
         self.count = count;
         Ok(())
     }
 
-    /// Whether the next passes have the normal and ID attachments (as `TargetFormats`
-    /// describes); a pass without them shades colour and depth only.
-    pub fn set_aux_outputs(&mut self, on: bool) {
-        self.formats.aux_outputs = on;
+    /// Replaces instances `first..first + ellipsoids.len()` of the uploaded scene, recording
+    /// the copy into `cmd` with the barriers of [`EllipsoidRenderer::upload`]. They keep the
+    /// scene's origin, so they should lie near the uploaded data for full precision. The
+    /// sphere path stays only if they are all spheres; the sample that picks the footprint is
+    /// not updated.
+    ///
+    /// # Safety
+    /// As for [`EllipsoidRenderer::upload`].
+    pub unsafe fn update(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        cmd: vk::CommandBuffer,
+        first: u32,
+        ellipsoids: &[Ellipsoid],
+    ) -> Result<()> {
+        let end = first as u64 + ellipsoids.len() as u64;
+        if end > self.count as u64 {
+            return Err(Error::invalid(
+                "update",
+                format!("instances {first}..{end} but {} are uploaded", self.count),
+            ));
+        }
+        if ellipsoids.is_empty() {
+            return Ok(());
+        }
+        let packed = pack_relative(ellipsoids, self.origin, first as usize)?;
+        let offset = first as u64 * INSTANCE_BYTES as u64;
+        // SAFETY: forwarded caller contract.
+        unsafe { self.record_copy(device, allocator, cmd, offset, &packed.bytes)? };
+        self.all_spheres &= packed.all_spheres;
+        if let (Some((lo, hi)), Some((new_lo, new_hi))) = (self.extent, packed.extent) {
+            self.extent = Some((lo.min(new_lo), hi.max(new_hi)));
+        }
+        Ok(())
+    }
+
+    /// Stages `bytes` and records their copy to `offset` of the instance buffer, between the
+    /// barriers [`barriers::INSTANCES_BEFORE_COPY`] and [`barriers::INSTANCES_AFTER_COPY`].
+    ///
+    /// # Safety
+    /// As for [`EllipsoidRenderer::upload`].
+    unsafe fn record_copy(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        cmd: vk::CommandBuffer,
+        offset: u64,
+        bytes: &[u8],
+    ) -> Result<()> {
+        let Some(instances) = self.instances.as_ref().map(|b| b.handle()) else {
+            return Err(Error::invalid("upload", "no instance buffer"));
+        };
+        if bytes.is_empty() {
+            return Ok(());
+        }
+        let mut staging = GpuBuffer::new(
+            device,
+            allocator,
+            "instance staging",
+            bytes.len() as u64,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        )?;
+        if let Err(e) = staging.write(bytes) {
+            staging.destroy(device, allocator);
+            return Err(e);
+        }
+        let region = vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: offset,
+            size: bytes.len() as u64,
+        };
+        // SAFETY: `cmd` is recording outside a pass (caller contract); both buffers are live
+        // and the region lies inside them; the staging buffer is retired below, so it lives
+        // until the copy has executed.
+        unsafe {
+            barriers::INSTANCES_BEFORE_COPY.record(device, cmd);
+            device.cmd_copy_buffer(cmd, staging.handle(), instances, &[region]);
+            barriers::INSTANCES_AFTER_COPY.record(device, cmd);
+        }
+        self.slots.retire(Retired::Buffer(staging));
+        Ok(())
+    }
+
+    /// Starts frame slot `slot` (in `0..frames_in_flight`): destroys the buffers and
+    /// descriptor sets replaced while frames that might still read them were recorded. Call
+    /// it once per frame, before recording anything else of the frame.
+    ///
+    /// # Safety
+    /// Every command buffer recorded with this renderer since `slot` last began has finished
+    /// executing (the host waited for that slot's fence).
+    pub unsafe fn begin_frame(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        slot: u32,
+    ) -> Result<()> {
+        for object in self.slots.begin(slot)? {
+            object.destroy(device, allocator);
+        }
+        Ok(())
+    }
+
+    /// Draws into `target` from the next `record` on (pipelines for earlier targets are
+    /// kept, so switching back costs nothing). Errors say what the device or the description
+    /// lacks.
+    pub fn set_target(&mut self, target: Target) -> Result<()> {
+        if let Some(k) = self.targets.iter().position(|t| *t == target) {
+            self.target = k;
+            return Ok(());
+        }
+        target.validate(&self.caps)?;
+        self.targets.push(target);
+        self.target = self.targets.len() - 1;
+        Ok(())
+    }
+
+    /// The target the next `record` draws into.
+    pub fn current_target(&self) -> &Target {
+        self.target()
     }
 
     /// Number of instances uploaded.
@@ -857,12 +1072,16 @@ impl EllipsoidRenderer {
         self.origin
     }
 
-    /// Records the draw into `cmd`, which must be inside a dynamic-rendering pass whose
-    /// attachments match the `TargetFormats` and whose viewport is the camera's image size.
-    /// Sets viewport and scissor itself. Records nothing if the scene is empty. A draw through
-    /// the pre-pass needs `record_prepass` first, in the same command buffer before the pass
-    /// (an error otherwise).
-    pub fn record(
+    /// Records the draw into `cmd`, inside the host's pass. Sets viewport and scissor to the
+    /// camera's whole image. Records nothing if the scene is empty. A draw through the
+    /// pre-pass needs `record_prepass` first, before the pass (an error otherwise).
+    ///
+    /// # Safety
+    /// `cmd` is a command buffer of `device` recording inside a pass compatible with the
+    /// current [`Target`] (same attachments, formats and sample count; for a render pass,
+    /// its subpass), whose attachments are the camera's image size; it is submitted as
+    /// [`EllipsoidRenderer::record_prepass`] requires.
+    pub unsafe fn record(
         &mut self,
         device: &ash::Device,
         allocator: &mut Allocator,
@@ -884,17 +1103,9 @@ impl EllipsoidRenderer {
                 "this draw goes through the culling pre-pass: call record_prepass first",
             ));
         }
-        let key = PipelineKey {
-            orthographic: matches!(camera.projection, Projection::Orthographic { .. }),
-            config,
-            aux_outputs: self.formats.aux_outputs,
-            count_fragments: self.count_fragments,
-            culled: self.runs_prepass(&config, camera),
-            preset: self.presets(&config, camera),
-            spheres: self.spheres(),
-            no_caps: self.cap_free(camera),
-        };
+        let key = self.pipeline_key(camera);
         let pipeline = self.pipeline(device, key)?;
+        let descriptor_set = self.current_descriptor_set(device)?;
         let viewport = vk::Viewport {
             x: 0.0,
             y: 0.0,
@@ -921,7 +1132,7 @@ impl EllipsoidRenderer {
                 vk::PipelineBindPoint::GRAPHICS,
                 self.pipeline_layout,
                 0,
-                &[self.descriptor_set],
+                &[descriptor_set],
                 &[],
             );
             device.cmd_push_constants(cmd, self.pipeline_layout, PUSH_STAGES, 0, &push);
@@ -961,6 +1172,7 @@ impl EllipsoidRenderer {
         let rel = camera.eye - self.origin;
         let eye = glam::DVec3::new(rel.dot(b.right), rel.dot(b.up), rel.dot(b.forward)).as_vec3();
         let m = &self.material;
+        let depth = camera.depth_map();
         let values: [f32; PUSH_BYTES / 4] = [
             eye.x,
             eye.y,
@@ -977,11 +1189,11 @@ impl EllipsoidRenderer {
             b.forward.x as f32,
             b.forward.y as f32,
             b.forward.z as f32,
-            0.0,
+            depth.a as f32,
             2.0 / camera.width as f32,
             2.0 / camera.height as f32,
             QUAD_MARGIN_PX,
-            0.0,
+            depth.b as f32,
             m.ambient,
             m.diffuse,
             m.specular,
@@ -989,13 +1201,19 @@ impl EllipsoidRenderer {
             m.specular_color[0],
             m.specular_color[1],
             m.specular_color[2],
-            0.0,
+            depth.c as f32,
         ];
         values.iter().flat_map(|v| v.to_ne_bytes()).collect()
     }
 
-    /// Destroys everything the renderer created. The GPU must be done with it.
-    pub fn destroy(mut self, device: &ash::Device, allocator: &mut Allocator) {
+    /// Destroys everything the renderer created (nothing of the host's).
+    ///
+    /// # Safety
+    /// No command buffer recorded with the renderer is pending or will be submitted again.
+    pub unsafe fn destroy(mut self, device: &ash::Device, allocator: &mut Allocator) {
+        for object in self.slots.drain() {
+            object.destroy(device, allocator);
+        }
         if let Some(buffer) = self.instances.take() {
             buffer.destroy(device, allocator);
         }

@@ -12,11 +12,22 @@ layout(push_constant, std430) uniform CameraPush {
                          // float64 so view-space centres never lose the eye's precision; w: near
     vec4 right_sx;       // xyz: camera right r, w: NDC x -> screen-plane scale (tan(fovy/2) W/H or h/2 W/H)
     vec4 up_sy;          // xyz: camera up u,    w: NDC y -> screen-plane scale (tan(fovy/2) or h/2)
-    vec4 forward;        // xyz: view direction f, w: unused
-    vec4 viewport;       // x: 2/W, y: 2/H (NDC per pixel), z: quad margin in pixels, w: unused
+    vec4 forward;        // xyz: view direction f, w: depth map a
+    vec4 viewport;       // x: 2/W, y: 2/H (NDC per pixel), z: quad margin in pixels, w: depth map b
     vec4 material;       // ambient, diffuse, specular, shininess
-    vec4 specular_color; // rgb, w: unused
+    vec4 specular_color; // rgb, w: depth map c
 } cam;
+
+// The depth-buffer value of view depth d in the host's convention: a + b d + c / d
+// (src/depth.rs). Reversed Z with an infinite far plane is (0, 0, near): exactly near / d.
+float depth_value(float d) {
+    return cam.forward.w + cam.viewport.w * d + cam.specular_color.w / d;
+}
+
+// Clip z for a perspective vertex with clip w = d: depth_value(d) * d (b is 0 in perspective).
+float depth_clip_z(float d) {
+    return cam.forward.w * d + cam.specular_color.w;
+}
 
 // Must match `GpuInstance` in src/renderer.rs (48 bytes, std430).
 struct Instance {

@@ -178,7 +178,9 @@ void main() {
     vec3 normal;
     bool cap;
     bool hit = TEXTBOOK ? hit_textbook(depth, normal, cap) : hit_stable(depth, normal, cap);
-    if (!hit) {
+    // Beyond the far plane (a finite one) nothing shows; rounding at the planes is clamped.
+    float z = depth_value(cap ? near : depth);
+    if (!hit || z < -1e-6 || z > 1.0 + 1e-6) {
         discard;
     }
     load_shading();
@@ -195,7 +197,7 @@ void main() {
         n = normalize(normal);
     }
 #ifndef FLAT_DEPTH
-    gl_FragDepth = cap ? 1.0 : near / depth;
+    gl_FragDepth = clamp(z, 0.0, 1.0);
 #endif
 
     out_color = vec4(shade(n, v_color), 1.0);

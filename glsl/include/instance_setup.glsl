@@ -16,7 +16,7 @@ struct Setup {
     vec2 axis1;
     vec2 axis2;
     bool screen_polygon;
-    float quad_z;        // constant reversed-Z depth at the nearest point
+    float quad_z;        // constant depth-buffer value at the nearest point
     // Only for Gumhold's world quad (BOUNDS_WORLD_QUAD).
     bool bounded;
     bool offset_mode;
@@ -255,10 +255,11 @@ Setup setup_instance(Instance inst) {
         s.to_normal = R * mat3(fx / radii, fy / radii, fz / radii);
     }
 
-    // Constant quad depth at the nearest point (reversed-Z: near / depth), nudged nearer so
-    // every fragment's written depth is <= it, which makes `depth_less` true.
+    // Constant quad depth at the nearest point, nudged nearer so every fragment's written depth
+    // is nearer-or-equal in depth order, which makes the conservative-depth layout true
+    // (`depth_less` under reversed Z, `depth_greater` under standard Z).
     float nearest = c.z - half_z;
-    s.quad_z = nearest > near ? min(1.0, near / nearest * (1.0 + 1e-5)) : 1.0;
+    s.quad_z = clamp(depth_value(max(near, nearest * (1.0 - 1e-5))), 0.0, 1.0);
     return s;
 }
 

@@ -1,0 +1,169 @@
+//! Every pipeline barrier the renderer records, as data: the module documentation of
+//! `renderer.rs` says where each goes, and `tests/barriers.rs` checks each covers the hazards
+//! it is there for (synchronization validation misses some, e.g. across submissions).
+//!
+//! All are global memory barriers: the renderer's buffers are its own and every hazard is
+//! between its own commands, so naming buffers would add nothing but recording cost.
+
+use ash::vk;
+
+/// One `vkCmdPipelineBarrier` with a single global memory barrier.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Barrier {
+    /// What it orders, in words.
+    pub purpose: &'static str,
+    /// Stages whose earlier work must finish first.
+    pub src_stages: vk::PipelineStageFlags,
+    /// Writes of those stages made available.
+    pub src_access: vk::AccessFlags,
+    /// Stages of later work that wait.
+    pub dst_stages: vk::PipelineStageFlags,
+    /// Accesses of those stages the writes are made visible to.
+    pub dst_access: vk::AccessFlags,
+}
+
+impl Barrier {
+    /// Records the barrier.
+    ///
+    /// # Safety
+    /// `cmd` is a command buffer of `device` in the recording state, outside any pass.
+    pub(crate) unsafe fn record(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+        let memory = [vk::MemoryBarrier::default()
+            .src_access_mask(self.src_access)
+            .dst_access_mask(self.dst_access)];
+        // SAFETY: caller contract; a global memory barrier references no object.
+        unsafe {
+            device.cmd_pipeline_barrier(
+                cmd,
+                self.src_stages,
+                self.dst_stages,
+                vk::DependencyFlags::empty(),
+                &memory,
+                &[],
+                &[],
+            )
+        };
+    }
+}
+
+const fn stages(flags: &[vk::PipelineStageFlags]) -> vk::PipelineStageFlags {
+    let mut raw = 0;
+    let mut k = 0;
+    while k < flags.len() {
+        raw |= flags[k].as_raw();
+        k += 1;
+    }
+    vk::PipelineStageFlags::from_raw(raw)
+}
+
+const fn access(flags: &[vk::AccessFlags]) -> vk::AccessFlags {
+    let mut raw = 0;
+    let mut k = 0;
+    while k < flags.len() {
+        raw |= flags[k].as_raw();
+        k += 1;
+    }
+    vk::AccessFlags::from_raw(raw)
+}
+
+/// Before an upload's copy: earlier shader reads of the instance buffer (draws and pre-passes
+/// already recorded) and earlier copies into it finish first.
+pub const INSTANCES_BEFORE_COPY: Barrier = Barrier {
+    purpose: "earlier vertex/compute reads and copies of the instances -> this copy",
+    src_stages: stages(&[
+        vk::PipelineStageFlags::VERTEX_SHADER,
+        vk::PipelineStageFlags::COMPUTE_SHADER,
+        vk::PipelineStageFlags::TRANSFER,
+    ]),
+    src_access: vk::AccessFlags::TRANSFER_WRITE,
+    dst_stages: vk::PipelineStageFlags::TRANSFER,
+    dst_access: vk::AccessFlags::TRANSFER_WRITE,
+};
+
+/// After an upload's copy: the pre-pass and the draw read what it wrote.
+pub const INSTANCES_AFTER_COPY: Barrier = Barrier {
+    purpose: "copy into the instances -> pre-pass and vertex reads",
+    src_stages: vk::PipelineStageFlags::TRANSFER,
+    src_access: vk::AccessFlags::TRANSFER_WRITE,
+    dst_stages: stages(&[
+        vk::PipelineStageFlags::VERTEX_SHADER,
+        vk::PipelineStageFlags::COMPUTE_SHADER,
+    ]),
+    dst_access: vk::AccessFlags::SHADER_READ,
+};
+
+/// At the start of a pre-pass: the previous frame's draw (indirect command, kept indices,
+/// set-up records) and pre-pass are done with the buffers this one rewrites.
+pub const PREPASS_AFTER_PREVIOUS_FRAME: Barrier = Barrier {
+    purpose: "previous draw's reads and pre-pass writes -> this pre-pass's clears and writes",
+    src_stages: stages(&[
+        vk::PipelineStageFlags::DRAW_INDIRECT,
+        vk::PipelineStageFlags::VERTEX_SHADER,
+        vk::PipelineStageFlags::FRAGMENT_SHADER,
+        vk::PipelineStageFlags::COMPUTE_SHADER,
+    ]),
+    src_access: vk::AccessFlags::SHADER_WRITE,
+    dst_stages: stages(&[
+        vk::PipelineStageFlags::TRANSFER,
+        vk::PipelineStageFlags::COMPUTE_SHADER,
+    ]),
+    dst_access: access(&[
+        vk::AccessFlags::TRANSFER_WRITE,
+        vk::AccessFlags::SHADER_READ,
+        vk::AccessFlags::SHADER_WRITE,
+    ]),
+};
+
+/// After the pre-pass resets the indirect command and clears the occlusion tiles.
+pub const PREPASS_CLEARED: Barrier = Barrier {
+    purpose: "indirect-command reset and tile clear -> culling dispatches",
+    src_stages: vk::PipelineStageFlags::TRANSFER,
+    src_access: vk::AccessFlags::TRANSFER_WRITE,
+    dst_stages: vk::PipelineStageFlags::COMPUTE_SHADER,
+    dst_access: access(&[vk::AccessFlags::SHADER_READ, vk::AccessFlags::SHADER_WRITE]),
+};
+
+/// Between two culling dispatches.
+pub const PREPASS_STEP: Barrier = Barrier {
+    purpose: "one culling step's writes -> the next step",
+    src_stages: vk::PipelineStageFlags::COMPUTE_SHADER,
+    src_access: vk::AccessFlags::SHADER_WRITE,
+    dst_stages: vk::PipelineStageFlags::COMPUTE_SHADER,
+    dst_access: access(&[vk::AccessFlags::SHADER_READ, vk::AccessFlags::SHADER_WRITE]),
+};
+
+/// After the pre-pass: the draw reads the indirect command, kept indices and set-up records.
+pub const PREPASS_TO_DRAW: Barrier = Barrier {
+    purpose: "pre-pass writes -> indirect draw, vertex and fragment reads",
+    src_stages: vk::PipelineStageFlags::COMPUTE_SHADER,
+    src_access: vk::AccessFlags::SHADER_WRITE,
+    dst_stages: stages(&[
+        vk::PipelineStageFlags::DRAW_INDIRECT,
+        vk::PipelineStageFlags::VERTEX_SHADER,
+        vk::PipelineStageFlags::FRAGMENT_SHADER,
+    ]),
+    dst_access: access(&[
+        vk::AccessFlags::INDIRECT_COMMAND_READ,
+        vk::AccessFlags::SHADER_READ,
+    ]),
+};
+
+/// After a counting frame's pass: the host reads the fragment counter (`bench`).
+pub const COUNTER_TO_HOST: Barrier = Barrier {
+    purpose: "fragment counter atomics -> host read",
+    src_stages: vk::PipelineStageFlags::FRAGMENT_SHADER,
+    src_access: vk::AccessFlags::SHADER_WRITE,
+    dst_stages: vk::PipelineStageFlags::HOST,
+    dst_access: vk::AccessFlags::HOST_READ,
+};
+
+/// Every barrier above.
+pub const ALL: [Barrier; 7] = [
+    INSTANCES_BEFORE_COPY,
+    INSTANCES_AFTER_COPY,
+    PREPASS_AFTER_PREVIOUS_FRAME,
+    PREPASS_CLEARED,
+    PREPASS_STEP,
+    PREPASS_TO_DRAW,
+    COUNTER_TO_HOST,
+];

@@ -1,0 +1,249 @@
+//! What a host tells the renderer about itself: its device, the pass the ellipsoids are drawn
+//! into, its sample count, how many frames it keeps in flight, its pipeline cache.
+
+use ash::vk;
+
+use crate::error::{Error, Result};
+use crate::features;
+
+/// Normal attachment format when `Target::aux_outputs` is set.
+pub const NORMAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+/// Instance-ID attachment format when `Target::aux_outputs` is set.
+pub const ID_FORMAT: vk::Format = vk::Format::R32_UINT;
+
+/// The host's Vulkan objects the renderer works with. All are borrowed: the renderer never
+/// destroys them, and the host keeps them alive until it has destroyed the renderer.
+#[derive(Clone, Copy)]
+pub struct HostDevice<'a> {
+    /// The instance the device was created from (to query the physical device).
+    pub instance: &'a ash::Instance,
+    /// The physical device behind `device`.
+    pub physical_device: vk::PhysicalDevice,
+    /// A device created with [`features::required_device_features`] enabled
+    /// (`sampleRateShading` only if a target is multisampled).
+    pub device: &'a ash::Device,
+    /// The queue family whose queue will execute the command buffers the renderer records
+    /// into: it must support graphics and compute. The renderer records no queue-family
+    /// ownership transfers.
+    pub queue_family_index: u32,
+}
+
+/// The kind of pass the ellipsoids are drawn in.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Pass {
+    /// Dynamic rendering (`vkCmdBeginRendering`) with these attachments: `color_formats` in
+    /// attachment order, and `depth_format`.
+    Dynamic {
+        /// Every colour attachment of the pass, in order.
+        color_formats: Vec<vk::Format>,
+        /// The depth attachment (a depth format: the renderer depth-tests and writes depth).
+        depth_format: vk::Format,
+    },
+    /// Subpass `subpass` of the host's render pass. The renderer builds its pipelines against
+    /// it and never destroys it.
+    RenderPass {
+        /// The host's render pass (borrowed).
+        render_pass: vk::RenderPass,
+        /// The subpass the ellipsoids are drawn in.
+        subpass: u32,
+        /// How many colour attachments that subpass has.
+        color_attachment_count: u32,
+        /// Its depth attachment's format.
+        depth_format: vk::Format,
+    },
+}
+
+/// The pass the ellipsoids are drawn into and what the renderer writes there.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Target {
+    /// The pass's attachments.
+    pub pass: Pass,
+    /// Samples per pixel of the attachments (1 or a power of two the device supports). With
+    /// more than one, every sample is shaded on its own (sample-rate shading), so silhouettes
+    /// are antialiased and depth is exact per sample against the host's meshes.
+    pub samples: vk::SampleCountFlags,
+    /// Colour attachments 1 and 2 receive the world normal ([`NORMAL_FORMAT`]) and the
+    /// instance index ([`ID_FORMAT`]); otherwise the renderer writes attachment 0 only. It
+    /// never writes other colour attachments (write mask 0).
+    pub aux_outputs: bool,
+}
+
+impl Target {
+    /// A single-sample dynamic-rendering target with colour and depth attachments.
+    pub fn dynamic(color: vk::Format, depth: vk::Format) -> Self {
+        Self {
+            pass: Pass::Dynamic {
+                color_formats: vec![color],
+                depth_format: depth,
+            },
+            samples: vk::SampleCountFlags::TYPE_1,
+            aux_outputs: false,
+        }
+    }
+
+    /// The depth attachment's format.
+    pub fn depth_format(&self) -> vk::Format {
+        match &self.pass {
+            Pass::Dynamic { depth_format, .. } | Pass::RenderPass { depth_format, .. } => {
+                *depth_format
+            }
+        }
+    }
+
+    /// Number of colour attachments of the pass.
+    pub fn color_attachment_count(&self) -> u32 {
+        match &self.pass {
+            Pass::Dynamic { color_formats, .. } => color_formats.len() as u32,
+            Pass::RenderPass {
+                color_attachment_count,
+                ..
+            } => *color_attachment_count,
+        }
+    }
+
+    /// More than one sample per pixel.
+    pub fn multisampled(&self) -> bool {
+        self.samples != vk::SampleCountFlags::TYPE_1
+    }
+
+    /// Checks the description against itself and what the device allows.
+    pub(crate) fn validate(&self, caps: &DeviceCaps) -> Result<()> {
+        let bad = |why: String| Err(Error::invalid("render target", why));
+        let depth = self.depth_format();
+        if !matches!(
+            depth,
+            vk::Format::D32_SFLOAT
+                | vk::Format::D32_SFLOAT_S8_UINT
+                | vk::Format::D24_UNORM_S8_UINT
+                | vk::Format::D16_UNORM
+                | vk::Format::D16_UNORM_S8_UINT
+                | vk::Format::X8_D24_UNORM_PACK32
+        ) {
+            return bad(format!(
+                "depth format {depth:?} is not a depth format (the renderer needs a depth attachment)"
+            ));
+        }
+        let colors = self.color_attachment_count();
+        let needed = if self.aux_outputs { 3 } else { 1 };
+        if colors < needed {
+            return bad(format!(
+                "{colors} colour attachments, the renderer writes {needed}"
+            ));
+        }
+        if let Pass::Dynamic { color_formats, .. } = &self.pass {
+            if color_formats[0] == vk::Format::UNDEFINED {
+                return bad("colour attachment 0 has format UNDEFINED".into());
+            }
+            if self.aux_outputs
+                && (color_formats[1] != NORMAL_FORMAT || color_formats[2] != ID_FORMAT)
+            {
+                return bad(format!(
+                    "aux outputs need attachments 1 and 2 as {NORMAL_FORMAT:?} and {ID_FORMAT:?}, got {:?} and {:?}",
+                    color_formats[1], color_formats[2]
+                ));
+            }
+        }
+        if let Pass::RenderPass { render_pass, .. } = &self.pass {
+            if *render_pass == vk::RenderPass::null() {
+                return bad("the render pass handle is null".into());
+            }
+        }
+        let s = self.samples;
+        let supported = caps.limits.framebuffer_color_sample_counts
+            & caps.limits.framebuffer_depth_sample_counts;
+        if s.as_raw().count_ones() != 1 || !supported.contains(s) {
+            return bad(format!(
+                "{s:?} samples per pixel: the device supports {supported:?} for colour and depth"
+            ));
+        }
+        if self.multisampled() && !caps.sample_rate_shading {
+            return bad(
+                "multisampling needs the sampleRateShading feature, which the device lacks".into(),
+            );
+        }
+        Ok(())
+    }
+}
+
+/// How the renderer is set up for a host.
+#[derive(Clone, Debug)]
+pub struct RendererOptions {
+    /// The pass the ellipsoids are drawn into (more can be added with `set_target`).
+    pub target: Target,
+    /// How many frames the host records before waiting for the oldest: the renderer keeps
+    /// what it replaces alive until every frame slot has begun again (`begin_frame`).
+    pub frames_in_flight: u32,
+    /// The host's pipeline cache, used for every pipeline the renderer builds (borrowed; null
+    /// for none).
+    pub pipeline_cache: vk::PipelineCache,
+}
+
+impl RendererOptions {
+    /// One frame in flight, no pipeline cache.
+    pub fn new(target: Target) -> Self {
+        Self {
+            target,
+            frames_in_flight: 1,
+            pipeline_cache: vk::PipelineCache::null(),
+        }
+    }
+}
+
+/// What the renderer learns about the host's device when it is created.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct DeviceCaps {
+    pub limits: vk::PhysicalDeviceLimits,
+    pub sample_rate_shading: bool,
+}
+
+impl HostDevice<'_> {
+    /// Checks the queue family and features; returns the limits later checks need.
+    pub(crate) fn caps(&self) -> Result<DeviceCaps> {
+        // SAFETY: the host guarantees `physical_device` comes from `instance`.
+        let families = unsafe {
+            self.instance
+                .get_physical_device_queue_family_properties(self.physical_device)
+        };
+        let family = families
+            .get(self.queue_family_index as usize)
+            .ok_or_else(|| {
+                Error::invalid(
+                    "queue family",
+                    format!(
+                        "index {} but the device has {}",
+                        self.queue_family_index,
+                        families.len()
+                    ),
+                )
+            })?;
+        if !family
+            .queue_flags
+            .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
+        {
+            return Err(Error::invalid(
+                "queue family",
+                format!(
+                    "{} has {:?}; the renderer records graphics and compute work",
+                    self.queue_family_index, family.queue_flags
+                ),
+            ));
+        }
+        let (core, vulkan13) = features::supported_features(self.instance, self.physical_device);
+        let missing = features::missing_features(&vulkan13);
+        if !missing.is_empty() {
+            return Err(Error::invalid(
+                "device features",
+                format!("the physical device lacks {}", missing.join(", ")),
+            ));
+        }
+        // SAFETY: as above.
+        let properties = unsafe {
+            self.instance
+                .get_physical_device_properties(self.physical_device)
+        };
+        Ok(DeviceCaps {
+            limits: properties.limits,
+            sample_rate_shading: core.sample_rate_shading == vk::TRUE,
+        })
+    }
+}
