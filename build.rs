@@ -24,13 +24,20 @@ fn main() {
             continue; // includes are tracked above, compiled through their users
         }
         let name = src.file_name().expect("file has a name").to_string_lossy();
-        // Fragment shaders are also built with COUNT_FRAGMENTS: the variant `bench` uses to
-        // count shaded pixels with an atomic (it needs fragmentStoresAndAtomics).
-        let mut builds = vec![(format!("{name}.spv"), None)];
+        // Fragment shaders are built four ways: with AUX_OUTPUTS they declare and write the
+        // normal and ID attachments (a pass without them must not see those outputs), with
+        // COUNT_FRAGMENTS they count shaded pixels with an atomic (`bench`; it needs
+        // fragmentStoresAndAtomics).
+        let mut builds: Vec<(String, Vec<&str>)> = vec![(format!("{name}.spv"), vec![])];
         if ext == "frag" {
-            builds.push((format!("{name}.counted.spv"), Some("-DCOUNT_FRAGMENTS")));
+            builds.push((format!("{name}.counted.spv"), vec!["-DCOUNT_FRAGMENTS"]));
+            builds.push((format!("{name}.aux.spv"), vec!["-DAUX_OUTPUTS"]));
+            builds.push((
+                format!("{name}.aux.counted.spv"),
+                vec!["-DAUX_OUTPUTS", "-DCOUNT_FRAGMENTS"],
+            ));
         }
-        for (spv, define) in builds {
+        for (spv, defines) in builds {
             let mut command = Command::new(&tool);
             // Compute shaders target SPIR-V 1.6 (Vulkan 1.3), whose LocalSizeId replaces the
             // WorkgroupSize built-in that 1.6 deprecates (a best-practices warning).
@@ -42,9 +49,7 @@ fn main() {
             command
                 .args(["-V", "--target-env", env, "--spirv-val"])
                 .arg(format!("-I{}", glsl.join("include").display()));
-            if let Some(define) = define {
-                command.arg(define);
-            }
+            command.args(&defines);
             let result = command.arg("-o").arg(out.join(&spv)).arg(src).output();
             match result {
                 Err(e) if e.kind() == std::io::ErrorKind::NotFound => {

@@ -4,7 +4,6 @@
 // limit for that coverage.
 #include "fragment_counter.glsl"
 
-layout(constant_id = 1) const bool AUX_OUTPUTS = true;
 
 // The impostor vertex stage's whole interface, declared so every output is consumed.
 layout(location = 0) flat in vec3 v_ray_x;
@@ -20,14 +19,16 @@ layout(location = 8) flat in uint v_flags;
 layout(location = 9) flat in vec3 v_color;
 
 layout(location = 0) out vec4 out_color;
+#ifdef AUX_OUTPUTS
 layout(location = 1) out vec4 out_normal;
 layout(location = 2) out uint out_id;
+#endif
 
 void main() {
     count_fragment();
     out_color = vec4(v_color, 1.0);
-    if (AUX_OUTPUTS) {
-        out_normal = vec4(0.0);
-        out_id = v_id;
-    }
+#ifdef AUX_OUTPUTS
+    out_normal = vec4(0.0);
+    out_id = v_id;
+#endif
 }

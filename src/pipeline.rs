@@ -29,47 +29,27 @@ pub(crate) struct PipelineKey {
     pub no_caps: bool,
 }
 
-/// The SPIR-V of the two stages for `key`.
-fn stage_code(key: &PipelineKey) -> (&'static [u8], &'static [u8]) {
-    use shaders::counted;
-    let pick = |plain: &'static [u8], counting: &'static [u8]| {
-        if key.count_fragments {
-            counting
-        } else {
-            plain
-        }
-    };
+/// The SPIR-V of the two stages for `key`, the fragment stage writing the normal and ID
+/// attachments when `aux_outputs`.
+fn stage_code(key: &PipelineKey, aux_outputs: bool) -> (&'static [u8], &'static [u8]) {
     let config = &key.config;
-    match config.geometry {
-        Geometry::Mesh(_) => (
-            shaders::MESH_VERT,
-            pick(shaders::MESH_FRAG, counted::MESH_FRAG),
-        ),
-        Geometry::BoxProxy => (
-            shaders::BOX_VERT,
-            pick(shaders::ELLIPSOID_FRAG, counted::ELLIPSOID_FRAG),
-        ),
+    let (vertex, fragment) = match config.geometry {
+        Geometry::Mesh(_) => (shaders::MESH_VERT, shaders::MESH_FRAG),
+        Geometry::BoxProxy => (shaders::BOX_VERT, shaders::ELLIPSOID_FRAG),
         Geometry::Impostor if key.preset => (
             shaders::ELLIPSOID_PRESET_VERT,
-            pick(
-                shaders::ELLIPSOID_PRESET_FRAG,
-                counted::ELLIPSOID_PRESET_FRAG,
-            ),
+            shaders::ELLIPSOID_PRESET_FRAG,
         ),
         Geometry::Impostor => (
             shaders::ELLIPSOID_VERT,
             match config.shading {
-                Shading::FlatDepth => pick(
-                    shaders::ELLIPSOID_FLAT_DEPTH_FRAG,
-                    counted::ELLIPSOID_FLAT_DEPTH_FRAG,
-                ),
-                Shading::FlatFill => pick(shaders::FLAT_FILL_FRAG, counted::FLAT_FILL_FRAG),
-                Shading::Exact | Shading::FastNormal => {
-                    pick(shaders::ELLIPSOID_FRAG, counted::ELLIPSOID_FRAG)
-                }
+                Shading::FlatDepth => shaders::ELLIPSOID_FLAT_DEPTH_FRAG,
+                Shading::FlatFill => shaders::FLAT_FILL_FRAG,
+                Shading::Exact | Shading::FastNormal => shaders::ELLIPSOID_FRAG,
             },
         ),
-    }
+    };
+    (vertex, fragment.pick(aux_outputs, key.count_fragments))
 }
 
 /// Creates the pipeline for `key`, drawing into `target`; the caller owns it.
@@ -80,7 +60,7 @@ pub(crate) fn create_pipeline(
     target: &Target,
     key: PipelineKey,
 ) -> Result<vk::Pipeline> {
-    let (vert_code, frag_code) = stage_code(&key);
+    let (vert_code, frag_code) = stage_code(&key, target.aux_outputs);
     let vert = shaders::create_module(device, vert_code)?;
     // The fragment shaders declare `depth_less` (reversed Z); standard Z needs the mirror.
     let frag = match shaders::create_fragment_module(device, frag_code, key.reversed_z) {
@@ -111,12 +91,10 @@ fn build(
 ) -> Result<vk::Pipeline> {
     let config = key.config;
     // Specialization constants, 4 bytes each (glsl/include/ellipsoid_common.glsl and the
-    // fragment shaders): 0 ORTHOGRAPHIC, 1 AUX_OUTPUTS, 2 TEXTBOOK, 3 BOUNDS, 4 CORNERS,
-    // 5 FAST_NORMAL, 8 CULLED, 13 SPHERES, 14 NO_CAPS. Stages ignore the ones they do not
-    // declare.
-    let values: [u32; 9] = [
+    // fragment shaders): 0 ORTHOGRAPHIC, 2 TEXTBOOK, 3 BOUNDS, 4 CORNERS, 5 FAST_NORMAL,
+    // 8 CULLED, 13 SPHERES, 14 NO_CAPS. Stages ignore the ones they do not declare.
+    let values: [u32; 8] = [
         key.orthographic as u32,
-        target.aux_outputs as u32,
         (config.intersection == Intersection::Textbook) as u32,
         config.footprint.bounds_mode(),
         config.footprint.vertices(),
@@ -125,7 +103,7 @@ fn build(
         key.spheres as u32,
         key.no_caps as u32,
     ];
-    let ids: [u32; 9] = [0, 1, 2, 3, 4, 5, 8, 13, 14];
+    let ids: [u32; 8] = [0, 2, 3, 4, 5, 8, 13, 14];
     let spec_data: Vec<u8> = values.iter().flat_map(|v| v.to_ne_bytes()).collect();
     let entries: Vec<vk::SpecializationMapEntry> = (0..values.len() as u32)
         .map(|i| vk::SpecializationMapEntry {

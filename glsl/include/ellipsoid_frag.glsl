@@ -9,7 +9,6 @@
 #include "fragment_counter.glsl"
 
 // Outputs beyond colour only when the pipeline has those attachments.
-layout(constant_id = 1) const bool AUX_OUTPUTS = true;
 // Herbison-Evans' modulus-normalised gradient instead of a unit normal (no square root).
 layout(constant_id = 5) const bool FAST_NORMAL = false;
 // No ellipsoid reaches in front of the near plane (nor holds the eye): no cap code.
@@ -76,8 +75,10 @@ void load_shading() {}
 #endif
 
 layout(location = 0) out vec4 out_color;
+#ifdef AUX_OUTPUTS
 layout(location = 1) out vec4 out_normal;
 layout(location = 2) out uint out_id;
+#endif
 #ifndef FLAT_DEPTH
 // Written depth never exceeds the quad's (reversed-Z: nearer is larger).
 layout(depth_less) out float gl_FragDepth;
@@ -201,8 +202,8 @@ void main() {
 #endif
 
     out_color = vec4(shade(n, v_color), 1.0);
-    if (AUX_OUTPUTS) {
-        out_normal = vec4(n, 0.0);
-        out_id = v_id;
-    }
+#ifdef AUX_OUTPUTS
+    out_normal = vec4(n, 0.0);
+    out_id = v_id;
+#endif
 }

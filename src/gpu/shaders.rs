@@ -4,54 +4,69 @@ use ash::vk;
 
 use crate::error::{Error, Result, VkCall};
 
-/// The ellipsoid impostor vertex shader.
-pub const ELLIPSOID_VERT: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/ellipsoid.vert.spv"));
-/// The ellipsoid impostor fragment shader.
-pub const ELLIPSOID_FRAG: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/ellipsoid.frag.spv"));
-
-/// `ELLIPSOID_VERT` reading the set-up the culling pre-pass computed (`PRESET_SETUP`).
-pub const ELLIPSOID_PRESET_VERT: &[u8] =
-    include_bytes!(concat!(env!("OUT_DIR"), "/ellipsoid_preset.vert.spv"));
-/// `ELLIPSOID_FRAG` reading the set-up the culling pre-pass computed (`PRESET_SETUP`).
-pub const ELLIPSOID_PRESET_FRAG: &[u8] =
-    include_bytes!(concat!(env!("OUT_DIR"), "/ellipsoid_preset.frag.spv"));
-
-/// The `impostor-flat-depth` fragment shader (no depth write).
-pub const ELLIPSOID_FLAT_DEPTH_FRAG: &[u8] =
-    include_bytes!(concat!(env!("OUT_DIR"), "/ellipsoid_flat_depth.frag.spv"));
-/// The `flat-fill` fragment shader.
-pub const FLAT_FILL_FRAG: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/flat_fill.frag.spv"));
-/// Icosphere vertex shader (`mesh-L*`).
-pub const MESH_VERT: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/mesh.vert.spv"));
-/// Icosphere fragment shader (`mesh-L*`).
-pub const MESH_FRAG: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/mesh.frag.spv"));
-/// Oriented-box proxy vertex shader (`box-proxy`).
-pub const BOX_VERT: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/box.vert.spv"));
-
-/// The culling pre-pass compute shader.
-pub const CULL_COMP: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/cull.comp.spv"));
-
-/// Fragment shaders built with `COUNT_FRAGMENTS` (an atomic count of shaded pixels).
-pub mod counted {
-    /// `ELLIPSOID_FRAG` with the fragment counter.
-    pub const ELLIPSOID_FRAG: &[u8] =
-        include_bytes!(concat!(env!("OUT_DIR"), "/ellipsoid.frag.counted.spv"));
-    /// `ELLIPSOID_PRESET_FRAG` with the fragment counter.
-    pub const ELLIPSOID_PRESET_FRAG: &[u8] = include_bytes!(concat!(
-        env!("OUT_DIR"),
-        "/ellipsoid_preset.frag.counted.spv"
-    ));
-    /// `ELLIPSOID_FLAT_DEPTH_FRAG` with the fragment counter.
-    pub const ELLIPSOID_FLAT_DEPTH_FRAG: &[u8] = include_bytes!(concat!(
-        env!("OUT_DIR"),
-        "/ellipsoid_flat_depth.frag.counted.spv"
-    ));
-    /// `FLAT_FILL_FRAG` with the fragment counter.
-    pub const FLAT_FILL_FRAG: &[u8] =
-        include_bytes!(concat!(env!("OUT_DIR"), "/flat_fill.frag.counted.spv"));
-    /// `MESH_FRAG` with the fragment counter.
-    pub const MESH_FRAG: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/mesh.frag.counted.spv"));
+/// One fragment shader built four ways (`build.rs`): with or without the normal and ID
+/// outputs (`AUX_OUTPUTS`), with or without the shaded-pixel counter (`COUNT_FRAGMENTS`).
+#[derive(Clone, Copy, Debug)]
+pub struct FragmentShader {
+    /// Colour only.
+    pub plain: &'static [u8],
+    /// Colour only, counting shaded pixels.
+    pub counted: &'static [u8],
+    /// Colour, normal and ID.
+    pub aux: &'static [u8],
+    /// Colour, normal and ID, counting shaded pixels.
+    pub aux_counted: &'static [u8],
 }
+
+impl FragmentShader {
+    /// The build with (`aux`) the normal and ID outputs and (`counted`) the pixel counter.
+    pub fn pick(&self, aux: bool, counted: bool) -> &'static [u8] {
+        match (aux, counted) {
+            (false, false) => self.plain,
+            (false, true) => self.counted,
+            (true, false) => self.aux,
+            (true, true) => self.aux_counted,
+        }
+    }
+}
+
+macro_rules! spirv {
+    ($file:literal) => {
+        include_bytes!(concat!(env!("OUT_DIR"), "/", $file))
+    };
+}
+
+macro_rules! fragment_shader {
+    ($name:literal) => {
+        FragmentShader {
+            plain: include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".spv")),
+            counted: include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".counted.spv")),
+            aux: include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".aux.spv")),
+            aux_counted: include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".aux.counted.spv")),
+        }
+    };
+}
+
+/// The ellipsoid impostor vertex shader.
+pub const ELLIPSOID_VERT: &[u8] = spirv!("ellipsoid.vert.spv");
+/// The ellipsoid impostor fragment shader.
+pub const ELLIPSOID_FRAG: FragmentShader = fragment_shader!("ellipsoid.frag");
+/// `ELLIPSOID_VERT` reading the set-up the culling pre-pass computed (`PRESET_SETUP`).
+pub const ELLIPSOID_PRESET_VERT: &[u8] = spirv!("ellipsoid_preset.vert.spv");
+/// `ELLIPSOID_FRAG` reading the set-up the culling pre-pass computed (`PRESET_SETUP`).
+pub const ELLIPSOID_PRESET_FRAG: FragmentShader = fragment_shader!("ellipsoid_preset.frag");
+/// The `impostor-flat-depth` fragment shader (no depth write).
+pub const ELLIPSOID_FLAT_DEPTH_FRAG: FragmentShader = fragment_shader!("ellipsoid_flat_depth.frag");
+/// The `flat-fill` fragment shader.
+pub const FLAT_FILL_FRAG: FragmentShader = fragment_shader!("flat_fill.frag");
+/// Icosphere vertex shader (`mesh-L*`).
+pub const MESH_VERT: &[u8] = spirv!("mesh.vert.spv");
+/// Icosphere fragment shader (`mesh-L*`).
+pub const MESH_FRAG: FragmentShader = fragment_shader!("mesh.frag");
+/// Oriented-box proxy vertex shader (`box-proxy`).
+pub const BOX_VERT: &[u8] = spirv!("box.vert.spv");
+/// The culling pre-pass compute shader.
+pub const CULL_COMP: &[u8] = spirv!("cull.comp.spv");
 
 /// Creates a shader module from SPIR-V bytes; the caller owns and destroys it.
 pub fn create_module(device: &ash::Device, spirv: &[u8]) -> Result<vk::ShaderModule> {
@@ -110,11 +125,11 @@ mod tests {
 
     #[test]
     fn every_depth_writing_fragment_shader_declares_depth_less_once() {
-        for spirv in [
-            ELLIPSOID_FRAG,
-            ELLIPSOID_PRESET_FRAG,
-            counted::ELLIPSOID_FRAG,
-        ] {
+        let builds = |f: FragmentShader| [f.plain, f.counted, f.aux, f.aux_counted];
+        for spirv in builds(ELLIPSOID_FRAG)
+            .into_iter()
+            .chain(builds(ELLIPSOID_PRESET_FRAG))
+        {
             let mut words = ash::util::read_spv(&mut std::io::Cursor::new(spirv)).unwrap();
             assert_eq!(mirror_depth_layout(&mut words), 1);
             assert_eq!(mirror_depth_layout(&mut words), 0, "now DepthGreater");

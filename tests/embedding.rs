@@ -1,0 +1,343 @@
+//! The renderer inside a host engine's frame (the host of `examples/embed`): its device, its
+//! render pass or dynamic rendering, its projection matrices and depth convention, its
+//! multisampling. A tilted mesh plane cuts an ellipsoid; which surface each pixel (or sample)
+//! shows is checked against the analytic answer in float64.
+//!
+//! Colours make the check exact: the plane is pure green and unlit, the ellipsoid pure red
+//! with no specular highlight, the background black. So a resolved pixel's green channel is
+//! 255 x (samples showing the plane) / (samples), whatever the ellipsoid's shading.
+
+#[path = "../examples/embed/host.rs"]
+mod host;
+
+use ash::vk;
+use ellipsoid_splat::renderer::{EllipsoidRenderer, HostDevice, Pass, RendererOptions, Target};
+use ellipsoid_splat::{Camera, Ellipsoid, Scene};
+use glam::{DMat4, DQuat, DVec3};
+use host::{DepthKind, Host, HostTarget, MeshPipeline, TargetKind};
+
+const WIDTH: u32 = 160;
+const HEIGHT: u32 = 120;
+const NEAR: f64 = 0.5;
+const FAR: f64 = 40.0;
+const FOV_Y: f64 = 0.9;
+
+/// The Vulkan standard sample positions within a pixel (1 and 4 samples).
+fn sample_positions(samples: u32) -> &'static [(f64, f64)] {
+    match samples {
+        1 => &[(0.5, 0.5)],
+        4 => &[
+            (0.375, 0.125),
+            (0.875, 0.375),
+            (0.125, 0.625),
+            (0.625, 0.875),
+        ],
+        _ => panic!("no standard positions for {samples} samples in this test"),
+    }
+}
+
+/// The scene: one ellipsoid at the origin, a plane through it tilted towards the camera.
+struct Setup {
+    glyph: Ellipsoid,
+    plane_point: DVec3,
+    plane_normal: DVec3,
+    eye: DVec3,
+}
+
+impl Setup {
+    fn new(glyph_color: [f32; 3]) -> Self {
+        Setup {
+            glyph: Ellipsoid::new(
+                DVec3::new(0.1, -0.1, 0.0),
+                DVec3::new(2.0, 1.2, 0.9),
+                DQuat::from_euler(glam::EulerRot::XYZ, 0.4, 0.7, 0.2),
+                Some(glyph_color),
+            )
+            .unwrap(),
+            plane_point: DVec3::new(0.0, 0.0, 0.1),
+            plane_normal: DVec3::new(0.35, 0.25, 1.0).normalize(),
+            eye: DVec3::new(0.8, 1.0, 7.0),
+        }
+    }
+
+    fn view(&self) -> DMat4 {
+        DMat4::look_at_rh(self.eye, DVec3::ZERO, DVec3::Y)
+    }
+
+    fn projection(&self, depth: DepthKind) -> DMat4 {
+        let aspect = WIDTH as f64 / HEIGHT as f64;
+        match depth {
+            DepthKind::ReversedInfinite => host::reversed_infinite_perspective(FOV_Y, aspect, NEAR),
+            DepthKind::StandardFinite => {
+                host::standard_finite_perspective(FOV_Y, aspect, NEAR, FAR)
+            }
+        }
+    }
+
+    /// What the ray through NDC `(x, y)` shows: 'r' the ellipsoid, 'h' the plane hiding the
+    /// ellipsoid, 'g' the plane alone, 'b' nothing.
+    fn shows(&self, camera: &Camera, x: f64, y: f64) -> char {
+        let ray = camera.ray_at_ndc(x, y);
+        // Ray parameter = view depth (the direction's forward component is 1).
+        let plane = {
+            let denom = ray.direction.dot(self.plane_normal);
+            let t = (self.plane_point - ray.origin).dot(self.plane_normal) / denom;
+            (denom != 0.0 && (NEAR..=FAR).contains(&t)).then_some(t)
+        };
+        let glyph = {
+            let e = &self.glyph;
+            let inverse = e.rotation.inverse();
+            let o = (inverse * (ray.origin - e.center)) / e.radii;
+            let d = (inverse * ray.direction) / e.radii;
+            let (a, b, c) = (d.dot(d), o.dot(d), o.dot(o) - 1.0);
+            let disc = b * b - a * c;
+            (disc >= 0.0)
+                .then(|| (-b - disc.sqrt()) / a)
+                .filter(|&t| (NEAR..=FAR).contains(&t))
+        };
+        match (glyph, plane) {
+            (Some(g), Some(p)) if g < p => 'r',
+            (Some(_), Some(_)) => 'h',
+            (None, Some(_)) => 'g',
+            (Some(_), None) => 'r',
+            (None, None) => 'b',
+        }
+    }
+
+    /// Per pixel: samples showing the plane and the ellipsoid, and where the pixel lies.
+    fn expected(&self, camera: &Camera, samples: u32) -> Vec<Expected> {
+        let classify = |i: i64, j: i64| -> Vec<char> {
+            sample_positions(samples)
+                .iter()
+                .map(|&(sx, sy)| {
+                    let x = 2.0 * (i as f64 + sx) / WIDTH as f64 - 1.0;
+                    let y = 1.0 - 2.0 * (j as f64 + sy) / HEIGHT as f64;
+                    self.shows(camera, x, y)
+                })
+                .collect()
+        };
+        let all: Vec<Vec<char>> = (0..HEIGHT as i64)
+            .flat_map(|j| (0..WIDTH as i64).map(move |i| (i, j)))
+            .map(|(i, j)| classify(i, j))
+            .collect();
+        let at = |i: i64, j: i64| -> Option<&Vec<char>> {
+            (i >= 0 && j >= 0 && i < WIDTH as i64 && j < HEIGHT as i64)
+                .then(|| &all[(j * WIDTH as i64 + i) as usize])
+        };
+        let mut out = Vec::with_capacity(all.len());
+        for j in 0..HEIGHT as i64 {
+            for i in 0..WIDTH as i64 {
+                let here = at(i, j).unwrap();
+                let count = |c: char| here.iter().filter(|&&s| s == c).count() as u32;
+                let mut near = String::new();
+                for dj in -1..=1 {
+                    for di in -1..=1 {
+                        if let Some(n) = at(i + di, j + dj) {
+                            near.extend(n.iter());
+                        }
+                    }
+                }
+                let has = |c: char| near.contains(c);
+                out.push(Expected {
+                    plane: count('h') + count('g'),
+                    ellipsoid: count('r'),
+                    uniform: near.chars().all(|c| c == here[0]),
+                    // Where the plane passes through the ellipsoid, and where the ellipsoid's
+                    // outline lies in front of the plane.
+                    on_curve: has('r') && has('h'),
+                    on_silhouette: has('r') && has('g'),
+                });
+            }
+        }
+        out
+    }
+}
+
+/// The analytic answer for one pixel.
+struct Expected {
+    plane: u32,
+    ellipsoid: u32,
+    /// The pixel and its eight neighbours show one surface at every sample.
+    uniform: bool,
+    on_curve: bool,
+    on_silhouette: bool,
+}
+
+/// Renders the setup into a host target and returns the resolved RGBA8 pixels.
+fn render(
+    host: &mut Host,
+    setup: &Setup,
+    kind: TargetKind,
+    depth: DepthKind,
+    samples: vk::SampleCountFlags,
+) -> (Vec<u8>, Camera) {
+    let target = HostTarget::new(host, kind, depth, samples, WIDTH, HEIGHT).unwrap();
+    let plane = host::tilted_plane(setup.plane_point, setup.plane_normal, 60.0, [0.0, 1.0, 0.0]);
+    let mesh = MeshPipeline::new(host, &target, &plane).unwrap();
+    let (view, projection) = (setup.view(), setup.projection(depth));
+    let camera = Camera::from_view_projection(view, projection, WIDTH, HEIGHT).unwrap();
+    let pass = match kind {
+        TargetKind::Dynamic => Pass::Dynamic {
+            color_formats: vec![HostTarget::COLOR_FORMAT],
+            depth_format: HostTarget::DEPTH_FORMAT,
+        },
+        TargetKind::RenderPass => Pass::RenderPass {
+            render_pass: target.render_pass(),
+            subpass: 0,
+            color_attachment_count: 1,
+            depth_format: HostTarget::DEPTH_FORMAT,
+        },
+    };
+    let options = RendererOptions {
+        target: Target {
+            pass,
+            samples,
+            aux_outputs: false,
+        },
+        frames_in_flight: 2,
+        pipeline_cache: vk::PipelineCache::null(),
+    };
+    let (instance, device) = (host.instance().clone(), host.device().clone());
+    let handles = HostDevice {
+        instance: &instance,
+        physical_device: host.physical_device(),
+        device: &device,
+        queue_family_index: host.queue_family(),
+    };
+    // SAFETY: the host's handles belong together and enable the required features.
+    let mut renderer =
+        unsafe { EllipsoidRenderer::new(&handles, host.allocator_mut(), options) }.unwrap();
+    renderer.material.specular = 0.0; // keep the green channel the plane's alone
+    let scene = Scene::new(vec![setup.glyph]);
+    let cmd = host.begin().unwrap();
+    // SAFETY: `cmd` is recording; the pre-pass and upload go outside the pass, the draw
+    // inside it; everything is submitted and waited for before the renderer is destroyed.
+    unsafe {
+        renderer
+            .begin_frame(&device, host.allocator_mut(), 0)
+            .unwrap();
+        renderer
+            .upload(&device, host.allocator_mut(), cmd, &scene)
+            .unwrap();
+        renderer
+            .record_prepass(&device, host.allocator_mut(), cmd, &camera)
+            .unwrap();
+        target.begin_pass(&device, cmd);
+        mesh.record(&device, cmd, projection * view);
+        renderer
+            .record(&device, host.allocator_mut(), cmd, &camera)
+            .unwrap();
+        target.end_pass(&device, cmd);
+    }
+    host.submit_and_wait().unwrap();
+    let rgba = target.read_rgba().unwrap();
+    // SAFETY: the submission completed.
+    unsafe { renderer.destroy(&device, host.allocator_mut()) };
+    mesh.destroy(host);
+    target.destroy(host);
+    (rgba, camera)
+}
+
+/// Compares a rendering with the analytic per-sample classification; returns how many
+/// pixels lie within a pixel of the intersection curve.
+fn check(setup: &Setup, rgba: &[u8], camera: &Camera, samples: u32, label: &str) -> usize {
+    let expected = setup.expected(camera, samples);
+    let mut near_curve = 0;
+    // [partly covered, of which exactly right] along the curve and along the silhouette.
+    let (mut curve, mut silhouette) = ([0usize; 2], [0usize; 2]);
+    for (k, e) in expected.iter().enumerate() {
+        let (i, j) = (k as u32 % WIDTH, k as u32 / WIDTH);
+        let plane = rgba[4 * k + 1] as f64 / 255.0 * samples as f64;
+        let error = (plane - e.plane as f64).abs();
+        if e.uniform {
+            // Away from every edge: exactly the expected surface.
+            assert!(
+                error < 0.1,
+                "{label}: pixel ({i},{j}) shows {plane:.2} plane samples, expected {}",
+                e.plane
+            );
+            if e.ellipsoid == samples {
+                assert!(
+                    rgba[4 * k] > 0,
+                    "{label}: pixel ({i},{j}) misses the ellipsoid"
+                );
+            }
+            continue;
+        }
+        // Within a pixel of an edge: a sample lying on the exact curve may go either way
+        // through float32 rounding; none further from it.
+        assert!(
+            error < 1.1,
+            "{label}: pixel ({i},{j}) near an edge shows {plane:.2} plane samples, expected {}",
+            e.plane
+        );
+        near_curve += e.on_curve as usize;
+        // Pixels the exact answer covers partly: their samples must split as it says.
+        if e.plane == 0 || e.plane == samples {
+            continue;
+        }
+        let exact = (error < 0.1) as usize;
+        if e.on_curve {
+            curve[0] += 1;
+            curve[1] += exact;
+        } else if e.on_silhouette {
+            silhouette[0] += 1;
+            silhouette[1] += exact;
+        }
+    }
+    println!(
+        "{label}: {near_curve} px within a pixel of the intersection curve; partly covered: curve {} ({} exact), silhouette {} ({} exact)",
+        curve[0], curve[1], silhouette[0], silhouette[1]
+    );
+    if samples > 1 {
+        // Antialiased: along both edges, partly covered pixels resolve to the exact fraction
+        // (a sample within float32 rounding of the curve may go either way).
+        for (what, [partly, exact]) in [("curve", curve), ("silhouette", silhouette)] {
+            assert!(
+                partly > 30,
+                "{label}: only {partly} partly covered {what} pixels"
+            );
+            assert!(
+                exact * 10 >= partly * 9,
+                "{label}: only {exact} of {partly} partly covered {what} pixels are exact"
+            );
+        }
+    }
+    near_curve
+}
+
+#[test]
+fn a_mesh_plane_cuts_the_ellipsoid_along_the_analytic_curve() {
+    let mut host = Host::new(true).unwrap();
+    let setup = Setup::new([1.0, 0.0, 0.0]);
+    for kind in [TargetKind::Dynamic, TargetKind::RenderPass] {
+        for depth in [DepthKind::ReversedInfinite, DepthKind::StandardFinite] {
+            let (rgba, camera) =
+                render(&mut host, &setup, kind, depth, vk::SampleCountFlags::TYPE_1);
+            let label = format!("{kind:?} {depth:?} 1 sample");
+            let curve = check(&setup, &rgba, &camera, 1, &label);
+            assert!(
+                curve > 40,
+                "{label}: the plane must cut the ellipsoid visibly"
+            );
+        }
+    }
+    let messages = host.messages();
+    assert!(messages.is_empty(), "validation: {messages:#?}");
+}
+
+#[test]
+fn multisampled_silhouettes_and_intersections_are_exact_per_sample() {
+    let mut host = Host::new(true).unwrap();
+    let setup = Setup::new([1.0, 0.0, 0.0]);
+    for (kind, depth) in [
+        (TargetKind::RenderPass, DepthKind::ReversedInfinite),
+        (TargetKind::Dynamic, DepthKind::StandardFinite),
+    ] {
+        let (rgba, camera) = render(&mut host, &setup, kind, depth, vk::SampleCountFlags::TYPE_4);
+        let label = format!("{kind:?} {depth:?} 4 samples");
+        check(&setup, &rgba, &camera, 4, &label);
+    }
+    let messages = host.messages();
+    assert!(messages.is_empty(), "validation: {messages:#?}");
+}
