@@ -163,13 +163,23 @@ struct Expected {
     on_silhouette: bool,
 }
 
-/// Renders the setup into a host target and returns the resolved RGBA8 pixels.
+/// What the second frame of a two-frame command buffer draws: a larger scene uploaded over
+/// the first (the old buffers retired while the command buffer still uses them), then its
+/// instance 0 replaced by `update`.
+struct SecondFrame {
+    scene: Scene,
+    update: Ellipsoid,
+}
+
+/// Renders the setup into a host target and returns the resolved RGBA8 pixels. With `second`,
+/// the same command buffer then records a second frame, whose picture is returned.
 fn render(
     host: &mut Host,
     setup: &Setup,
     kind: TargetKind,
     depth: DepthKind,
     samples: vk::SampleCountFlags,
+    second: Option<&SecondFrame>,
 ) -> (Vec<u8>, Camera) {
     let target = HostTarget::new(host, kind, depth, samples, WIDTH, HEIGHT).unwrap();
     let plane = host::tilted_plane(setup.plane_point, setup.plane_normal, 60.0, [0.0, 1.0, 0.0]);
@@ -228,6 +238,26 @@ fn render(
             .record(&device, host.allocator_mut(), cmd, &camera)
             .unwrap();
         target.end_pass(&device, cmd);
+        if let Some(second) = second {
+            let allocator = host.allocator_mut();
+            // Slot 1 has no earlier work; slot 0's is still pending, so nothing is freed.
+            renderer.begin_frame(&device, allocator, 1).unwrap();
+            renderer
+                .upload(&device, allocator, cmd, &second.scene)
+                .unwrap();
+            renderer
+                .update(&device, allocator, cmd, 0, &[second.update])
+                .unwrap();
+            renderer
+                .record_prepass(&device, allocator, cmd, &camera)
+                .unwrap();
+            target.begin_pass(&device, cmd);
+            mesh.record(&device, cmd, projection * view);
+            renderer
+                .record(&device, host.allocator_mut(), cmd, &camera)
+                .unwrap();
+            target.end_pass(&device, cmd);
+        }
     }
     host.submit_and_wait().unwrap();
     let rgba = target.read_rgba().unwrap();
@@ -242,6 +272,8 @@ fn render(
 /// pixels lie within a pixel of the intersection curve.
 fn check(setup: &Setup, rgba: &[u8], camera: &Camera, samples: u32, label: &str) -> usize {
     let expected = setup.expected(camera, samples);
+    // The ellipsoid's one colour channel: red or blue.
+    let channel = if setup.glyph.color[0] > 0.0 { 0 } else { 2 };
     let mut near_curve = 0;
     // [partly covered, of which exactly right] along the curve and along the silhouette.
     let (mut curve, mut silhouette) = ([0usize; 2], [0usize; 2]);
@@ -257,10 +289,8 @@ fn check(setup: &Setup, rgba: &[u8], camera: &Camera, samples: u32, label: &str)
                 e.plane
             );
             if e.ellipsoid == samples {
-                assert!(
-                    rgba[4 * k] > 0,
-                    "{label}: pixel ({i},{j}) misses the ellipsoid"
-                );
+                let shown = rgba[4 * k + channel];
+                assert!(shown > 0, "{label}: pixel ({i},{j}) misses the ellipsoid");
             }
             continue;
         }
@@ -312,8 +342,14 @@ fn a_mesh_plane_cuts_the_ellipsoid_along_the_analytic_curve() {
     let setup = Setup::new([1.0, 0.0, 0.0]);
     for kind in [TargetKind::Dynamic, TargetKind::RenderPass] {
         for depth in [DepthKind::ReversedInfinite, DepthKind::StandardFinite] {
-            let (rgba, camera) =
-                render(&mut host, &setup, kind, depth, vk::SampleCountFlags::TYPE_1);
+            let (rgba, camera) = render(
+                &mut host,
+                &setup,
+                kind,
+                depth,
+                vk::SampleCountFlags::TYPE_1,
+                None,
+            );
             let label = format!("{kind:?} {depth:?} 1 sample");
             let curve = check(&setup, &rgba, &camera, 1, &label);
             assert!(
@@ -334,9 +370,59 @@ fn multisampled_silhouettes_and_intersections_are_exact_per_sample() {
         (TargetKind::RenderPass, DepthKind::ReversedInfinite),
         (TargetKind::Dynamic, DepthKind::StandardFinite),
     ] {
-        let (rgba, camera) = render(&mut host, &setup, kind, depth, vk::SampleCountFlags::TYPE_4);
+        let (rgba, camera) = render(
+            &mut host,
+            &setup,
+            kind,
+            depth,
+            vk::SampleCountFlags::TYPE_4,
+            None,
+        );
         let label = format!("{kind:?} {depth:?} 4 samples");
         check(&setup, &rgba, &camera, 4, &label);
+    }
+    let messages = host.messages();
+    assert!(messages.is_empty(), "validation: {messages:#?}");
+}
+
+/// Two frames recorded into one command buffer under synchronization validation: the second
+/// uploads a larger scene over the first and updates one instance, and the picture is the
+/// second frame's alone (the moved, blue ellipsoid; the old one nowhere).
+#[test]
+fn two_frames_in_one_command_buffer() {
+    let mut host = Host::new(true).unwrap();
+    let first = Setup::new([1.0, 0.0, 0.0]);
+    let mut moved = Setup::new([0.0, 0.0, 1.0]);
+    moved.glyph.center += DVec3::new(-0.9, 0.5, 0.2);
+    // Instance 0 as the first frame had it, then 400 small glyphs behind the plane.
+    let mut ellipsoids = vec![first.glyph];
+    for k in 0..400 {
+        let (x, y) = ((k % 20) as f64 * 0.3 - 3.0, (k / 20) as f64 * 0.3 - 3.0);
+        let color = Some([1.0, 1.0, 1.0]);
+        let hidden = Ellipsoid::new(
+            DVec3::new(x, y, -6.0),
+            DVec3::splat(0.12),
+            DQuat::IDENTITY,
+            color,
+        );
+        ellipsoids.push(hidden.unwrap());
+    }
+    let second = SecondFrame {
+        scene: Scene::new(ellipsoids),
+        update: moved.glyph,
+    };
+    for kind in [TargetKind::RenderPass, TargetKind::Dynamic] {
+        let depth = DepthKind::ReversedInfinite;
+        let samples = vk::SampleCountFlags::TYPE_1;
+        let (rgba, camera) = render(&mut host, &first, kind, depth, samples, Some(&second));
+        let label = format!("{kind:?} second frame");
+        check(&moved, &rgba, &camera, 1, &label);
+        let blue = (0..rgba.len() / 4).filter(|k| rgba[4 * k + 2] > 0).count();
+        let red = (0..rgba.len() / 4).filter(|k| rgba[4 * k] > 0).count();
+        assert!(
+            blue > 1000 && red == 0,
+            "{label}: {blue} blue, {red} red pixels"
+        );
     }
     let messages = host.messages();
     assert!(messages.is_empty(), "validation: {messages:#?}");
