@@ -55,7 +55,7 @@ pub struct Host {
 /// Debug-utils callback: appends "<message id name>: <message>" to the `Mutex<Vec<String>>`
 /// passed as user data, skipping the loader's informational "Loader Message"s.
 unsafe extern "system" fn collect_message(
-    _severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
     _types: vk::DebugUtilsMessageTypeFlagsEXT,
     data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
     user_data: *mut c_void,
@@ -74,6 +74,15 @@ unsafe extern "system" fn collect_message(
         return vk::FALSE;
     }
     let text = text.map(CStr::to_string_lossy).unwrap_or_default();
+    // The project's validation-modes script counts messages printed in this form.
+    if std::env::var_os("ELLIPSOID_SPLAT_PRINT_VALIDATION").is_some() {
+        let level = if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {
+            "ERROR"
+        } else {
+            "WARNING"
+        };
+        eprintln!("[{level}] {id}: {text}");
+    }
     if let Ok(mut log) = log.lock() {
         log.push(format!("{id}: {text}"));
     }
@@ -137,7 +146,19 @@ impl Host {
             extensions.push(ash::ext::debug_utils::NAME.as_ptr());
             extensions.push(ash::ext::validation_features::NAME.as_ptr());
         }
-        let enabled_validation = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+        // Synchronization validation always; the opt-in extra modes of the project's
+        // `scripts/validation-modes.sh` through the same environment variable as its tests.
+        let mut enabled_validation =
+            vec![vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+        match std::env::var("ELLIPSOID_SPLAT_EXTRA_VALIDATION").as_deref() {
+            Ok("gpu-assisted") => {
+                enabled_validation.push(vk::ValidationFeatureEnableEXT::GPU_ASSISTED)
+            }
+            Ok("best-practices") => {
+                enabled_validation.push(vk::ValidationFeatureEnableEXT::BEST_PRACTICES)
+            }
+            _ => {}
+        }
         let mut validation_features =
             vk::ValidationFeaturesEXT::default().enabled_validation_features(&enabled_validation);
         let mut instance_messenger = messenger_info(&messages);
