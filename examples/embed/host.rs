@@ -238,7 +238,7 @@ impl Host {
             .map_err(fail("gpu_allocator Allocator::new"))?,
         );
         let pool_info = vk::CommandPoolCreateInfo::default()
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER)
+            .flags(vk::CommandPoolCreateFlags::empty())
             .queue_family_index(queue_family);
         // SAFETY: valid device and create info.
         host.command_pool = unsafe { host.device.create_command_pool(&pool_info, None) }
@@ -310,15 +310,16 @@ impl Host {
         self.messages.lock().map(|m| m.clone()).unwrap_or_default()
     }
 
-    /// Resets the command buffer and begins recording it (one-time submit).
+    /// Resets the command pool and begins recording its buffer (one-time submit).
     pub fn begin(&mut self) -> HostResult<vk::CommandBuffer> {
         let cmd = self.command_buffer;
-        // SAFETY: the buffer's pool has RESET_COMMAND_BUFFER, and the buffer is not pending
-        // (every submission is waited for in `submit_and_wait`).
+        // SAFETY: the pool's one buffer is not pending (every submission is waited for in
+        // `submit_and_wait`), so the whole pool may be reset (best practice over resetting
+        // the buffer).
         unsafe {
             self.device
-                .reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())
-                .map_err(fail("vkResetCommandBuffer"))?;
+                .reset_command_pool(self.command_pool, vk::CommandPoolResetFlags::empty())
+                .map_err(fail("vkResetCommandPool"))?;
             let info = vk::CommandBufferBeginInfo::default()
                 .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
             self.device
@@ -799,7 +800,12 @@ impl HostTarget {
                 .format(Self::COLOR_FORMAT)
                 .samples(self.samples)
                 .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::STORE)
+                // Multisampled: only the resolved image is kept.
+                .store_op(if msaa {
+                    vk::AttachmentStoreOp::DONT_CARE
+                } else {
+                    vk::AttachmentStoreOp::STORE
+                })
                 .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
                 .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
                 .initial_layout(vk::ImageLayout::UNDEFINED)
@@ -1040,7 +1046,12 @@ impl HostTarget {
                     .image_view(self.color_image().view)
                     .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
                     .load_op(vk::AttachmentLoadOp::CLEAR)
-                    .store_op(vk::AttachmentStoreOp::STORE)
+                    // Multisampled: only the resolved image is kept.
+                    .store_op(if self.resolve.is_some() {
+                        vk::AttachmentStoreOp::DONT_CARE
+                    } else {
+                        vk::AttachmentStoreOp::STORE
+                    })
                     .clear_value(clear_color);
                 if let Some(resolve) = &self.resolve {
                     color = color
