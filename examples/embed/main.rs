@@ -64,9 +64,9 @@ fn ellipsoids(turn: f64) -> ellipsoid_splat::Result<Vec<Ellipsoid>> {
         let rotation = DQuat::from_rotation_y(-angle) * DQuat::from_rotation_x(0.5);
         let hue = k as f32 / 24.0;
         let color = [
-            0.5 + 0.5 * (6.28 * hue).cos(),
+            0.5 + 0.5 * (std::f32::consts::TAU * hue).cos(),
             0.4,
-            0.5 + 0.5 * (6.28 * hue).sin(),
+            0.5 + 0.5 * (std::f32::consts::TAU * hue).sin(),
         ];
         let radii = DVec3::new(0.15, 0.3, 0.12);
         out.push(Ellipsoid::new(center, radii, rotation, Some(color))?);
