@@ -61,6 +61,9 @@ pub struct OffscreenRenderer {
     count_fragments: bool,
     /// Timed frames also write the normal and ID targets (to measure what skipping them saves).
     timed_aux: bool,
+    /// A submission failed or was not waited for to completion: its command buffer may still
+    /// be pending, so nothing may be recorded again.
+    unfinished: bool,
     // Declared last: dropped after the fields above have been destroyed by `Drop`.
     context: Context,
 }
@@ -92,6 +95,7 @@ impl OffscreenRenderer {
             queries: None,
             count_fragments: false,
             timed_aux: false,
+            unfinished: false,
             context,
         };
         this.create_objects()?; // on error, Drop releases what exists
@@ -244,6 +248,12 @@ impl OffscreenRenderer {
     /// Starts the renderer's frame (every earlier submission was waited for) and begins the
     /// one command buffer.
     fn begin_commands(&mut self) -> Result<vk::CommandBuffer> {
+        if self.unfinished {
+            return Err(Error::invalid(
+                "offscreen renderer",
+                "an earlier frame did not finish (it timed out or the device was lost): create a new renderer",
+            ));
+        }
         let cmd = self.command_buffer;
         let renderer = self
             .renderer
@@ -612,7 +622,9 @@ impl OffscreenRenderer {
         Ok(())
     }
 
-    fn submit_and_wait(&self) -> Result<()> {
+    fn submit_and_wait(&mut self) -> Result<()> {
+        // Cleared only once the fence has signalled and been reset.
+        self.unfinished = true;
         let device = self.context.device();
         let (queue, _) = self.context.queue();
         let buffers = [self.command_buffer];
@@ -634,6 +646,7 @@ impl OffscreenRenderer {
             waited.call("vkWaitForFences")?;
             device.reset_fences(&[self.fence]).call("vkResetFences")?;
         }
+        self.unfinished = false;
         Ok(())
     }
 

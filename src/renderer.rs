@@ -170,13 +170,8 @@ pub const MAX_PRESET_INSTANCES: u32 = (1 << 27) / SHADING_RECORD_BYTES as u32;
 /// How many instances `Footprint::Auto` looks at.
 const SIZE_SAMPLE: usize = 4096;
 
-/// A storage buffer the descriptor set points at.
-struct StorageBuffer {
-    name: &'static str,
-    bytes: u64,
-    usage: vk::BufferUsageFlags,
-    location: MemoryLocation,
-}
+/// Where a storage buffer of the descriptor set lives in the renderer.
+type BufferSlot = fn(&mut EllipsoidRenderer) -> &mut Option<GpuBuffer>;
 
 /// One icosphere level on the GPU.
 struct MeshBuffers {
@@ -416,55 +411,49 @@ impl EllipsoidRenderer {
         allocator: &mut Allocator,
         count: usize,
     ) -> Result<()> {
-        let current = self.visible.take();
-        let visible = StorageBuffer {
-            name: "visible instances",
-            bytes: 4 * count.max(1) as u64,
-            usage: vk::BufferUsageFlags::STORAGE_BUFFER,
-            location: MemoryLocation::GpuOnly,
-        };
-        self.visible = Some(self.storage_at_least(device, allocator, current, visible)?);
-        let current = self.indirect.take();
-        let indirect = StorageBuffer {
-            name: "culled draw",
-            bytes: INDIRECT_BYTES,
-            usage: vk::BufferUsageFlags::STORAGE_BUFFER
-                | vk::BufferUsageFlags::INDIRECT_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_DST,
-            location: MemoryLocation::GpuOnly,
-        };
-        self.indirect = Some(self.storage_at_least(device, allocator, current, indirect)?);
-        let current = self.cull_groups.take();
-        let groups = StorageBuffer {
-            name: "culling groups",
-            bytes: culling::groups_bytes(count as u32),
-            usage: vk::BufferUsageFlags::STORAGE_BUFFER,
-            location: MemoryLocation::GpuOnly,
-        };
-        self.cull_groups = Some(self.storage_at_least(device, allocator, current, groups)?);
         // Set-up records only for scenes that can use them.
         let records = if count as u64 <= MAX_PRESET_INSTANCES as u64 {
             count.max(1) as u64
         } else {
             1
         };
-        let current = self.shading_records.take();
-        let shading = StorageBuffer {
-            name: "shading set-up",
-            bytes: records * SHADING_RECORD_BYTES,
-            usage: vk::BufferUsageFlags::STORAGE_BUFFER,
-            location: MemoryLocation::GpuOnly,
-        };
-        self.shading_records = Some(self.storage_at_least(device, allocator, current, shading)?);
-        let current = self.footprint_records.take();
-        let footprints = StorageBuffer {
-            name: "footprint set-up",
-            bytes: records * FOOTPRINT_RECORD_BYTES,
-            usage: vk::BufferUsageFlags::STORAGE_BUFFER,
-            location: MemoryLocation::GpuOnly,
-        };
-        self.footprint_records =
-            Some(self.storage_at_least(device, allocator, current, footprints)?);
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let indirect = storage | vk::BufferUsageFlags::INDIRECT_BUFFER;
+        let buffers: [(BufferSlot, &'static str, u64, vk::BufferUsageFlags); 5] = [
+            (
+                |r| &mut r.visible,
+                "visible instances",
+                4 * count.max(1) as u64,
+                storage,
+            ),
+            (
+                |r| &mut r.indirect,
+                "culled draw",
+                INDIRECT_BYTES,
+                indirect | vk::BufferUsageFlags::TRANSFER_DST,
+            ),
+            (
+                |r| &mut r.cull_groups,
+                "culling groups",
+                culling::groups_bytes(count as u32),
+                storage,
+            ),
+            (
+                |r| &mut r.shading_records,
+                "shading set-up",
+                records * SHADING_RECORD_BYTES,
+                storage,
+            ),
+            (
+                |r| &mut r.footprint_records,
+                "footprint set-up",
+                records * FOOTPRINT_RECORD_BYTES,
+                storage,
+            ),
+        ];
+        for (slot, name, bytes, usage) in buffers {
+            self.storage_at_least(device, allocator, slot, name, bytes, usage)?;
+        }
         Ok(())
     }
 
@@ -476,42 +465,45 @@ impl EllipsoidRenderer {
         width: u32,
         height: u32,
     ) -> Result<()> {
-        let current = self.occlusion_tiles.take();
-        let tiles = StorageBuffer {
-            name: "occlusion tiles",
-            bytes: culling::tiles_bytes(width, height),
-            usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-            location: MemoryLocation::GpuOnly,
-        };
-        self.occlusion_tiles = Some(self.storage_at_least(device, allocator, current, tiles)?);
-        Ok(())
+        self.storage_at_least(
+            device,
+            allocator,
+            |r| &mut r.occlusion_tiles,
+            "occlusion tiles",
+            culling::tiles_bytes(width, height),
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+        )
     }
 
-    /// `current` if it holds `spec.bytes`; otherwise a new buffer of that size for
-    /// `spec.binding` (the old one is retired until no recorded frame can use it).
+    /// Makes the GPU-only buffer in `slot` hold at least `bytes`: a smaller one is replaced
+    /// and retired until no recorded frame can use it.
     fn storage_at_least(
         &mut self,
         device: &ash::Device,
         allocator: &mut Allocator,
-        current: Option<GpuBuffer>,
-        spec: StorageBuffer,
-    ) -> Result<GpuBuffer> {
-        if let Some(buffer) = current {
-            if buffer.size() >= spec.bytes {
-                return Ok(buffer);
+        slot: BufferSlot,
+        name: &'static str,
+        bytes: u64,
+        usage: vk::BufferUsageFlags,
+    ) -> Result<()> {
+        if let Some(buffer) = slot(self).take() {
+            if buffer.size() >= bytes {
+                *slot(self) = Some(buffer);
+                return Ok(());
             }
             self.slots.retire(Retired::Buffer(buffer));
         }
         let buffer = GpuBuffer::new(
             device,
             allocator,
-            spec.name,
-            spec.bytes,
-            spec.usage,
-            spec.location,
+            name,
+            bytes,
+            usage,
+            MemoryLocation::GpuOnly,
         )?;
+        *slot(self) = Some(buffer);
         self.descriptors_stale = true;
-        Ok(buffer)
+        Ok(())
     }
 
     /// Whether the pre-pass computes the set-up of a draw with `config` and `camera` (see
@@ -920,15 +912,14 @@ impl EllipsoidRenderer {
             .collect();
         let count = packed.len() as u32;
         self.resize_cull_buffers(device, allocator, count as usize)?;
-        let current = self.instances.take();
-        let spec = StorageBuffer {
-            name: "ellipsoid instances",
-            bytes: packed.bytes.len().max(1) as u64,
-            usage: vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-            location: MemoryLocation::GpuOnly,
-        };
-        let buffer = self.storage_at_least(device, allocator, current, spec);
-        self.instances = Some(buffer?);
+        self.storage_at_least(
+            device,
+            allocator,
+            |r| &mut r.instances,
+            "ellipsoid instances",
+            packed.bytes.len().max(1) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+        )?;
         // SAFETY: forwarded caller contract.
         unsafe { self.record_copy(device, allocator, cmd, 0, &packed.bytes)? };
         self.origin = packed.origin;
