@@ -87,7 +87,42 @@ impl Default for Material {
     }
 }
 
-/// Pipeline, descriptor and instance data for drawing one scene.
+/// Pipeline, descriptor and instance data for drawing one scene into a host's frame.
+///
+/// One frame, recorded into the host's command buffer (`examples/embed` is a whole program):
+///
+/// ```no_run
+/// use ash::vk;
+/// use ellipsoid_splat::renderer::EllipsoidRenderer;
+/// use ellipsoid_splat::{Camera, Scene};
+/// use glam::DMat4;
+///
+/// /// # Safety
+/// /// `cmd` is recording outside a pass; `slot`'s previous work has completed.
+/// unsafe fn frame(
+///     renderer: &mut EllipsoidRenderer,
+///     device: &ash::Device,
+///     allocator: &mut gpu_allocator::vulkan::Allocator,
+///     cmd: vk::CommandBuffer,
+///     slot: u32,
+///     scene: Option<&Scene>,
+///     (view, projection): (DMat4, DMat4),
+/// ) -> ellipsoid_splat::Result<()> {
+///     // The host's matrices (Vulkan clip space) and image size give the camera.
+///     let camera = Camera::from_view_projection(view, projection, 1920, 1080)?;
+///     unsafe {
+///         renderer.begin_frame(device, allocator, slot)?;
+///         if let Some(scene) = scene {
+///             renderer.upload(device, allocator, cmd, scene)?; // outside the pass
+///         }
+///         renderer.record_prepass(device, allocator, cmd, &camera)?; // outside the pass
+///         // ... the host begins its render pass (or dynamic rendering) and draws its meshes ...
+///         renderer.record(device, allocator, cmd, &camera)?; // inside the pass
+///         // ... the host ends its pass, submits, and waits for this slot before reusing it.
+///     }
+///     Ok(())
+/// }
+/// ```
 pub struct EllipsoidRenderer {
     set_layout: vk::DescriptorSetLayout,
     pipeline_layout: vk::PipelineLayout,
