@@ -110,12 +110,74 @@ pub struct DeviceArgs {
     pub validation: bool,
 }
 
+/// How scene files are read (see `scene::LoadOptions`).
+#[derive(Debug, Clone, Args)]
+pub struct LoadArgs {
+    /// Drop invalid records, report how many, and render the rest (default: fail on the
+    /// first, naming where and why).
+    #[arg(long)]
+    pub skip_invalid: bool,
+    /// Gaussian splats: radii are SIGMA standard deviations (`SIGMA * exp(scale)`).
+    #[arg(long, default_value_t = 2.0)]
+    pub sigma: f64,
+    /// Gaussian splats: leave out splats whose opacity (after the sigmoid) is below this.
+    #[arg(long, default_value_t = 0.0)]
+    pub min_opacity: f64,
+    /// Tensor volumes: component order of the six stored values.
+    #[arg(long, value_enum, default_value_t = TensorOrderArg::Fsl)]
+    pub tensor_order: TensorOrderArg,
+    /// Tensor volumes: leave out voxels with fractional anisotropy below this.
+    #[arg(long, default_value_t = 0.0)]
+    pub min_fa: f64,
+    /// Tensor volumes: a mask NIfTI on the same grid; voxels where it is 0 are left out.
+    #[arg(long)]
+    pub mask: Option<PathBuf>,
+    /// Tensor volumes: the largest eigenvalue in the volume becomes a semi-axis of this many
+    /// voxels.
+    #[arg(long, default_value_t = 0.5)]
+    pub glyph_scale: f64,
+}
+
+impl LoadArgs {
+    /// The loader options these flags ask for.
+    pub fn options(&self) -> scene::LoadOptions {
+        scene::LoadOptions {
+            skip_invalid: self.skip_invalid,
+            sigma: self.sigma,
+            min_opacity: self.min_opacity,
+            tensor_order: match self.tensor_order {
+                TensorOrderArg::Fsl => scene::TensorOrder::Fsl,
+                TensorOrderArg::Nifti => scene::TensorOrder::Nifti,
+            },
+            min_fa: self.min_fa,
+            mask: self.mask.clone(),
+            glyph_scale: self.glyph_scale,
+            progress: true,
+        }
+    }
+}
+
+/// Component order of stored tensors (`--tensor-order`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum TensorOrderArg {
+    /// FSL and DIPY: xx, xy, xz, yy, yz, zz.
+    Fsl,
+    /// The NIfTI standard (lower triangle by rows): xx, yx, yy, zx, zy, zz.
+    Nifti,
+}
+
 /// Arguments of `render`.
 #[derive(Debug, Clone, Args)]
 pub struct RenderArgs {
-    /// A CSV file, `tensor-field[:N]` (N^3 glyphs, default 40) or `random:COUNT`.
+    /// A scene file -- Ellipsoid CSV (`.csv`), 3D Gaussian Splatting (`.ply`), diffusion tensor
+    /// NIfTI (`.nii`, `.nii.gz`), PDB (`.pdb`, `.ent`) or mmCIF (`.cif`) with anisotropic
+    /// displacements; other names are recognised by content -- or `tensor-field[:N]` (N^3
+    /// glyphs, default 40) or `random:COUNT`.
     #[arg(long, default_value = "tensor-field")]
     pub scene: String,
+    /// How scene files are read.
+    #[command(flatten)]
+    pub load: LoadArgs,
     /// Image width in pixels.
     #[arg(long, default_value_t = 1920)]
     pub width: u32,
@@ -190,8 +252,12 @@ fn parse_vec3(text: &str) -> std::result::Result<DVec3, String> {
     Ok(DVec3::from_array(v))
 }
 
-/// Loads or generates the scene named by `--scene`.
-pub fn load_scene(spec: &str) -> Result<Scene> {
+/// Loads or generates the scene named by `--scene`, with what the loader reports.
+pub fn load_scene(spec: &str, options: &scene::LoadOptions) -> Result<scene::Loaded> {
+    let generated = |scene: Scene| scene::Loaded {
+        scene,
+        ..Default::default()
+    };
     let count = |text: &str, what: &str| {
         text.parse::<usize>().map_err(|_| {
             Error::invalid(
@@ -201,7 +267,7 @@ pub fn load_scene(spec: &str) -> Result<Scene> {
         })
     };
     if spec == "tensor-field" {
-        return Ok(scene::tensor_field(40));
+        return Ok(generated(scene::tensor_field(40)));
     }
     if let Some(n) = spec.strip_prefix("tensor-field:") {
         let n = count(n, "tensor-field")?;
@@ -211,7 +277,7 @@ pub fn load_scene(spec: &str) -> Result<Scene> {
                 "tensor-field:N needs 1 <= N <= 256",
             ));
         }
-        return Ok(scene::tensor_field(n));
+        return Ok(generated(scene::tensor_field(n)));
     }
     if let Some(n) = spec.strip_prefix("random:") {
         let n = count(n, "random")?;
@@ -219,9 +285,9 @@ pub fn load_scene(spec: &str) -> Result<Scene> {
             return Err(Error::invalid("--scene", "random:COUNT needs COUNT >= 1"));
         }
         let extent = (n as f64).cbrt() * 2.0;
-        return Ok(scene::random_cloud(n, 1, extent, 1.0));
+        return Ok(generated(scene::random_cloud(n, 1, extent, 1.0)));
     }
-    scene::load_csv(std::path::Path::new(spec))
+    scene::load(std::path::Path::new(spec), options)
 }
 
 /// The camera of the render arguments, framing the scene where positions are not given.

@@ -44,12 +44,16 @@ fn context_options(args: &DeviceArgs) -> ContextOptions {
 
 fn render(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
-    let scene = cli::load_scene(&args.scene)?;
+    let loaded = cli::load_scene(&args.scene, &args.load.options())?;
+    for note in &loaded.notes {
+        eprintln!("{}: {note}", args.scene);
+    }
+    let scene = loaded.scene;
     let camera = cli::camera_for(args, &scene)?;
-    let loaded = start.elapsed();
+    let load_time = start.elapsed();
 
     let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
-    let setup = start.elapsed() - loaded;
+    let setup = start.elapsed() - load_time;
     renderer.set_intersection(args.intersection.into());
     renderer.upload(&scene)?;
     let (frame, timing) = renderer.render_uploaded(&camera)?;
@@ -75,7 +79,7 @@ fn render(args: &RenderArgs) -> Result<()> {
         camera.height,
         scene.len(),
         start.elapsed().as_secs_f64() * 1e3,
-        loaded.as_secs_f64() * 1e3,
+        load_time.as_secs_f64() * 1e3,
         setup.as_secs_f64() * 1e3,
         timing.gpu_wall.as_secs_f64() * 1e3,
     );

@@ -11,6 +11,7 @@ use glam::{DMat3, DQuat, DVec3};
 
 use crate::ellipsoid::Ellipsoid;
 use crate::error::{Error, Result};
+use crate::scene::load::{LoadOptions, Loaded};
 use crate::scene::Scene;
 
 /// Every column the format knows; the groups below are indices into it.
@@ -35,6 +36,12 @@ fn names(group: &[usize]) -> String {
 
 /// Reads and parses an Ellipsoid CSV file.
 pub fn load_csv(path: &Path) -> Result<Scene> {
+    Ok(load_csv_with(path, &LoadOptions::default())?.scene)
+}
+
+/// Reads and parses an Ellipsoid CSV file; with `skip_invalid`, bad data rows are dropped and
+/// counted instead of failing (a bad header still fails).
+pub fn load_csv_with(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     let bytes = std::fs::read(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),
         source,
@@ -49,11 +56,16 @@ pub fn load_csv(path: &Path) -> Result<Scene> {
             format!("invalid UTF-8 at byte offset {at}"),
         )
     })?;
-    parse_csv(text, path)
+    parse_rows(text, path, options.skip_invalid)
 }
 
 /// Parses Ellipsoid CSV text; `file` is only used to name the source in errors.
 pub fn parse_csv(text: &str, file: &Path) -> Result<Scene> {
+    Ok(parse_rows(text, file, false)?.scene)
+}
+
+/// Parses Ellipsoid CSV text, dropping bad data rows when `skip_invalid`.
+fn parse_rows(text: &str, file: &Path, skip_invalid: bool) -> Result<Loaded> {
     // Spreadsheet exports often start with a byte-order mark; it is not part of the first name.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let cleaned = blank_out_comments(text);
@@ -83,19 +95,36 @@ pub fn parse_csv(text: &str, file: &Path) -> Result<Scene> {
     let header = Header::parse(&first, file, header_line)?;
 
     let mut ellipsoids = Vec::new();
+    let (mut skipped, mut first_skipped) = (0, None);
     for record in records {
-        let record = record.map_err(csv_error)?;
-        ellipsoids.push(header.ellipsoid(&record, file, lines.line_of(&record))?);
+        let row = record
+            .map_err(csv_error)
+            .and_then(|record| header.ellipsoid(&record, file, lines.line_of(&record)));
+        match row {
+            Ok(e) => ellipsoids.push(e),
+            Err(e) if skip_invalid => {
+                skipped += 1;
+                first_skipped.get_or_insert(e);
+            }
+            Err(e) => return Err(e),
+        }
     }
     if ellipsoids.is_empty() {
-        return Err(parse_error(
-            file,
-            header_line,
-            "header",
-            "no ellipsoids: the header is not followed by any data rows",
-        ));
+        let reason = match &first_skipped {
+            Some(e) => format!("no valid rows ({skipped} skipped; the first: {e})"),
+            None => "no ellipsoids: the header is not followed by any data rows".into(),
+        };
+        return Err(parse_error(file, header_line, "header", reason));
     }
-    Ok(Scene::new(ellipsoids))
+    let mut notes = Vec::new();
+    if let Some(e) = first_skipped {
+        notes.push(format!("skipped {skipped} invalid row(s); the first: {e}"));
+    }
+    Ok(Loaded {
+        scene: Scene::new(ellipsoids),
+        skipped,
+        notes,
+    })
 }
 
 /// Replaces comment lines and whitespace-only lines by empty lines, which the `csv` reader

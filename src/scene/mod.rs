@@ -1,6 +1,10 @@
 //! Scenes: a list of ellipsoids, with loaders and generators.
 
 pub mod csv;
+pub mod load;
+pub mod nifti;
+pub mod pdb;
+pub mod ply;
 pub mod tensor_field;
 
 use glam::DVec3;
@@ -8,6 +12,7 @@ use glam::DVec3;
 use crate::ellipsoid::Ellipsoid;
 
 pub use self::csv::{load_csv, parse_csv};
+pub use self::load::{load, LoadOptions, Loaded, TensorOrder};
 pub use self::tensor_field::{packed_block, random_cloud, tensor_field};
 
 /// The ellipsoids to draw, in instance order (the instance ID is the index).
