@@ -24,7 +24,24 @@ pub enum Error {
     /// No usable physical device or a missing capability.
     #[error("no suitable Vulkan device: {0}")]
     NoDevice(String),
-    /// GPU memory allocation failed.
+    /// The device was lost (a GPU fault, reset or driver crash) during `call`: nothing more can
+    /// be done with it; a new device (a new renderer) is needed.
+    #[error("the Vulkan device was lost during {call}: create a new renderer (device) to go on")]
+    DeviceLost {
+        /// The Vulkan entry point that reported the loss, e.g. `vkQueueSubmit`.
+        call: &'static str,
+    },
+    /// Device or host memory ran out while creating `what`.
+    #[error("out of {} memory while creating {what}: {reason}", if *.device { "GPU" } else { "host" })]
+    OutOfMemory {
+        /// The Vulkan call or the object being allocated.
+        what: String,
+        /// GPU (device) memory rather than host memory.
+        device: bool,
+        /// The driver's or allocator's words.
+        reason: String,
+    },
+    /// GPU memory allocation failed for another reason than running out.
     #[error("GPU allocation of {what} failed: {reason}")]
     Allocation {
         /// What was being allocated.
@@ -82,6 +99,37 @@ pub enum Error {
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 impl Error {
+    /// The error of a failed Vulkan call: device loss and out-of-memory get their own
+    /// variants, so callers can react (recreate the device, shrink the scene).
+    pub fn vulkan(call: &'static str, result: vk::Result) -> Self {
+        match result {
+            vk::Result::ERROR_DEVICE_LOST => Error::DeviceLost { call },
+            vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY => {
+                Error::OutOfMemory {
+                    what: call.to_string(),
+                    device: result == vk::Result::ERROR_OUT_OF_DEVICE_MEMORY,
+                    reason: format!("{result:?}"),
+                }
+            }
+            result => Error::Vulkan { call, result },
+        }
+    }
+
+    /// The error of a failed `gpu-allocator` allocation of `what`.
+    pub fn allocation(what: &'static str, error: gpu_allocator::AllocationError) -> Self {
+        match error {
+            gpu_allocator::AllocationError::OutOfMemory => Error::OutOfMemory {
+                what: what.to_string(),
+                device: true,
+                reason: error.to_string(),
+            },
+            error => Error::Allocation {
+                what,
+                reason: error.to_string(),
+            },
+        }
+    }
+
     /// An `Invalid` error from two displayable parts.
     pub fn invalid(what: impl Into<String>, reason: impl Into<String>) -> Self {
         Error::Invalid {
@@ -99,6 +147,40 @@ pub(crate) trait VkCall<T> {
 
 impl<T> VkCall<T> for std::result::Result<T, vk::Result> {
     fn call(self, call: &'static str) -> Result<T> {
-        self.map_err(|result| Error::Vulkan { call, result })
+        self.map_err(|result| Error::vulkan(call, result))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn device_loss_and_memory_exhaustion_are_typed() {
+        let lost = Err::<(), _>(vk::Result::ERROR_DEVICE_LOST).call("vkQueueSubmit");
+        assert!(matches!(
+            lost,
+            Err(Error::DeviceLost {
+                call: "vkQueueSubmit"
+            })
+        ));
+        let oom = Error::vulkan("vkAllocateMemory", vk::Result::ERROR_OUT_OF_DEVICE_MEMORY);
+        assert!(
+            matches!(oom, Error::OutOfMemory { device: true, .. }),
+            "{oom}"
+        );
+        assert!(oom.to_string().contains("out of GPU memory"), "{oom}");
+        let host = Error::vulkan("vkCreateBuffer", vk::Result::ERROR_OUT_OF_HOST_MEMORY);
+        assert!(
+            matches!(host, Error::OutOfMemory { device: false, .. }),
+            "{host}"
+        );
+        let other = Error::vulkan("vkCreateBuffer", vk::Result::ERROR_UNKNOWN);
+        assert!(matches!(other, Error::Vulkan { .. }));
+        let allocator = Error::allocation("instances", gpu_allocator::AllocationError::OutOfMemory);
+        assert!(
+            matches!(allocator, Error::OutOfMemory { .. }),
+            "{allocator}"
+        );
     }
 }

@@ -638,10 +638,10 @@ impl OffscreenRenderer {
             let waited =
                 device.wait_for_fences(&[self.fence], true, FRAME_TIMEOUT.as_nanos() as u64);
             if waited == Err(vk::Result::TIMEOUT) {
-                return Err(Error::Vulkan {
-                    call: "vkWaitForFences (frame took longer than 300 s)",
-                    result: vk::Result::TIMEOUT,
-                });
+                return Err(Error::vulkan(
+                    "vkWaitForFences (frame took longer than 300 s)",
+                    vk::Result::TIMEOUT,
+                ));
             }
             waited.call("vkWaitForFences")?;
             device.reset_fences(&[self.fence]).call("vkResetFences")?;

@@ -227,12 +227,8 @@ fn build(
     }
     // SAFETY: every pointer in `info` refers to locals alive for the call; the pipeline is owned
     // by the caller; `cache` is the host's (or null) and outlives the renderer.
-    let pipelines = unsafe { device.create_graphics_pipelines(cache, &[info], None) }.map_err(
-        |(_, result)| Error::Vulkan {
-            call: "vkCreateGraphicsPipelines",
-            result,
-        },
-    )?;
+    let pipelines = unsafe { device.create_graphics_pipelines(cache, &[info], None) }
+        .map_err(|(_, result)| Error::vulkan("vkCreateGraphicsPipelines", result))?;
     Ok(pipelines[0])
 }
 
@@ -291,8 +287,7 @@ pub(crate) fn create_cull_pipeline(
     let result = unsafe { device.create_compute_pipelines(cache, &[info], None) };
     // SAFETY: pipeline creation has returned; the module is no longer needed.
     unsafe { device.destroy_shader_module(module, None) };
-    result.map(|p| p[0]).map_err(|(_, result)| Error::Vulkan {
-        call: "vkCreateComputePipelines",
-        result,
-    })
+    result
+        .map(|p| p[0])
+        .map_err(|(_, result)| Error::vulkan("vkCreateComputePipelines", result))
 }

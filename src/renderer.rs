@@ -385,10 +385,7 @@ impl EllipsoidRenderer {
             Err(result) => {
                 // SAFETY: just created, unused.
                 unsafe { device.destroy_descriptor_pool(pool, None) };
-                return Err(Error::Vulkan {
-                    call: "vkAllocateDescriptorSets",
-                    result,
-                });
+                return Err(Error::vulkan("vkAllocateDescriptorSets", result));
             }
         };
         let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers

@@ -46,10 +46,7 @@ impl GpuBuffer {
             Err(e) => {
                 // SAFETY: the buffer is unused and unbound.
                 unsafe { device.destroy_buffer(buffer, None) };
-                return Err(Error::Allocation {
-                    what: name,
-                    reason: e.to_string(),
-                });
+                return Err(Error::allocation(name, e));
             }
         };
         // SAFETY: memory and offset come from an allocation made for these requirements.
@@ -59,10 +56,7 @@ impl GpuBuffer {
             // SAFETY: nothing uses the buffer yet.
             unsafe { device.destroy_buffer(buffer, None) };
             let _ = allocator.free(allocation);
-            return Err(Error::Vulkan {
-                call: "vkBindBufferMemory",
-                result,
-            });
+            return Err(Error::vulkan("vkBindBufferMemory", result));
         }
         Ok(Self {
             buffer,

@@ -168,10 +168,7 @@ impl Context {
                 Ok(m) => Some((utils, m)),
                 Err(result) => {
                     destroy_instance(&instance, None);
-                    return Err(Error::Vulkan {
-                        call: "vkCreateDebugUtilsMessengerEXT",
-                        result,
-                    });
+                    return Err(Error::vulkan("vkCreateDebugUtilsMessengerEXT", result));
                 }
             }
         } else {

@@ -57,10 +57,7 @@ impl GpuImage {
             Err(e) => {
                 // SAFETY: unused, unbound image.
                 unsafe { device.destroy_image(image, None) };
-                return Err(Error::Allocation {
-                    what: name,
-                    reason: e.to_string(),
-                });
+                return Err(Error::allocation(name, e));
             }
         };
         let cleanup = |device: &ash::Device, allocator: &mut Allocator, allocation| {
@@ -73,10 +70,7 @@ impl GpuImage {
             unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) }
         {
             cleanup(device, allocator, allocation);
-            return Err(Error::Vulkan {
-                call: "vkBindImageMemory",
-                result,
-            });
+            return Err(Error::vulkan("vkBindImageMemory", result));
         }
         let view_info = vk::ImageViewCreateInfo::default()
             .image(image)
@@ -88,10 +82,7 @@ impl GpuImage {
             Ok(v) => v,
             Err(result) => {
                 cleanup(device, allocator, allocation);
-                return Err(Error::Vulkan {
-                    call: "vkCreateImageView",
-                    result,
-                });
+                return Err(Error::vulkan("vkCreateImageView", result));
             }
         };
         Ok(Self {

@@ -46,10 +46,7 @@ impl FrameQueries {
                 Err(result) => {
                     // SAFETY: just created, unused.
                     unsafe { device.destroy_query_pool(timestamps, None) };
-                    return Err(crate::Error::Vulkan {
-                        call: "vkCreateQueryPool",
-                        result,
-                    });
+                    return Err(crate::Error::vulkan("vkCreateQueryPool", result));
                 }
             }
         } else {
