@@ -2,8 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // `flat-fill`: the same quads with no ray cast, no discard and no depth: the rasterizer's
 // limit for that coverage.
+#include "ellipsoid_common.glsl"
 #include "fragment_counter.glsl"
-
 
 // The impostor vertex stage's whole interface, declared so every output is consumed.
 layout(location = 0) flat in vec3 v_ray_x;
@@ -29,6 +29,6 @@ void main() {
     out_color = vec4(v_color, 1.0);
 #ifdef AUX_OUTPUTS
     out_normal = vec4(0.0);
-    out_id = v_id;
+    out_id = v_id + cam.chunk.x;
 #endif
 }

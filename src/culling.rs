@@ -112,6 +112,8 @@ pub(crate) struct Prepass {
     pub push: Vec<u8>,
     /// The `VkDrawIndirectCommand` and total the steps start from.
     pub command: Vec<u8>,
+    /// Where in the indirect buffer this chunk's command lies.
+    pub indirect_offset: u64,
     pub steps: Vec<(CullStep, vk::Pipeline)>,
     /// The dispatch grid of the per-group steps.
     pub groups: (u32, u32),
@@ -135,7 +137,7 @@ impl Prepass {
         // every region lies within the buffers.
         unsafe {
             barriers::PREPASS_AFTER_PREVIOUS_FRAME.record(device, cmd);
-            device.cmd_update_buffer(cmd, b.indirect, 0, &self.command);
+            device.cmd_update_buffer(cmd, b.indirect, self.indirect_offset, &self.command);
             if self.clear_tiles {
                 // +inf: no surface known in front of any tile yet.
                 device.cmd_fill_buffer(cmd, b.tiles, 0, vk::WHOLE_SIZE, f32::INFINITY.to_bits());

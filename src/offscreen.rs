@@ -203,6 +203,12 @@ impl OffscreenRenderer {
         self.renderer_mut().cap_free_path = on;
     }
 
+    /// At most this many instances per chunk (the device's storage-buffer range caps it
+    /// anyway); takes effect at the next `upload`.
+    pub fn set_max_chunk_instances(&mut self, count: u32) {
+        self.renderer_mut().max_chunk_instances = count;
+    }
+
     /// The scene-chosen shader variants a draw with `camera` uses: (sphere path, cap-free).
     pub fn shader_variants(&self, camera: &Camera) -> (bool, bool) {
         self.renderer

@@ -45,16 +45,19 @@ use crate::scene::Scene;
 use crate::target::DeviceCaps;
 pub use crate::target::{HostDevice, Pass, RendererOptions, Target, ID_FORMAT, NORMAL_FORMAT};
 
-/// Bytes of camera push constants (`CameraPush` in the shader).
-const PUSH_BYTES: usize = 112;
+/// Bytes of camera push constants (`CameraPush` in the shader): the most every device allows.
+const PUSH_BYTES: usize = 128;
 /// Graphics stages that read the camera push constants. The culling pre-pass has a layout of
 /// its own with a compute-only range: lavapipe 22.3.6 crashes dispatching with a range shared
 /// between graphics and compute stages.
 const PUSH_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
     vk::ShaderStageFlags::VERTEX.as_raw() | vk::ShaderStageFlags::FRAGMENT.as_raw(),
 );
-/// Bytes of the culling pre-pass's indirect buffer: a `VkDrawIndirectCommand` and the total.
+/// Bytes of one chunk's indirect command: a `VkDrawIndirectCommand` and the total.
 const INDIRECT_BYTES: u64 = 20;
+/// Alignment of each chunk's slice of a buffer: a multiple of every device's
+/// `minStorageBufferOffsetAlignment` (at most 256 by the specification).
+const SLICE_ALIGN: u64 = 256;
 
 /// How far the screen quad reaches beyond the exact silhouette bounds, in pixels.
 const QUAD_MARGIN_PX: f32 = 0.01;
@@ -127,10 +130,10 @@ pub struct EllipsoidRenderer {
     set_layout: vk::DescriptorSetLayout,
     pipeline_layout: vk::PipelineLayout,
     cull_layout: vk::PipelineLayout,
-    /// The pool holding `descriptor_set` alone: a set is never rewritten once recorded, so
-    /// replacing a buffer makes a new pool and set and retires the old pair.
+    /// The pool holding `descriptor_sets` alone (one per chunk): a set is never rewritten once
+    /// recorded, so replacing a buffer makes a new pool and sets and retires the old pool.
     descriptor_pool: vk::DescriptorPool,
-    descriptor_set: vk::DescriptorSet,
+    descriptor_sets: Vec<vk::DescriptorSet>,
     /// A buffer was replaced since `descriptor_set` was written.
     descriptors_stale: bool,
     /// Every target drawn into so far; `target` indexes the current one.
@@ -179,6 +182,10 @@ pub struct EllipsoidRenderer {
     extent: Option<(DVec3, DVec3)>,
     /// `record_prepass` recorded the pre-pass that the next `record` draws from.
     prepass_recorded: bool,
+    /// The most instances drawn with one descriptor set. The device's `maxStorageBufferRange`
+    /// caps it anyway (2,796,032 instances for lavapipe's 128 MiB); larger scenes are drawn in
+    /// chunks, each with its own pre-pass and draw. Rounded down to a multiple of 256.
+    pub max_chunk_instances: u32,
     /// Let `Footprint::Auto` draw glyphs below `Footprint::TRIANGLE_AREA` as one triangle
     /// instead of the oriented rectangle. Off by default: faster on lavapipe (fewer vertices
     /// and primitives), but it shades 1.65 fragments per covered pixel, beyond the 1.35 that
@@ -240,7 +247,8 @@ impl EllipsoidRenderer {
             pipeline_layout: vk::PipelineLayout::null(),
             cull_layout: vk::PipelineLayout::null(),
             descriptor_pool: vk::DescriptorPool::null(),
-            descriptor_set: vk::DescriptorSet::null(),
+            descriptor_sets: Vec::new(),
+            max_chunk_instances: u32::MAX,
             descriptors_stale: true,
             targets: vec![options.target],
             target: 0,
@@ -336,88 +344,133 @@ impl EllipsoidRenderer {
         Ok(())
     }
 
-    /// The descriptor set pointing at the current buffers: a new one (in a pool of its own)
-    /// when a buffer was replaced since the last was written; the old pair is retired, since
-    /// command buffers recorded earlier may still use it.
-    fn current_descriptor_set(&mut self, device: &ash::Device) -> Result<vk::DescriptorSet> {
+    /// Instances per chunk: as many as one storage-buffer binding holds (and
+    /// `max_chunk_instances` allows), a multiple of 256 so every slice stays aligned.
+    fn chunk_capacity(&self) -> u32 {
+        let by_device = self.caps.limits.max_storage_buffer_range as u64 / INSTANCE_BYTES as u64;
+        let capacity = by_device.min(self.max_chunk_instances as u64) / 256 * 256;
+        capacity.max(256) as u32
+    }
+
+    /// The chunks of `count` instances: (first index, count).
+    fn chunks_of(&self, count: u32) -> Vec<(u32, u32)> {
+        let capacity = self.chunk_capacity();
+        (0..count.div_ceil(capacity))
+            .map(|k| {
+                let first = k * capacity;
+                (first, capacity.min(count - first))
+            })
+            .collect()
+    }
+
+    /// Bytes of one chunk's slice of the culling-groups buffer.
+    fn groups_slice(&self, count: u32) -> u64 {
+        let chunk = self.chunk_capacity().min(count.max(1));
+        culling::groups_bytes(chunk).next_multiple_of(SLICE_ALIGN)
+    }
+
+    /// The descriptor sets, one per chunk, pointing at the chunk's slices of the current
+    /// buffers: new ones (in a pool of their own) when a buffer was replaced or the scene
+    /// changed since the last were written; the old pool is retired, since command buffers
+    /// recorded earlier may still use it.
+    fn current_descriptor_sets(&mut self, device: &ash::Device) -> Result<Vec<vk::DescriptorSet>> {
         if !self.descriptors_stale {
-            return Ok(self.descriptor_set);
+            return Ok(self.descriptor_sets.clone());
         }
-        let bound = [
-            (0, self.instances.as_ref()),
-            (1, self.counter.as_ref()),
-            (2, self.visible.as_ref()),
-            (3, self.indirect.as_ref()),
-            (4, self.cull_groups.as_ref()),
-            (5, self.occlusion_tiles.as_ref()),
-            (6, self.shading_records.as_ref()),
-            (7, self.footprint_records.as_ref()),
+        let handle = |buffer: &Option<GpuBuffer>, binding: u32| {
+            buffer.as_ref().map(|b| b.handle()).ok_or_else(|| {
+                Error::invalid(
+                    "descriptor set",
+                    format!("binding {binding} has no buffer (nothing uploaded yet?)"),
+                )
+            })
+        };
+        let buffers = [
+            handle(&self.instances, 0)?,
+            handle(&self.counter, 1)?,
+            handle(&self.visible, 2)?,
+            handle(&self.indirect, 3)?,
+            handle(&self.cull_groups, 4)?,
+            handle(&self.occlusion_tiles, 5)?,
+            handle(&self.shading_records, 6)?,
+            handle(&self.footprint_records, 7)?,
         ];
-        let mut buffers = Vec::with_capacity(bound.len());
-        for (binding, buffer) in bound {
-            match buffer {
-                Some(b) => buffers.push((binding, b.handle())),
-                None => {
-                    return Err(Error::invalid(
-                        "descriptor set",
-                        format!("binding {binding} has no buffer (nothing uploaded yet?)"),
-                    ))
-                }
-            }
-        }
+        let chunks = self.chunks_of(self.count);
+        let sets = chunks.len().max(1) as u32;
         let sizes = [vk::DescriptorPoolSize::default()
             .ty(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(buffers.len() as u32)];
+            .descriptor_count(buffers.len() as u32 * sets)];
         let info = vk::DescriptorPoolCreateInfo::default()
-            .max_sets(1)
+            .max_sets(sets)
             .pool_sizes(&sizes);
         // SAFETY: valid create info; the pool is owned by `self` (destroyed through the frame
         // slots or in `destroy`).
         let pool =
             unsafe { device.create_descriptor_pool(&info, None) }.call("vkCreateDescriptorPool")?;
-        let layouts = [self.set_layout];
+        let layouts = vec![self.set_layout; sets as usize];
         let info = vk::DescriptorSetAllocateInfo::default()
             .descriptor_pool(pool)
             .set_layouts(&layouts);
-        // SAFETY: the pool has room for exactly this set; freed with the pool.
-        let set = match unsafe { device.allocate_descriptor_sets(&info) } {
-            Ok(sets) => sets[0],
+        // SAFETY: the pool has room for exactly these sets; freed with the pool.
+        let allocated = match unsafe { device.allocate_descriptor_sets(&info) } {
+            Ok(sets) => sets,
             Err(result) => {
                 // SAFETY: just created, unused.
                 unsafe { device.destroy_descriptor_pool(pool, None) };
                 return Err(Error::vulkan("vkAllocateDescriptorSets", result));
             }
         };
-        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
-            .iter()
-            .map(|&(_, buffer)| {
-                [vk::DescriptorBufferInfo::default()
-                    .buffer(buffer)
-                    .offset(0)
-                    .range(vk::WHOLE_SIZE)]
-            })
-            .collect();
-        let writes: Vec<vk::WriteDescriptorSet> = buffers
-            .iter()
-            .zip(&infos)
-            .map(|(&(binding, _), info)| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(set)
-                    .dst_binding(binding)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .buffer_info(info)
-            })
-            .collect();
-        // SAFETY: the set is new (no command buffer uses it); every buffer is live.
-        unsafe { device.update_descriptor_sets(&writes, &[]) };
+        let records = self.count <= MAX_PRESET_INSTANCES;
+        let groups = self.groups_slice(self.count);
+        for (k, &set) in allocated.iter().enumerate() {
+            let (first, count) = chunks.get(k).copied().unwrap_or((0, 1));
+            let (first, count) = (first as u64, count.max(1) as u64);
+            let slice = |bytes_each: u64| (first * bytes_each, count * bytes_each);
+            let whole = (0, vk::WHOLE_SIZE);
+            let record = |bytes_each: u64| if records { slice(bytes_each) } else { whole };
+            let ranges = [
+                slice(INSTANCE_BYTES as u64),
+                whole,
+                slice(4),
+                (k as u64 * SLICE_ALIGN, INDIRECT_BYTES),
+                (k as u64 * groups, culling::groups_bytes(count as u32)),
+                whole,
+                record(SHADING_RECORD_BYTES),
+                record(FOOTPRINT_RECORD_BYTES),
+            ];
+            let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+                .iter()
+                .zip(ranges)
+                .map(|(&buffer, (offset, range))| {
+                    [vk::DescriptorBufferInfo::default()
+                        .buffer(buffer)
+                        .offset(offset)
+                        .range(range)]
+                })
+                .collect();
+            let writes: Vec<vk::WriteDescriptorSet> = infos
+                .iter()
+                .enumerate()
+                .map(|(binding, info)| {
+                    vk::WriteDescriptorSet::default()
+                        .dst_set(set)
+                        .dst_binding(binding as u32)
+                        .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                        .buffer_info(info)
+                })
+                .collect();
+            // SAFETY: the set is new (no command buffer uses it); every buffer is live and
+            // each range lies inside its buffer (sized for the whole scene in `upload`).
+            unsafe { device.update_descriptor_sets(&writes, &[]) };
+        }
         if self.descriptor_pool != vk::DescriptorPool::null() {
             self.slots
                 .retire(Retired::DescriptorPool(self.descriptor_pool));
         }
         self.descriptor_pool = pool;
-        self.descriptor_set = set;
+        self.descriptor_sets = allocated;
         self.descriptors_stale = false;
-        Ok(set)
+        Ok(self.descriptor_sets.clone())
     }
 
     /// The fragment counter buffer, bound at binding 1.
@@ -451,6 +504,8 @@ impl EllipsoidRenderer {
         };
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let indirect = storage | vk::BufferUsageFlags::INDIRECT_BUFFER;
+        let chunks = self.chunks_of(count as u32).len().max(1) as u64;
+        let groups = chunks * self.groups_slice(count as u32);
         let buffers: [(BufferSlot, &'static str, u64, vk::BufferUsageFlags); 5] = [
             (
                 |r| &mut r.visible,
@@ -461,15 +516,10 @@ impl EllipsoidRenderer {
             (
                 |r| &mut r.indirect,
                 "culled draw",
-                INDIRECT_BYTES,
+                chunks * SLICE_ALIGN,
                 indirect | vk::BufferUsageFlags::TRANSFER_DST,
             ),
-            (
-                |r| &mut r.cull_groups,
-                "culling groups",
-                culling::groups_bytes(count as u32),
-                storage,
-            ),
+            (|r| &mut r.cull_groups, "culling groups", groups, storage),
             (
                 |r| &mut r.shading_records,
                 "shading set-up",
@@ -693,10 +743,6 @@ impl EllipsoidRenderer {
             .map(|step| Ok((step, self.cull_pipeline(device, orthographic, step, setup)?)))
             .collect::<Result<Vec<_>>>()?;
         let vertices = config.footprint.vertices();
-        let command: Vec<u8> = [vertices, 0, 0, 0, self.count]
-            .iter()
-            .flat_map(|v| v.to_ne_bytes())
-            .collect();
         let buffers = match (self.indirect.as_ref(), self.occlusion_tiles.as_ref()) {
             (Some(i), Some(t)) => PrepassBuffers {
                 indirect: i.handle(),
@@ -704,20 +750,31 @@ impl EllipsoidRenderer {
             },
             _ => return Err(Error::invalid("culling", "buffers missing")),
         };
-        let descriptor_set = self.current_descriptor_set(device)?;
-        let prepass = Prepass {
-            layout: self.cull_layout,
-            descriptor_set,
-            push: self.push_constants(camera),
-            command,
-            steps,
-            groups: culling::dispatch_grid(culling::group_count(self.count)),
-            clear_tiles: active.occlusion,
-            buffers,
-        };
-        // SAFETY: `cmd` is recording outside a pass (caller contract); every handle is owned
-        // by `self` and lives until the submission completes.
-        unsafe { prepass.record(device, cmd) };
+        let sets = self.current_descriptor_sets(device)?;
+        // Each chunk culls its own instances into its own indirect command; the occlusion
+        // tiles are cleared once and shared, so later chunks also see earlier occluders.
+        for (k, ((first, count), set)) in
+            self.chunks_of(self.count).into_iter().zip(sets).enumerate()
+        {
+            let command: Vec<u8> = [vertices, 0, 0, 0, count]
+                .iter()
+                .flat_map(|v| v.to_ne_bytes())
+                .collect();
+            let prepass = Prepass {
+                layout: self.cull_layout,
+                descriptor_set: set,
+                push: self.push_constants(camera, first),
+                command,
+                indirect_offset: k as u64 * SLICE_ALIGN,
+                steps: steps.clone(),
+                groups: culling::dispatch_grid(culling::group_count(count)),
+                clear_tiles: active.occlusion && k == 0,
+                buffers: PrepassBuffers { ..buffers },
+            };
+            // SAFETY: `cmd` is recording outside a pass (caller contract); every handle is
+            // owned by `self` and lives until the submission completes.
+            unsafe { prepass.record(device, cmd) };
+        }
         self.prepass_recorded = true;
         Ok(())
     }
@@ -958,6 +1015,9 @@ impl EllipsoidRenderer {
         self.all_spheres = packed.all_spheres;
         self.extent = packed.extent;
         self.size_sample = size_sample;
+        if count != self.count {
+            self.descriptors_stale = true; // the chunks changed
+        }
         self.count = count;
         Ok(())
     }
@@ -1116,7 +1176,6 @@ impl EllipsoidRenderer {
             return Ok(());
         }
         self.prepare(device, allocator, camera)?;
-        let push = self.push_constants(camera);
         let config = self.effective_config(camera);
         // The indirect draw needs this frame's pre-pass, recorded with the same state.
         let prepass_recorded = std::mem::take(&mut self.prepass_recorded);
@@ -1128,7 +1187,7 @@ impl EllipsoidRenderer {
         }
         let key = self.pipeline_key(camera);
         let pipeline = self.pipeline(device, key)?;
-        let descriptor_set = self.current_descriptor_set(device)?;
+        let sets = self.current_descriptor_sets(device)?;
         let viewport = vk::Viewport {
             x: 0.0,
             y: 0.0,
@@ -1150,45 +1209,55 @@ impl EllipsoidRenderer {
             device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
             device.cmd_set_viewport(cmd, 0, &[viewport]);
             device.cmd_set_scissor(cmd, 0, &[scissor]);
-            device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.pipeline_layout,
-                0,
-                &[descriptor_set],
-                &[],
-            );
-            device.cmd_push_constants(cmd, self.pipeline_layout, PUSH_STAGES, 0, &push);
-            match config.geometry {
-                Geometry::Impostor => match (key.culled, self.indirect.as_ref()) {
-                    (true, Some(indirect)) => {
-                        device.cmd_draw_indirect(cmd, indirect.handle(), 0, 1, 16)
+            if let Geometry::Mesh(level) = config.geometry {
+                let (_, mesh) = self
+                    .meshes
+                    .iter()
+                    .find(|(l, _)| *l == level)
+                    .expect("prepare uploaded the mesh");
+                device.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.handle()], &[0]);
+                device.cmd_bind_index_buffer(cmd, mesh.indices.handle(), 0, vk::IndexType::UINT32);
+            }
+            // One draw per chunk, in instance order (so depth ties resolve as in one draw).
+            for (k, ((first, count), set)) in
+                self.chunks_of(self.count).into_iter().zip(sets).enumerate()
+            {
+                device.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    self.pipeline_layout,
+                    0,
+                    &[set],
+                    &[],
+                );
+                let push = self.push_constants(camera, first);
+                device.cmd_push_constants(cmd, self.pipeline_layout, PUSH_STAGES, 0, &push);
+                match config.geometry {
+                    Geometry::Impostor => match (key.culled, self.indirect.as_ref()) {
+                        (true, Some(indirect)) => {
+                            let offset = k as u64 * SLICE_ALIGN;
+                            device.cmd_draw_indirect(cmd, indirect.handle(), offset, 1, 16)
+                        }
+                        _ => device.cmd_draw(cmd, config.footprint.vertices(), count, 0, 0),
+                    },
+                    Geometry::BoxProxy => device.cmd_draw(cmd, 36, count, 0, 0),
+                    Geometry::Mesh(_) => {
+                        let indices = self
+                            .meshes
+                            .iter()
+                            .find(|(l, _)| Geometry::Mesh(*l) == config.geometry)
+                            .map_or(0, |(_, m)| m.index_count);
+                        device.cmd_draw_indexed(cmd, indices, count, 0, 0, 0)
                     }
-                    _ => device.cmd_draw(cmd, config.footprint.vertices(), self.count, 0, 0),
-                },
-                Geometry::BoxProxy => device.cmd_draw(cmd, 36, self.count, 0, 0),
-                Geometry::Mesh(level) => {
-                    let (_, mesh) = self
-                        .meshes
-                        .iter()
-                        .find(|(l, _)| *l == level)
-                        .expect("prepare uploaded the mesh");
-                    device.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.handle()], &[0]);
-                    device.cmd_bind_index_buffer(
-                        cmd,
-                        mesh.indices.handle(),
-                        0,
-                        vk::IndexType::UINT32,
-                    );
-                    device.cmd_draw_indexed(cmd, mesh.index_count, self.count, 0, 0, 0);
                 }
             }
         }
         Ok(())
     }
 
-    /// The camera push constants, relative to the scene origin.
-    fn push_constants(&self, camera: &Camera) -> Vec<u8> {
+    /// The camera push constants, relative to the scene origin, for the chunk whose first
+    /// instance is `first`.
+    fn push_constants(&self, camera: &Camera, first: u32) -> Vec<u8> {
         let b = camera.basis();
         let (sx, sy) = camera.ndc_scale();
         // The eye in view axes, relative to the scene origin, in float64 then rounded once.
@@ -1196,7 +1265,7 @@ impl EllipsoidRenderer {
         let eye = glam::DVec3::new(rel.dot(b.right), rel.dot(b.up), rel.dot(b.forward)).as_vec3();
         let m = &self.material;
         let depth = camera.depth_map();
-        let values: [f32; PUSH_BYTES / 4] = [
+        let values: [f32; 28] = [
             eye.x,
             eye.y,
             eye.z,
@@ -1226,7 +1295,14 @@ impl EllipsoidRenderer {
             m.specular_color[2],
             depth.c as f32,
         ];
-        values.iter().flat_map(|v| v.to_ne_bytes()).collect()
+        let chunk = [first, 0, 0, 0];
+        let bytes: Vec<u8> = values
+            .iter()
+            .flat_map(|v| v.to_ne_bytes())
+            .chain(chunk.iter().flat_map(|v| v.to_ne_bytes()))
+            .collect();
+        debug_assert_eq!(bytes.len(), PUSH_BYTES);
+        bytes
     }
 
     /// Destroys everything the renderer created (nothing of the host's).

@@ -6,7 +6,7 @@
 // subtracts two large nearly-equal positions and a centre's view coordinates are exact to
 // float32 rounding of small numbers.
 
-// Must match `CameraPush` in src/renderer.rs (7 x vec4 = 112 bytes).
+// Must match `push_constants` in src/renderer.rs (8 x vec4 = 128 bytes).
 layout(push_constant, std430) uniform CameraPush {
     vec4 eye_near;       // xyz: V (eye - scene origin), the eye in view axes, rounded once from
                          // float64 so view-space centres never lose the eye's precision; w: near
@@ -16,6 +16,8 @@ layout(push_constant, std430) uniform CameraPush {
     vec4 viewport;       // x: 2/W, y: 2/H (NDC per pixel), z: quad margin in pixels, w: depth map b
     vec4 material;       // ambient, diffuse, specular, shininess
     vec4 specular_color; // rgb, w: depth map c
+    uvec4 chunk;         // x: index of the draw's first instance (scenes beyond one binding
+                         // are drawn in chunks; instance indices in shaders are chunk-relative)
 } cam;
 
 // The depth-buffer value of view depth d in the host's convention: a + b d + c / d
