@@ -70,10 +70,12 @@ fn render(args: &RenderArgs) -> Result<()> {
         output::write_id_image(&frame, path)?;
     }
     let device = renderer.context().info().name.clone();
+    let memory = renderer.gpu_memory_bytes();
     drop(renderer);
     println!(
         "wrote {} ({}x{}, {} ellipsoids) in {:.0} ms: scene {:.0} ms, device set-up {:.0} ms, \
-         frame {:.1} ms (submit to fence) on {device}",
+         frame {:.1} ms (submit to fence) on {device}; GPU memory {:.1} MiB ({:.1} bytes per \
+         ellipsoid)",
         args.output.display(),
         camera.width,
         camera.height,
@@ -82,6 +84,8 @@ fn render(args: &RenderArgs) -> Result<()> {
         load_time.as_secs_f64() * 1e3,
         setup.as_secs_f64() * 1e3,
         timing.gpu_wall.as_secs_f64() * 1e3,
+        memory as f64 / (1 << 20) as f64,
+        memory as f64 / scene.len().max(1) as f64,
     );
     Ok(())
 }

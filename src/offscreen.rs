@@ -203,6 +203,12 @@ impl OffscreenRenderer {
         self.renderer_mut().cap_free_path = on;
     }
 
+    /// Bytes of GPU memory the uploaded scene's buffers take (see
+    /// [`EllipsoidRenderer::gpu_memory_bytes`]).
+    pub fn gpu_memory_bytes(&self) -> u64 {
+        self.renderer.as_ref().map_or(0, EllipsoidRenderer::gpu_memory_bytes)
+    }
+
     /// At most this many instances per chunk (the device's storage-buffer range caps it
     /// anyway); takes effect at the next `upload`.
     pub fn set_max_chunk_instances(&mut self, count: u32) {

@@ -1145,6 +1145,24 @@ impl EllipsoidRenderer {
         self.target()
     }
 
+    /// Bytes of GPU memory the scene's buffers take (instances, culling and set-up buffers,
+    /// occlusion tiles; not the icosphere meshes of the `mesh-L*` baselines).
+    pub fn gpu_memory_bytes(&self) -> u64 {
+        [
+            &self.instances,
+            &self.counter,
+            &self.visible,
+            &self.indirect,
+            &self.cull_groups,
+            &self.occlusion_tiles,
+            &self.shading_records,
+            &self.footprint_records,
+        ]
+        .iter()
+        .filter_map(|b| b.as_ref().map(GpuBuffer::size))
+        .sum()
+    }
+
     /// Number of instances uploaded.
     pub fn count(&self) -> u32 {
         self.count
