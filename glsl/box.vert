@@ -35,7 +35,7 @@ vec3 cube_corner(int index) {
 }
 
 void main() {
-    Instance inst = instances[gl_InstanceIndex];
+    Instance inst = load_instance(uint(gl_InstanceIndex));
     mat3 R = quat_to_mat3(inst.rotation);
     vec3 radii = inst.radii.xyz;
     vec3 r = cam.right_sx.xyz, u = cam.up_sy.xyz, f = cam.forward.xyz;

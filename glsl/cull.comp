@@ -100,7 +100,7 @@ vec2 depth_range(Instance inst) {
 // cz + r |f - d|: the surface there lies no deeper. Orthographic: within r of the centre's
 // axis, no deeper than cz.
 void write_occluder(uint index) {
-    Instance inst = instances[index];
+    Instance inst = load_instance(index);
     vec3 r = cam.right_sx.xyz, u_axis = cam.up_sy.xyz, f = cam.forward.xyz;
     vec2 s = vec2(cam.right_sx.w, cam.up_sy.w);
     vec3 c = vec3(dot(inst.center, r), dot(inst.center, u_axis), dot(inst.center, f)) - cam.eye_near.xyz;
@@ -182,7 +182,7 @@ void write_occluder(uint index) {
 // Is every pixel centre of the rectangle covered by something at least DEPTH_GAP nearer than
 // the ellipsoid's nearest point?
 bool occluded(uint index, vec4 centres) {
-    vec2 z = depth_range(instances[index]);
+    vec2 z = depth_range(load_instance(index));
     float nearest = z.x - z.y;
     if (!(nearest > 0.0)) {
         return false;
@@ -259,13 +259,13 @@ void classify(uint group, uint index) {
         bool keep;
         if (CULL_SETUP) {
             // The set-up holds the footprint: no second projection for the rectangle.
-            Setup s = setup_instance(instances[index]);
+            Setup s = setup_instance(load_instance(index));
             keep = needed(index, setup_rect(s, rect), rect);
             if (keep) {
                 store_setup(index, s);
             }
         } else {
-            keep = needed(index, silhouette_rect(instances[index], rect), rect);
+            keep = needed(index, silhouette_rect(load_instance(index), rect), rect);
         }
         if (keep) {
             atomicOr(keep_bits[lane / 32u], 1u << (lane % 32u));

@@ -11,7 +11,7 @@ layout(location = 7) flat out uint v_id;
 layout(location = 9) flat out vec3 v_color;
 
 void main() {
-    Instance inst = instances[gl_InstanceIndex];
+    Instance inst = load_instance(uint(gl_InstanceIndex));
     mat3 R = quat_to_mat3(inst.rotation);
     vec3 radii = inst.radii.xyz;
     vec3 world = inst.center + R * (radii * in_position);

@@ -14,6 +14,7 @@ use crate::camera::{Camera, Projection};
 use crate::compare::{compare, Bounds, ErrorStats};
 use crate::draw::{Geometry, Method};
 use crate::error::{Error, Result};
+use crate::instances::InstanceFormat;
 use crate::offscreen::OffscreenRenderer;
 use crate::reference::render_reference;
 use crate::report::{
@@ -244,12 +245,14 @@ pub fn run(
                 keep
             })
             .collect();
+        renderer.set_instance_format(InstanceFormat::Full);
         renderer.upload(&bench.scene)?;
         let reference = render_reference(&bench.scene, &bench.camera)?;
         let silhouette_pixels = reference.silhouette_pixels();
         let mut measured: Vec<Measured> = Vec::new();
+        let mut format = InstanceFormat::Full;
         for &method in &active {
-            renderer.set_config(method.config());
+            use_method(renderer, method, &mut format, &bench.scene)?;
             let (frame, timing) = renderer.render_uploaded(&bench.camera)?;
             let stats = compare(&frame, &reference)?;
             // The exact pixel count comes from the counting build of the same shaders.
@@ -283,7 +286,7 @@ pub fn run(
             }
             for &k in &order {
                 let entry = &mut measured[k];
-                renderer.set_config(entry.method.config());
+                use_method(renderer, entry.method, &mut format, &bench.scene)?;
                 let timing = renderer.render_timed(&bench.camera)?;
                 entry.wall.push(timing.gpu_wall.as_secs_f64() * 1e3);
                 entry.gpu.push(timing.gpu.gpu_ms);
@@ -648,6 +651,23 @@ pub fn write_report(results: &[BenchResult], dir: &Path) -> Result<(String, Stri
         &headline_rows,
     );
     Ok((format_table(&header, &table), markdown))
+}
+
+/// Sets up `renderer` for `method`: its draw configuration, and its instance format (the scene
+/// is uploaded again when the format changes; uploads are outside the timed frames).
+fn use_method(
+    renderer: &mut OffscreenRenderer,
+    method: Method,
+    format: &mut InstanceFormat,
+    scene: &Scene,
+) -> Result<()> {
+    if method.instance_format() != *format {
+        *format = method.instance_format();
+        renderer.set_instance_format(*format);
+        renderer.upload(scene)?;
+    }
+    renderer.set_config(method.config());
+    Ok(())
 }
 
 #[cfg(test)]

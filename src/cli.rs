@@ -217,6 +217,11 @@ pub struct RenderArgs {
     /// Ray/ellipsoid intersection formulation.
     #[arg(long, value_enum, default_value_t = IntersectionArg::Stable)]
     pub intersection: IntersectionArg,
+    /// Store instances in the 32-byte compact format (float16 semi-axes, snorm16 rotation)
+    /// instead of 48-byte float32: a third less GPU memory, at the error `bench` reports for
+    /// `impostor-compact`.
+    #[arg(long)]
+    pub compact: bool,
     /// Device and validation.
     #[command(flatten)]
     pub device: DeviceArgs,

@@ -150,6 +150,9 @@ pub enum Method {
     ImpostorFastNormal,
     /// No per-fragment depth correction.
     ImpostorFlatDepth,
+    /// The shipped impostor reading 32-byte compact instances (float16 semi-axes, snorm16
+    /// rotation) instead of 48-byte float32 ones.
+    ImpostorCompact,
     /// Oriented bounding box, ray-cast inside.
     BoxProxy,
     /// Instanced icosphere of the given level.
@@ -160,7 +163,7 @@ pub enum Method {
 
 impl Method {
     /// Every method, in the order of the tables.
-    pub const ALL: [Method; 16] = [
+    pub const ALL: [Method; 17] = [
         Method::Impostor,
         Method::ImpostorOrientedRect,
         Method::ImpostorWorldQuad,
@@ -170,6 +173,7 @@ impl Method {
         Method::ImpostorTextbook,
         Method::ImpostorFastNormal,
         Method::ImpostorFlatDepth,
+        Method::ImpostorCompact,
         Method::BoxProxy,
         Method::Mesh(0),
         Method::Mesh(1),
@@ -191,9 +195,18 @@ impl Method {
             Method::ImpostorTextbook => "impostor-textbook".into(),
             Method::ImpostorFastNormal => "impostor-fast-normal".into(),
             Method::ImpostorFlatDepth => "impostor-flat-depth".into(),
+            Method::ImpostorCompact => "impostor-compact".into(),
             Method::BoxProxy => "box-proxy".into(),
             Method::Mesh(level) => format!("mesh-L{level}"),
             Method::FlatFill => "flat-fill".into(),
+        }
+    }
+
+    /// How the method stores its instances.
+    pub fn instance_format(self) -> crate::instances::InstanceFormat {
+        match self {
+            Method::ImpostorCompact => crate::instances::InstanceFormat::Compact,
+            _ => crate::instances::InstanceFormat::Full,
         }
     }
 
@@ -201,7 +214,7 @@ impl Method {
     pub fn config(self) -> DrawConfig {
         let base = DrawConfig::default();
         match self {
-            Method::Impostor => base,
+            Method::Impostor | Method::ImpostorCompact => base,
             Method::ImpostorWorldQuad => DrawConfig {
                 footprint: Footprint::WorldQuad,
                 ..base

@@ -1,8 +1,14 @@
 //! The GPU instance record: how a scene becomes the bytes of the instance buffer.
 //!
-//! Layout (std430, 48 bytes, `Instance` in `glsl/include/ellipsoid_common.glsl`): centre
-//! relative to the scene origin (3 x f32), sRGB colour as RGBA8 (u32), unit quaternion
-//! (x, y, z, w: 4 x f32), semi-axes (3 x f32) and one unused f32.
+//! Two layouts (`load_instance` in `glsl/include/ellipsoid_common.glsl` reads both):
+//! - **full**, 48 bytes (std430 `Instance`): centre relative to the scene origin (3 x f32),
+//!   sRGB colour as RGBA8 (u32), unit quaternion (x, y, z, w: 4 x f32), semi-axes (3 x f32) and
+//!   one unused f32;
+//! - **compact**, 32 bytes: the same centre and colour, the quaternion as 4 x snorm16, and the
+//!   semi-axes as 3 x float16 in units of the scene's largest semi-axis (so every scene uses
+//!   the half floats' full precision), one float16 unused. The quantisation moves the surface
+//!   by at most about 2^-11 of a semi-axis (the float16 rounding) plus 2^-15 of a radian of
+//!   rotation; `bench` reports what that costs in accuracy beside the time it saves.
 
 use glam::DVec3;
 
@@ -10,8 +16,28 @@ use crate::ellipsoid::Ellipsoid;
 use crate::error::{Error, Result};
 use crate::scene::Scene;
 
-/// Bytes per instance on the GPU.
+/// Bytes per instance on the GPU in the full format.
 pub const INSTANCE_BYTES: usize = 48;
+
+/// How instances are stored on the GPU.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum InstanceFormat {
+    /// 48 bytes, float32 throughout (exact to float32).
+    #[default]
+    Full,
+    /// 32 bytes: snorm16 rotation, float16 semi-axes (see the module documentation).
+    Compact,
+}
+
+impl InstanceFormat {
+    /// Bytes per instance.
+    pub fn bytes(self) -> usize {
+        match self {
+            InstanceFormat::Full => INSTANCE_BYTES,
+            InstanceFormat::Compact => 32,
+        }
+    }
+}
 
 /// A scene packed for the GPU.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -28,12 +54,16 @@ pub struct PackedInstances {
     /// Corners of a box holding every ellipsoid whole (centre +- largest semi-axis), in world
     /// coordinates; `None` for an empty scene.
     pub extent: Option<(DVec3, DVec3)>,
+    /// The layout of `bytes`.
+    pub format: InstanceFormat,
+    /// Compact format: the unit of the stored semi-axes (the scene's largest semi-axis).
+    pub radius_scale: f32,
 }
 
 impl PackedInstances {
     /// Number of instances.
     pub fn len(&self) -> usize {
-        self.bytes.len() / INSTANCE_BYTES
+        self.bytes.len() / self.format.bytes()
     }
 
     /// True when there are none.
@@ -42,8 +72,14 @@ impl PackedInstances {
     }
 }
 
-/// Packs every ellipsoid of `scene`; errors name the first ellipsoid float32 cannot hold.
+/// Packs every ellipsoid of `scene` in the full format; errors name the first ellipsoid
+/// float32 cannot hold.
 pub fn pack_instances(scene: &Scene) -> Result<PackedInstances> {
+    pack_scene(scene, InstanceFormat::Full)
+}
+
+/// Packs every ellipsoid of `scene` in `format`.
+pub fn pack_scene(scene: &Scene, format: InstanceFormat) -> Result<PackedInstances> {
     if u32::try_from(scene.len()).is_err() {
         return Err(Error::invalid(
             "scene",
@@ -54,17 +90,26 @@ pub fn pack_instances(scene: &Scene) -> Result<PackedInstances> {
         .bounds()
         .map(|(lo, hi)| (lo + hi) * 0.5)
         .unwrap_or(DVec3::ZERO);
-    pack_relative(&scene.ellipsoids, origin, 0)
+    let largest = scene
+        .ellipsoids
+        .iter()
+        .map(|e| e.radii.max_element())
+        .fold(0.0, f64::max);
+    let radius_scale = if largest > 0.0 { largest as f32 } else { 1.0 };
+    pack_relative(&scene.ellipsoids, origin, 0, format, radius_scale)
 }
 
-/// Packs `ellipsoids` relative to `origin` (an update of instances `first..` of a scene
-/// already on the GPU keeps its origin); errors name the scene index `first + k`.
+/// Packs `ellipsoids` relative to `origin` in `format` (an update of instances `first..` of a
+/// scene already on the GPU keeps its origin and radius scale); errors name the scene index
+/// `first + k`.
 pub fn pack_relative(
     ellipsoids: &[Ellipsoid],
     origin: DVec3,
     first: usize,
+    format: InstanceFormat,
+    radius_scale: f32,
 ) -> Result<PackedInstances> {
-    let mut bytes = Vec::with_capacity(INSTANCE_BYTES * ellipsoids.len());
+    let mut bytes = Vec::with_capacity(format.bytes() * ellipsoids.len());
     let mut all_spheres = true;
     let mut extent: Option<(DVec3, DVec3)> = None;
     for (k, e) in ellipsoids.iter().enumerate() {
@@ -99,8 +144,36 @@ pub fn pack_relative(
             bytes.extend_from_slice(&v.to_ne_bytes());
         }
         bytes.extend_from_slice(&packed.to_ne_bytes());
-        for v in [q.x, q.y, q.z, q.w, r.x, r.y, r.z, 0.0] {
-            bytes.extend_from_slice(&v.to_ne_bytes());
+        match format {
+            InstanceFormat::Full => {
+                for v in [q.x, q.y, q.z, q.w, r.x, r.y, r.z, 0.0] {
+                    bytes.extend_from_slice(&v.to_ne_bytes());
+                }
+            }
+            InstanceFormat::Compact => {
+                let snorm = |v: f32| ((v.clamp(-1.0, 1.0) * 32767.0).round() as i16) as u16;
+                let relative = r / radius_scale;
+                let halves = [relative.x, relative.y, relative.z].map(f16_bits);
+                if halves.iter().any(|&h| h == 0 || h >= 0x7c00) {
+                    return Err(Error::invalid(
+                        format!("ellipsoid {index}"),
+                        format!(
+                            "radii {} span too wide a range for the compact format's half floats \
+                             (the scene's largest semi-axis is {radius_scale}); use the full format",
+                            e.radii
+                        ),
+                    ));
+                }
+                let words = [
+                    snorm(q.x) as u32 | (snorm(q.y) as u32) << 16,
+                    snorm(q.z) as u32 | (snorm(q.w) as u32) << 16,
+                    halves[0] as u32 | (halves[1] as u32) << 16,
+                    halves[2] as u32,
+                ];
+                for w in words {
+                    bytes.extend_from_slice(&w.to_ne_bytes());
+                }
+            }
         }
     }
     Ok(PackedInstances {
@@ -108,13 +181,75 @@ pub fn pack_relative(
         bytes,
         all_spheres: all_spheres && !ellipsoids.is_empty(),
         extent,
+        format,
+        radius_scale,
     })
+}
+
+/// The IEEE binary16 bits nearest to `v` (round to nearest even; overflow gives infinity,
+/// values below the subnormal range give zero), as GLSL's `unpackHalf2x16` reads them.
+fn f16_bits(v: f32) -> u16 {
+    let bits = v.to_bits();
+    let sign = ((bits >> 16) & 0x8000) as u16;
+    let exponent = ((bits >> 23) & 0xff) as i32;
+    let mantissa = bits & 0x7f_ffff;
+    if exponent == 0xff {
+        return sign | 0x7c00 | if mantissa != 0 { 0x200 } else { 0 };
+    }
+    let e = exponent - 127 + 15;
+    if e >= 0x1f {
+        return sign | 0x7c00;
+    }
+    if e <= 0 {
+        if e < -10 {
+            return sign;
+        }
+        // Subnormal: shift the mantissa (with its implicit 1) into place, rounding to even.
+        let m = mantissa | 0x80_0000;
+        let shift = (14 - e) as u32;
+        let half = 1u32 << (shift - 1);
+        let rounded = (m + half - 1 + ((m >> shift) & 1)) >> shift;
+        return sign | rounded as u16;
+    }
+    let half = 0x1000u32;
+    let rounded = mantissa + half - 1 + ((mantissa >> 13) & 1);
+    let value = ((e as u32) << 10) + (rounded >> 13);
+    sign | value.min(0x7c00) as u16
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use glam::DQuat;
+
+    #[test]
+    fn half_floats_round_like_the_gpu_reads_them() {
+        assert_eq!(f16_bits(1.0), 0x3c00);
+        assert_eq!(f16_bits(0.5), 0x3800);
+        assert_eq!(f16_bits(65504.0), 0x7bff);
+        assert_eq!(f16_bits(1e6), 0x7c00);
+        assert_eq!(f16_bits(2f32.powi(-24)), 0x0001); // smallest subnormal
+        assert_eq!(f16_bits(1e-10), 0);
+        // 1 + 2^-11 is halfway between 1 and the next half: ties go to even (1.0).
+        assert_eq!(f16_bits(1.0 + 2f32.powi(-11)), 0x3c00);
+        assert_eq!(f16_bits(1.0 + 3.0 * 2f32.powi(-11)), 0x3c02);
+    }
+
+    #[test]
+    fn compact_records_are_32_bytes_and_refuse_a_too_wide_range() {
+        let e =
+            |r: f64| Ellipsoid::new(DVec3::ZERO, DVec3::new(r, 1.0, 1.0), DQuat::IDENTITY, None);
+        let scene = Scene::new(vec![e(1.0).unwrap(), e(2.0).unwrap()]);
+        let packed = pack_scene(&scene, InstanceFormat::Compact).unwrap();
+        assert_eq!(packed.bytes.len(), 64);
+        assert_eq!(packed.radius_scale, 2.0);
+        let wide = Scene::new(vec![e(1e-9).unwrap(), e(1.0).unwrap()]);
+        let err = pack_scene(&wide, InstanceFormat::Compact).unwrap_err();
+        assert!(
+            err.to_string().contains("ellipsoid 0") && err.to_string().contains("compact"),
+            "{err}"
+        );
+    }
 
     #[test]
     fn packs_relative_to_the_bounds_centre() {

@@ -55,6 +55,9 @@ fn render(args: &RenderArgs) -> Result<()> {
     let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
     let setup = start.elapsed() - load_time;
     renderer.set_intersection(args.intersection.into());
+    if args.compact {
+        renderer.set_instance_format(ellipsoid_splat::instances::InstanceFormat::Compact);
+    }
     renderer.upload(&scene)?;
     let (frame, timing) = renderer.render_uploaded(&camera)?;
     renderer.context().check_validation()?;

@@ -206,7 +206,14 @@ impl OffscreenRenderer {
     /// Bytes of GPU memory the uploaded scene's buffers take (see
     /// [`EllipsoidRenderer::gpu_memory_bytes`]).
     pub fn gpu_memory_bytes(&self) -> u64 {
-        self.renderer.as_ref().map_or(0, EllipsoidRenderer::gpu_memory_bytes)
+        self.renderer
+            .as_ref()
+            .map_or(0, EllipsoidRenderer::gpu_memory_bytes)
+    }
+
+    /// How the next `upload` stores instances (full float32 by default).
+    pub fn set_instance_format(&mut self, format: crate::instances::InstanceFormat) {
+        self.renderer_mut().instance_format = format;
     }
 
     /// At most this many instances per chunk (the device's storage-buffer range caps it

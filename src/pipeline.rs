@@ -25,6 +25,8 @@ pub(crate) struct PipelineKey {
     pub preset: bool,
     /// Every instance is a sphere (`SPHERES`).
     pub spheres: bool,
+    /// Instances are in the compact format (`COMPACT`).
+    pub compact: bool,
     /// Nothing reaches in front of the near plane (`NO_CAPS`).
     pub no_caps: bool,
 }
@@ -92,8 +94,8 @@ fn build(
     let config = key.config;
     // Specialization constants, 4 bytes each (glsl/include/ellipsoid_common.glsl and the
     // fragment shaders): 0 ORTHOGRAPHIC, 2 TEXTBOOK, 3 BOUNDS, 4 CORNERS, 5 FAST_NORMAL,
-    // 8 CULLED, 13 SPHERES, 14 NO_CAPS. Stages ignore the ones they do not declare.
-    let values: [u32; 8] = [
+    // 8 CULLED, 13 SPHERES, 14 NO_CAPS, 15 COMPACT. Stages ignore the ones they do not declare.
+    let values: [u32; 9] = [
         key.orthographic as u32,
         (config.intersection == Intersection::Textbook) as u32,
         config.footprint.bounds_mode(),
@@ -102,8 +104,9 @@ fn build(
         key.culled as u32,
         key.spheres as u32,
         key.no_caps as u32,
+        key.compact as u32,
     ];
-    let ids: [u32; 8] = [0, 2, 3, 4, 5, 8, 13, 14];
+    let ids: [u32; 9] = [0, 2, 3, 4, 5, 8, 13, 14, 15];
     let spec_data: Vec<u8> = values.iter().flat_map(|v| v.to_ne_bytes()).collect();
     let entries: Vec<vk::SpecializationMapEntry> = (0..values.len() as u32)
         .map(|i| vk::SpecializationMapEntry {
@@ -244,13 +247,14 @@ pub(crate) fn create_cull_pipeline(
     step: CullStep,
     setup: Option<DrawConfig>,
     spheres: bool,
+    compact: bool,
 ) -> Result<vk::Pipeline> {
     let module = shaders::create_module(device, shaders::CULL_COMP)?;
     // Specialization constants 0 ORTHOGRAPHIC, 6 CULL_FRUSTUM, 7 CULL_PIXEL_CENTRES,
     // 9 CULL_STEP, 10 CULL_OCCLUSION, 11 CULL_SETUP, and for the set-up the footprint and
-    // intersection of the draw: 2 TEXTBOOK, 3 BOUNDS, 4 CORNERS; 13 SPHERES.
+    // intersection of the draw: 2 TEXTBOOK, 3 BOUNDS, 4 CORNERS; 13 SPHERES; 15 COMPACT.
     let config = setup.unwrap_or_default();
-    let values: [(u32, u32); 10] = [
+    let values: [(u32, u32); 11] = [
         (0, orthographic as u32),
         (6, culling.frustum as u32),
         (7, culling.pixel_centres as u32),
@@ -261,6 +265,7 @@ pub(crate) fn create_cull_pipeline(
         (3, config.footprint.bounds_mode()),
         (4, config.footprint.vertices()),
         (13, spheres as u32),
+        (15, compact as u32),
     ];
     let data: Vec<u8> = values.iter().flat_map(|(_, v)| v.to_ne_bytes()).collect();
     let entries: Vec<vk::SpecializationMapEntry> = values

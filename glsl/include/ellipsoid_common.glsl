@@ -17,7 +17,8 @@ layout(push_constant, std430) uniform CameraPush {
     vec4 material;       // ambient, diffuse, specular, shininess
     vec4 specular_color; // rgb, w: depth map c
     uvec4 chunk;         // x: index of the draw's first instance (scenes beyond one binding
-                         // are drawn in chunks; instance indices in shaders are chunk-relative)
+                         // are drawn in chunks; instance indices in shaders are chunk-relative);
+                         // y: float bits of the compact format's semi-axis unit
 } cam;
 
 // The depth-buffer value of view depth d in the host's convention: a + b d + c / d
@@ -42,6 +43,30 @@ struct Instance {
 layout(std430, set = 0, binding = 0) readonly buffer Instances {
     Instance instances[];
 };
+
+// The same binding read as 32-byte compact records (src/instances.rs): centre, colour,
+// snorm16 quaternion, float16 semi-axes in units of cam.chunk.y.
+layout(constant_id = 15) const bool COMPACT = false;
+layout(std430, set = 0, binding = 0) readonly buffer CompactInstances {
+    uvec4 compact_instances[]; // two per instance
+};
+
+// Instance `i` of the draw's chunk, in either layout.
+Instance load_instance(uint i) {
+    if (!COMPACT) {
+        return instances[i];
+    }
+    uvec4 a = compact_instances[2u * i];
+    uvec4 b = compact_instances[2u * i + 1u];
+    Instance inst;
+    inst.center = uintBitsToFloat(a.xyz);
+    inst.color = a.w;
+    // Quantised: renormalise, so the rotation stays orthonormal.
+    inst.rotation = normalize(vec4(unpackSnorm2x16(b.x), unpackSnorm2x16(b.y)));
+    vec3 radii = vec3(unpackHalf2x16(b.z), unpackHalf2x16(b.w).x);
+    inst.radii = vec4(radii * uintBitsToFloat(cam.chunk.y), 0.0);
+    return inst;
+}
 
 // Chosen when the pipeline is built (src/renderer.rs `Variant`).
 layout(constant_id = 0) const bool ORTHOGRAPHIC = false;

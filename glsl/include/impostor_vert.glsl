@@ -33,7 +33,7 @@ void main() {
 #ifdef PRESET_SETUP
     gl_Position = corner_position(load_footprint(id), gl_VertexIndex);
 #else
-    Setup s = setup_instance(instances[id]);
+    Setup s = setup_instance(load_instance(id));
     gl_Position = corner_position(s, gl_VertexIndex);
     v_ray_x = s.ray_x;
     v_ray_y = s.ray_y;
