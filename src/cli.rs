@@ -160,9 +160,9 @@ impl LoadArgs {
 /// Component order of stored tensors (`--tensor-order`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum TensorOrderArg {
-    /// FSL and DIPY: xx, xy, xz, yy, yz, zz.
+    /// FSL (dtifit --save_tensor): xx, xy, xz, yy, yz, zz.
     Fsl,
-    /// The NIfTI standard (lower triangle by rows): xx, yx, yy, zx, zy, zz.
+    /// The NIfTI standard and DIPY (lower triangle by rows): xx, yx, yy, zx, zy, zz.
     Nifti,
 }
 

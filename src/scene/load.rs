@@ -9,10 +9,10 @@ use crate::scene::Scene;
 /// The order of the six components of a symmetric tensor stored per voxel.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum TensorOrder {
-    /// FSL and DIPY: `xx, xy, xz, yy, yz, zz`.
+    /// FSL (`dtifit --save_tensor`): `xx, xy, xz, yy, yz, zz`.
     #[default]
     Fsl,
-    /// The NIfTI standard (`NIFTI_INTENT_SYMMATRIX`, lower triangle row by row):
+    /// The NIfTI standard (`NIFTI_INTENT_SYMMATRIX`, lower triangle row by row), also DIPY's:
     /// `xx, yx, yy, zx, zy, zz`.
     Nifti,
 }
