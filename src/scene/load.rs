@@ -115,6 +115,13 @@ pub fn detect_format(path: &Path) -> Result<Format> {
     };
     let head = &head[..read];
     let text = String::from_utf8_lossy(head);
+    // mmCIF may open with a byte-order mark, blank lines or `#` comments before `data_`.
+    let cif_start = text
+        .trim_start_matches('\u{feff}')
+        .lines()
+        .map(str::trim)
+        .find(|line| !line.is_empty() && !line.starts_with('#'))
+        .unwrap_or("");
     let format = if head.starts_with(b"ply") {
         Format::GaussianPly
     } else if (head.len() >= 348 && matches!(&head[344..348], b"n+1\0" | b"ni1\0"))
@@ -122,11 +129,14 @@ pub fn detect_format(path: &Path) -> Result<Format> {
         || head.starts_with(&[0x1f, 0x8b])
     {
         Format::Nifti
-    } else if text.starts_with("data_") {
+    } else if cif_start.starts_with("data_") {
         Format::MmCif
-    } else if ["HEADER", "CRYST1", "ATOM  ", "HETATM", "REMARK", "TITLE "]
-        .iter()
-        .any(|tag| text.starts_with(tag))
+    } else if [
+        "HEADER", "CRYST1", "ATOM  ", "HETATM", "REMARK", "TITLE ", "COMPND", "EXPDTA", "MODEL ",
+        "AUTHOR", "KEYWDS", "SOURCE",
+    ]
+    .iter()
+    .any(|tag| text.starts_with(tag))
     {
         Format::Pdb
     } else {

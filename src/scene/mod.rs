@@ -13,6 +13,9 @@ use crate::ellipsoid::Ellipsoid;
 
 pub use self::csv::{load_csv, parse_csv};
 pub use self::load::{load, LoadOptions, Loaded, TensorOrder};
+pub use self::nifti::{load_nifti, parse_nifti};
+pub use self::pdb::{load_structure, parse_structure};
+pub use self::ply::{load_ply, parse_ply};
 pub use self::tensor_field::{packed_block, random_cloud, tensor_field};
 
 /// The ellipsoids to draw, in instance order (the instance ID is the index).
