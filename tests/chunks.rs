@@ -57,7 +57,7 @@ fn chunks_draw_the_same_picture_with_the_set_up_in_the_pre_pass() {
 /// float64 reference, and chunked exactly like the full format.
 #[test]
 fn compact_instances_stay_within_their_quantisation_error() {
-    use ellipsoid_splat::compare::{compare, Bounds};
+    use ellipsoid_splat::compare::compare;
     use ellipsoid_splat::instances::InstanceFormat;
     use ellipsoid_splat::reference::render_reference;
     let scene = random_cloud(2_000, 13, 8.0, 0.6);
@@ -70,32 +70,8 @@ fn compact_instances_stay_within_their_quantisation_error() {
     let (compact, _) = renderer.render_uploaded(&camera).unwrap();
     let stats = compare(&compact, &reference).unwrap();
     println!("compact: {stats}");
-    // Float16 semi-axes (rounded to 2^-11 relative) move the surface by up to 2^-11 of the
-    // largest semi-axis, plus the snorm16 rotation's 2^-15 rad: relative depth error up to
-    // about 2 x 2^-11 r_max / d_min. A normal turns by up to 2^-11 rad from the rounded axes,
-    // and by the curvature times that displacement at the hit point: up to
-    // 2^-11 (r_max / r_min)^2 rad, about 0.25 degrees for these glyphs (aspect <= 3).
-    let eps = 2f64.powi(-11);
-    let r_max = scene
-        .ellipsoids
-        .iter()
-        .map(|e| e.radii.max_element())
-        .fold(0.0, f64::max);
-    let d_min = scene
-        .ellipsoids
-        .iter()
-        .map(|e| camera.view_depth(e.center) - r_max)
-        .fold(f64::INFINITY, f64::min);
-    let depth = 2.0 * eps * r_max / d_min;
-    println!("depth bound {depth:.2e} (r_max {r_max:.3}, d_min {d_min:.2})");
-    let bounds = Bounds {
-        coverage_fraction: 2e-3,
-        depth_rel_p99: depth,
-        depth_rel_max: depth,
-        normal_deg_p99: 0.25,
-        normal_deg_max: 1.0,
-        ..Bounds::STRICT
-    };
+    // The quantisation's error, derived in `common::compact_format_bounds`.
+    let bounds = common::compact_format_bounds(&scene, &camera);
     if let Err(broken) = stats.check(&bounds) {
         panic!("compact format beyond its quantisation error: {broken}\n{stats}");
     }

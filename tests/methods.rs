@@ -51,27 +51,8 @@ fn every_method_renders_what_it_promises() {
             }
             Method::ImpostorCompact => {
                 // Float16 semi-axes and a snorm16 rotation: within the quantisation's error
-                // (derived in tests/chunks.rs), far below what a pixel shows.
-                let eps = 2f64.powi(-11);
-                let r_max = scene
-                    .ellipsoids
-                    .iter()
-                    .map(|e| e.radii.max_element())
-                    .fold(0.0, f64::max);
-                let d_min = scene
-                    .ellipsoids
-                    .iter()
-                    .map(|e| camera.view_depth(e.center) - r_max)
-                    .fold(f64::INFINITY, f64::min);
-                let depth = 2.0 * eps * r_max / d_min;
-                let bounds = Bounds {
-                    coverage_fraction: 2e-3,
-                    depth_rel_p99: depth,
-                    depth_rel_max: depth,
-                    normal_deg_p99: 0.25,
-                    normal_deg_max: 1.0,
-                    ..Bounds::STRICT
-                };
+                // (derived in `common::compact_format_bounds`), far below what a pixel shows.
+                let bounds = common::compact_format_bounds(&scene, &camera);
                 assert_eq!(stats.check(&bounds), Ok(()), "{name}: {stats}");
             }
             Method::ImpostorTextbook | Method::BoxProxy => {

@@ -58,3 +58,32 @@ pub fn assert_matches_reference(
     }
     stats
 }
+
+/// The error bounds of the compact instance format (float16 semi-axes rounded to 2^-11
+/// relative, snorm16 rotation to 2^-15 rad) for `scene` seen by `camera`: the surface moves by
+/// up to 2^-11 of the largest semi-axis plus the rotation's share, so relative depth errs by up
+/// to about 2 x 2^-11 r_max / d_min; a normal turns by up to 2^-11 rad from the rounded axes
+/// and by the curvature times that displacement at the hit point, up to 2^-11 (r_max/r_min)^2
+/// rad: about 0.25 degrees for glyphs of aspect <= 3.
+pub fn compact_format_bounds(scene: &Scene, camera: &Camera) -> Bounds {
+    let eps = 2f64.powi(-11);
+    let r_max = scene
+        .ellipsoids
+        .iter()
+        .map(|e| e.radii.max_element())
+        .fold(0.0, f64::max);
+    let d_min = scene
+        .ellipsoids
+        .iter()
+        .map(|e| camera.view_depth(e.center) - r_max)
+        .fold(f64::INFINITY, f64::min);
+    let depth = 2.0 * eps * r_max / d_min;
+    Bounds {
+        coverage_fraction: 2e-3,
+        depth_rel_p99: depth,
+        depth_rel_max: depth,
+        normal_deg_p99: 0.25,
+        normal_deg_max: 1.0,
+        ..Bounds::STRICT
+    }
+}
