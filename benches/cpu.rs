@@ -2,6 +2,8 @@
 //! renderer and icosphere construction. `cargo bench --bench cpu` (add `-- --quick` for a fast
 //! pass). Sample counts and measurement times are kept small so the whole run takes a few
 //! minutes on a 2-core machine.
+// criterion's macros define undocumented functions.
+#![allow(missing_docs)]
 
 use std::fmt::Write as _;
 use std::hint::black_box;
@@ -12,8 +14,8 @@ use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughpu
 use ellipsoid_splat::camera::{Camera, Projection};
 use ellipsoid_splat::icosphere::icosphere;
 use ellipsoid_splat::instances::pack_instances;
-use ellipsoid_splat::reference::render_reference;
-use ellipsoid_splat::scene::{parse_csv, random_cloud, tensor_field};
+use ellipsoid_splat_loaders::{parse_csv, random_cloud, tensor_field};
+use ellipsoid_splat_reference::reference::render_reference;
 use glam::DVec3;
 
 /// Rows of the generated CSV.

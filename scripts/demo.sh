@@ -3,5 +3,5 @@
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 source "$here/scripts/setup.sh"
-cargo build --release --manifest-path "$here/Cargo.toml"
+cargo build --release --manifest-path "$here/Cargo.toml" -p ellipsoid-splat-tool
 "$here/target/release/ellipsoid-splat" "$@"

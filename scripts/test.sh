@@ -4,4 +4,4 @@ set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 source "$here/scripts/setup.sh"
 cd "$here"
-cargo test --release "$@"
+cargo test --release --workspace "$@"

@@ -30,11 +30,8 @@
 #![deny(missing_docs)]
 
 pub mod barriers;
-pub mod bench;
 pub mod bounds;
 pub mod camera;
-pub mod cli;
-pub mod compare;
 pub mod culling;
 pub mod depth;
 pub mod draw;
@@ -44,11 +41,7 @@ pub mod features;
 pub mod frame;
 mod frame_slots;
 mod host_camera;
-pub mod reference;
-pub mod report;
 pub mod scene;
-pub mod skip;
-pub mod stress;
 
 pub use camera::{Camera, Projection};
 pub use depth::DepthConvention;
@@ -60,7 +53,6 @@ pub mod gpu;
 pub mod icosphere;
 pub mod instances;
 pub mod offscreen;
-pub mod output;
 mod pipeline;
 pub mod renderer;
 pub mod target;

@@ -1,14 +1,14 @@
 //! GPU impostors against the float64 reference renderer, under validation.
 
-mod common;
+use ellipsoid_splat_reference::testing as common;
 
 use common::{assert_matches_reference, finish_validated, validated_renderer};
-use ellipsoid_splat::compare::compare;
-use ellipsoid_splat::compare::Bounds;
 use ellipsoid_splat::draw::Footprint;
-use ellipsoid_splat::reference::render_reference;
-use ellipsoid_splat::scene::random_cloud;
 use ellipsoid_splat::{Camera, Ellipsoid, Projection, Scene};
+use ellipsoid_splat_loaders::random_cloud;
+use ellipsoid_splat_reference::compare::compare;
+use ellipsoid_splat_reference::compare::Bounds;
+use ellipsoid_splat_reference::reference::render_reference;
 use glam::{DQuat, DVec3, EulerRot};
 
 fn perspective(eye: DVec3, target: DVec3, fov_y_deg: f64, near: f64, w: u32, h: u32) -> Camera {
@@ -89,7 +89,7 @@ fn orthographic_view_matches_reference() {
 
 #[test]
 fn small_tensor_field_matches_reference() {
-    let scene = ellipsoid_splat::scene::tensor_field(6);
+    let scene = ellipsoid_splat_loaders::tensor_field(6);
     let camera = Camera::framing(DVec3::ZERO, 5.5, 320, 200).unwrap();
     assert_matches_reference(&scene, &camera, &Bounds::STRICT, 8_000);
 }

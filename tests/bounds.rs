@@ -13,9 +13,9 @@
 //! every edge, with the least area an n-gon around the projected ellipse can have.
 
 use ellipsoid_splat::bounds::{screen_bounds, ScreenBounds};
-use ellipsoid_splat::reference::intersect;
-use ellipsoid_splat::scene::random_cloud;
 use ellipsoid_splat::{Camera, Ellipsoid, Projection};
+use ellipsoid_splat_loaders::random_cloud;
+use ellipsoid_splat_reference::reference::intersect;
 use glam::{DQuat, DVec2, DVec3};
 use std::f64::consts::{PI, TAU};
 

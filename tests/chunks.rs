@@ -3,11 +3,12 @@
 //! lowered so a few thousand glyphs make many chunks, and every output is compared bit for
 //! bit with the one-chunk rendering.
 
-mod common;
+use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
-use ellipsoid_splat::scene::{random_cloud, Scene};
+use ellipsoid_splat::Scene;
 use ellipsoid_splat::{Camera, NO_INSTANCE};
+use ellipsoid_splat_loaders::random_cloud;
 use glam::DVec3;
 
 fn assert_chunking_changes_nothing(scene: &Scene, camera: &Camera, expect_presets: bool) {
@@ -57,9 +58,9 @@ fn chunks_draw_the_same_picture_with_the_set_up_in_the_pre_pass() {
 /// float64 reference, and chunked exactly like the full format.
 #[test]
 fn compact_instances_stay_within_their_quantisation_error() {
-    use ellipsoid_splat::compare::compare;
     use ellipsoid_splat::instances::InstanceFormat;
-    use ellipsoid_splat::reference::render_reference;
+    use ellipsoid_splat_reference::compare::compare;
+    use ellipsoid_splat_reference::reference::render_reference;
     let scene = random_cloud(2_000, 13, 8.0, 0.6);
     let camera =
         Camera::look_at(DVec3::new(4.0, 5.0, 22.0), DVec3::ZERO, 45.0, 1.0, 240, 180).unwrap();

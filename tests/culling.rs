@@ -2,14 +2,15 @@
 //! it are identical, bit for bit, in colour, depth, normal and instance ID, and each kind of
 //! culling does drop instances on a scene built for it.
 
-mod common;
+use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
 use ellipsoid_splat::ellipsoid::Ellipsoid;
 use ellipsoid_splat::offscreen::OffscreenRenderer;
 use ellipsoid_splat::renderer::Culling;
-use ellipsoid_splat::scene::{packed_block, random_cloud, Scene};
+use ellipsoid_splat::Scene;
 use ellipsoid_splat::{Camera, Projection};
+use ellipsoid_splat_loaders::{packed_block, random_cloud};
 use glam::{DQuat, DVec3};
 
 /// Every kind alone, and all together.

@@ -2,13 +2,13 @@
 //! plane, perspective or orthographic -- gives the float64 reference's picture, and a finite
 //! far plane hides exactly what lies beyond it.
 
-mod common;
+use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
-use ellipsoid_splat::compare::{compare, Bounds};
-use ellipsoid_splat::reference::render_reference;
-use ellipsoid_splat::scene::random_cloud;
 use ellipsoid_splat::{Camera, DepthConvention, Ellipsoid, Projection, Scene, NO_INSTANCE};
+use ellipsoid_splat_loaders::random_cloud;
+use ellipsoid_splat_reference::compare::{compare, Bounds};
+use ellipsoid_splat_reference::reference::render_reference;
 use glam::{DQuat, DVec3};
 
 fn conventions(far: f64) -> [DepthConvention; 4] {

@@ -7,8 +7,7 @@
 //! with no specular highlight, the background black. So a resolved pixel's green channel is
 //! 255 x (samples showing the plane) / (samples), whatever the ellipsoid's shading.
 
-#[path = "../examples/embed/host.rs"]
-mod host;
+use ellipsoid_splat_test_host as host;
 
 use ash::vk;
 use ellipsoid_splat::renderer::{EllipsoidRenderer, HostDevice, Pass, RendererOptions, Target};

@@ -1,14 +1,14 @@
 //! Every `bench` method renders under validation, and each is as accurate as its design
 //! allows: the exact impostors match the reference, the approximations err where expected.
 
-mod common;
+use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
-use ellipsoid_splat::compare::{compare, Bounds};
 use ellipsoid_splat::draw::{DrawConfig, Footprint, Method};
-use ellipsoid_splat::reference::render_reference;
-use ellipsoid_splat::scene::random_cloud;
 use ellipsoid_splat::{Camera, Projection, NO_INSTANCE};
+use ellipsoid_splat_loaders::random_cloud;
+use ellipsoid_splat_reference::compare::{compare, Bounds};
+use ellipsoid_splat_reference::reference::render_reference;
 use glam::DVec3;
 
 #[test]

@@ -2,12 +2,13 @@
 //! sphere path for all-sphere scenes and the cap-free fragment stage when nothing reaches the
 //! near plane.
 
-mod common;
+use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
 use ellipsoid_splat::offscreen::OffscreenRenderer;
-use ellipsoid_splat::scene::{random_cloud, Scene};
+use ellipsoid_splat::Scene;
 use ellipsoid_splat::{Camera, Projection};
+use ellipsoid_splat_loaders::random_cloud;
 use glam::{DQuat, DVec3};
 
 /// Renders with the variants off and on; returns which variants the draw took.

@@ -11,7 +11,7 @@
 //! cargo run --release --example embed -- --bench # cost of 4x MSAA against 1 sample
 //! ```
 
-mod host;
+use ellipsoid_splat_test_host as host;
 
 use std::path::Path;
 use std::process::ExitCode;
@@ -19,8 +19,8 @@ use std::time::Instant;
 
 use ash::vk;
 use ellipsoid_splat::renderer::{EllipsoidRenderer, HostDevice, Pass, RendererOptions, Target};
-use ellipsoid_splat::scene::random_cloud;
 use ellipsoid_splat::{Camera, Ellipsoid, Scene};
+use ellipsoid_splat_loaders::random_cloud;
 use glam::{DMat4, DQuat, DVec3};
 use host::{
     cube, reversed_infinite_perspective, tilted_plane, write_png, DepthKind, Host, HostResult,

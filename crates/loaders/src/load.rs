@@ -1,0 +1,156 @@
+//! Loading a scene from a file: the format is chosen by extension, or by content when the
+//! extension says nothing, and every loader shares the options and the report of what it did.
+
+use std::path::{Path, PathBuf};
+
+use ellipsoid_splat::error::{Error, Result};
+use ellipsoid_splat::scene::Scene;
+
+/// The order of the six components of a symmetric tensor stored per voxel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TensorOrder {
+    /// FSL (`dtifit --save_tensor`): `xx, xy, xz, yy, yz, zz`.
+    #[default]
+    Fsl,
+    /// The NIfTI standard (`NIFTI_INTENT_SYMMATRIX`, lower triangle row by row), also DIPY's:
+    /// `xx, yx, yy, zx, zy, zz`.
+    Nifti,
+}
+
+/// What the loaders may be told.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadOptions {
+    /// Drop invalid records (counted in [`Loaded::skipped`]) instead of failing on the first.
+    pub skip_invalid: bool,
+    /// 3D Gaussian Splatting: radii are `sigma * exp(scale)` (the iso-level in standard
+    /// deviations).
+    pub sigma: f64,
+    /// 3D Gaussian Splatting: splats whose opacity (after the sigmoid) is below this are left
+    /// out (not counted as invalid).
+    pub min_opacity: f64,
+    /// Tensor volumes: the component order of the stored tensors.
+    pub tensor_order: TensorOrder,
+    /// Tensor volumes: voxels with fractional anisotropy below this are left out.
+    pub min_fa: f64,
+    /// Tensor volumes: a mask volume of the same grid; voxels where it is 0 are left out.
+    pub mask: Option<PathBuf>,
+    /// Tensor volumes: glyph semi-axes are the tensor's eigenvalues scaled so that the
+    /// largest in the volume is `glyph_scale` voxels (the smallest voxel edge).
+    pub glyph_scale: f64,
+    /// Show a progress bar on stderr while reading large files (only when it is a terminal).
+    pub progress: bool,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        Self {
+            skip_invalid: false,
+            sigma: 2.0,
+            min_opacity: 0.0,
+            tensor_order: TensorOrder::Fsl,
+            min_fa: 0.0,
+            mask: None,
+            glyph_scale: 0.5,
+            progress: false,
+        }
+    }
+}
+
+/// A loaded scene and what the loader has to say about it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Loaded {
+    /// The ellipsoids.
+    pub scene: Scene,
+    /// Records dropped as invalid (only with `skip_invalid`).
+    pub skipped: usize,
+    /// Lines for the user: parameters in effect, records filtered out and why.
+    pub notes: Vec<String>,
+}
+
+/// The file formats `load` reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// The Ellipsoid CSV of the contract (`x,y,z` and radii+quaternion or a tensor).
+    Csv,
+    /// A 3D Gaussian Splatting PLY.
+    GaussianPly,
+    /// A NIfTI-1 diffusion tensor volume (`.nii`, `.nii.gz`).
+    Nifti,
+    /// A PDB file with ANISOU records.
+    Pdb,
+    /// An mmCIF file with anisotropic displacement parameters.
+    MmCif,
+}
+
+/// The format of `path`: by extension, else by the first bytes of the file.
+pub fn detect_format(path: &Path) -> Result<Format> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    let by_extension = [
+        (".csv", Format::Csv),
+        (".ply", Format::GaussianPly),
+        (".nii", Format::Nifti),
+        (".nii.gz", Format::Nifti),
+        (".pdb", Format::Pdb),
+        (".ent", Format::Pdb),
+        (".cif", Format::MmCif),
+        (".mmcif", Format::MmCif),
+    ];
+    if let Some((_, format)) = by_extension.iter().find(|(ext, _)| name.ends_with(ext)) {
+        return Ok(*format);
+    }
+    let mut head = vec![0u8; 352];
+    let read = {
+        use std::io::Read;
+        let mut file = std::fs::File::open(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        file.read(&mut head).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?
+    };
+    let head = &head[..read];
+    let text = String::from_utf8_lossy(head);
+    // mmCIF may open with a byte-order mark, blank lines or `#` comments before `data_`.
+    let cif_start = text
+        .trim_start_matches('\u{feff}')
+        .lines()
+        .map(str::trim)
+        .find(|line| !line.is_empty() && !line.starts_with('#'))
+        .unwrap_or("");
+    let format = if head.starts_with(b"ply") {
+        Format::GaussianPly
+    } else if (head.len() >= 348 && matches!(&head[344..348], b"n+1\0" | b"ni1\0"))
+        // gzip: the only compressed format read
+        || head.starts_with(&[0x1f, 0x8b])
+    {
+        Format::Nifti
+    } else if cif_start.starts_with("data_") {
+        Format::MmCif
+    } else if [
+        "HEADER", "CRYST1", "ATOM  ", "HETATM", "REMARK", "TITLE ", "COMPND", "EXPDTA", "MODEL ",
+        "AUTHOR", "KEYWDS", "SOURCE",
+    ]
+    .iter()
+    .any(|tag| text.starts_with(tag))
+    {
+        Format::Pdb
+    } else {
+        Format::Csv
+    };
+    Ok(format)
+}
+
+/// Loads the scene in `path`, in the format `detect_format` finds.
+pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
+    match detect_format(path)? {
+        Format::Csv => crate::csv::load_csv_with(path, options),
+        Format::GaussianPly => crate::ply::load_ply(path, options),
+        Format::Nifti => crate::nifti::load_nifti(path, options),
+        Format::Pdb | Format::MmCif => crate::pdb::load_structure(path, options),
+    }
+}

@@ -1,0 +1,466 @@
+//! The Ellipsoid CSV contract (DESIGN.md section 4): accepted forms round-trip numerically and
+//! every malformed input is rejected with its file, line, column and reason.
+
+use std::path::{Path, PathBuf};
+
+use ellipsoid_splat::ellipsoid::shape_color;
+use ellipsoid_splat::{Ellipsoid, Error, Scene};
+use ellipsoid_splat_loaders::{load_csv, parse_csv};
+use glam::{DMat3, DQuat, DVec3};
+
+const FILE: &str = "scene.csv";
+
+fn parse(text: &str) -> Scene {
+    parse_csv(text, Path::new(FILE)).unwrap_or_else(|e| panic!("should parse: {e}\n{text}"))
+}
+
+/// Parses `text`, expecting a parse error; returns `(line, column, reason)`.
+fn parse_err(text: &str) -> (usize, String, String) {
+    match parse_csv(text, Path::new(FILE)) {
+        Err(Error::Parse {
+            file,
+            line,
+            column,
+            reason,
+        }) => {
+            assert_eq!(file, PathBuf::from(FILE));
+            (line, column, reason)
+        }
+        other => panic!("expected a parse error, got {other:?}\n{text}"),
+    }
+}
+
+/// Asserts the error's line, column and that the reason contains `word`.
+fn assert_err(text: &str, line: usize, column: &str, word: &str) {
+    let (got_line, got_column, reason) = parse_err(text);
+    assert_eq!(
+        (got_line, got_column.as_str()),
+        (line, column),
+        "reason: {reason}"
+    );
+    assert!(
+        reason.contains(word),
+        "reason {reason:?} lacks {word:?}\n{text}"
+    );
+}
+
+fn assert_close(a: DVec3, b: DVec3, tol: f64) {
+    assert!((a - b).abs().max_element() <= tol, "{a} vs {b}");
+}
+
+fn assert_mat_close(a: DMat3, b: DMat3, tol: f64) {
+    for (x, y) in a.to_cols_array().iter().zip(b.to_cols_array()) {
+        assert!((x - y).abs() <= tol, "{a} vs {b}");
+    }
+}
+
+const RQ_HEADER: &str = "x,y,z,rx,ry,rz,qw,qx,qy,qz";
+const T_HEADER: &str = "x,y,z,txx,txy,txz,tyy,tyz,tzz";
+
+#[test]
+fn radii_quaternion_form_round_trips_and_normalises() {
+    // Quaternion (2, 0, 0, 2) is 90 degrees about z, unnormalised.
+    let scene = parse(&format!(
+        "{RQ_HEADER},r,g,b\n1,2,3, 0.5,1,2, 2,0,0,2, 0.25,0.5,1\n"
+    ));
+    assert_eq!(scene.len(), 1);
+    let e = scene.ellipsoids[0];
+    assert_eq!(e.center, DVec3::new(1.0, 2.0, 3.0));
+    assert_eq!(e.radii, DVec3::new(0.5, 1.0, 2.0));
+    assert!((e.rotation.length() - 1.0).abs() < 1e-15);
+    let expected = DQuat::from_rotation_z(std::f64::consts::FRAC_PI_2);
+    assert!(
+        e.rotation.dot(expected).abs() > 1.0 - 1e-12,
+        "{}",
+        e.rotation
+    );
+    assert_close(e.axes().x_axis, DVec3::Y, 1e-12);
+    assert_eq!(e.color, [0.25, 0.5, 1.0]);
+}
+
+#[test]
+fn tensor_form_round_trips() {
+    let r = DMat3::from_quat(DQuat::from_euler(glam::EulerRot::ZYX, 0.4, -0.7, 1.3));
+    let t = r * DMat3::from_diagonal(DVec3::new(2.0, 0.75, 0.1)) * r.transpose();
+    let row = format!(
+        "-1,0.5,4,{:.17},{:.17},{:.17},{:.17},{:.17},{:.17}",
+        t.x_axis.x, t.y_axis.x, t.z_axis.x, t.y_axis.y, t.z_axis.y, t.z_axis.z
+    );
+    let scene = parse(&format!("{T_HEADER}\n{row}\n"));
+    let e = scene.ellipsoids[0];
+    assert_eq!(e.center, DVec3::new(-1.0, 0.5, 4.0));
+    assert_mat_close(e.to_world() * e.axes().transpose(), t, 1e-12);
+    let mut radii = e.radii.to_array();
+    radii.sort_by(f64::total_cmp);
+    assert_close(DVec3::from(radii), DVec3::new(0.1, 0.75, 2.0), 1e-12);
+    // Without r,g,b the glyph is coloured by shape.
+    assert_eq!(e.color, shape_color(e.radii));
+}
+
+#[test]
+fn matches_ellipsoid_constructors() {
+    let scene = parse(&format!("{RQ_HEADER}\n0,0,0,3,1,1,1,0,0,0\n"));
+    let expected = Ellipsoid::new(
+        DVec3::ZERO,
+        DVec3::new(3.0, 1.0, 1.0),
+        DQuat::IDENTITY,
+        None,
+    )
+    .unwrap();
+    assert_eq!(scene.ellipsoids[0], expected);
+    assert_eq!(scene.ellipsoids[0].color, shape_color(expected.radii));
+}
+
+#[test]
+fn comments_blank_lines_and_whitespace_anywhere() {
+    let text = "\
+# leading comment
+   # indented comment
+
+ x , y,z,rx,ry,rz,qw,qx,qy,qz
+# between header and data
+1,1,1,1,1,1,1,0,0,0
+
+   \t
+ 2 , 2 ,2,1,1,1,1,0,0,0   
+#trailing
+";
+    let scene = parse(text);
+    assert_eq!(scene.len(), 2);
+    assert_eq!(scene.ellipsoids[1].center, DVec3::splat(2.0));
+}
+
+#[test]
+fn line_numbers_count_comment_and_blank_lines() {
+    let text = "\
+# one
+
+  # three
+x,y,z,rx,ry,rz,qw,qx,qy,qz
+
+# six
+1,1,1,1,1,1,1,0,0,0
+  \t
+
+# ten
+2,2,2,1,1,-1,1,0,0,0
+";
+    assert_err(text, 11, "rz", "non-positive");
+    assert_err("\n\n\nx,y,z\n1,2,3\n", 4, "header", "no shape");
+}
+
+#[test]
+fn column_order_is_free() {
+    let shuffled = parse("qz,b,rx,y,qw,g,z,ry,qy,x,r,rz,qx\n0,1,1,2,1,0.5,3,2,0,1,0,3,0\n");
+    let canonical = parse(&format!("{RQ_HEADER},r,g,b\n1,2,3,1,2,3,1,0,0,0,0,0.5,1\n"));
+    assert_eq!(shuffled, canonical);
+    let t1 = parse("tzz,x,tyz,y,txx,z,txy,tyy,txz\n3,1,0,2,1,3,0,2,0\n");
+    let t2 = parse(&format!("{T_HEADER}\n1,2,3,1,0,0,2,0,3\n"));
+    assert_eq!(t1, t2);
+}
+
+#[test]
+fn crlf_line_endings() {
+    let text =
+        "# c\r\nx,y,z,rx,ry,rz,qw,qx,qy,qz\r\n1,2,3,1,1,1,1,0,0,0\r\n4,5,6,1,1,1,1,0,0,0\r\n";
+    let scene = parse(text);
+    assert_eq!(scene.len(), 2);
+    assert_eq!(scene.ellipsoids[1].center, DVec3::new(4.0, 5.0, 6.0));
+    // Line numbers still count physical lines.
+    let bad = "# c\r\nx,y,z,rx,ry,rz,qw,qx,qy,qz\r\n\r\n1,2,3,1,1,1,1,0,0,oops\r\n";
+    assert_err(bad, 4, "qz", "oops");
+}
+
+#[test]
+fn no_trailing_newline_and_utf8_bom() {
+    let scene = parse("\u{feff}x,y,z,rx,ry,rz,qw,qx,qy,qz\n1,2,3,1,1,1,1,0,0,0");
+    assert_eq!(scene.len(), 1);
+}
+
+#[test]
+fn load_csv_reads_files_and_rejects_invalid_utf8() {
+    let dir = std::env::temp_dir().join(format!("ellipsoid-splat-csv-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+
+    let good = dir.join("good.csv");
+    std::fs::write(&good, format!("{RQ_HEADER}\n1,2,3,1,1,1,1,0,0,0\n")).unwrap();
+    assert_eq!(load_csv(&good).unwrap().len(), 1);
+
+    let bad = dir.join("bad.csv");
+    let mut bytes = format!("{RQ_HEADER}\n1,2,3,1,1,1,1,0,0,0\n").into_bytes();
+    bytes.extend_from_slice(b"4,5,\xff,1,1,1,1,0,0,0\n");
+    std::fs::write(&bad, bytes).unwrap();
+    match load_csv(&bad) {
+        Err(Error::Parse {
+            file, line, reason, ..
+        }) => {
+            assert_eq!(file, bad);
+            assert_eq!(line, 3);
+            assert!(reason.contains("UTF-8"), "{reason}");
+        }
+        other => panic!("expected a UTF-8 parse error, got {other:?}"),
+    }
+
+    let missing = dir.join("missing.csv");
+    match load_csv(&missing) {
+        Err(Error::Io { path, .. }) => assert_eq!(path, missing),
+        other => panic!("expected an I/O error, got {other:?}"),
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn error_message_names_file_line_and_column() {
+    let err = parse_csv(
+        &format!("{RQ_HEADER}\n1,2,3,1,1,x7,1,0,0,0\n"),
+        Path::new("dir/cells.csv"),
+    )
+    .unwrap_err();
+    let text = err.to_string();
+    assert!(text.starts_with("dir/cells.csv:2:rz:"), "{text}");
+    assert!(text.contains("\"x7\""), "{text}");
+}
+
+// ---- malformed header ----
+
+#[test]
+fn empty_file_or_only_comments() {
+    assert_err("", 0, "header", "empty");
+    assert_err("# just a comment\n\n   \n", 0, "header", "no header");
+}
+
+#[test]
+fn unknown_column() {
+    assert_err(
+        &format!("# c\n{RQ_HEADER},alpha\n1,2,3,1,1,1,1,0,0,0,1\n"),
+        2,
+        "alpha",
+        "unknown column",
+    );
+    // Names are case-sensitive.
+    assert_err(
+        "X,y,z,rx,ry,rz,qw,qx,qy,qz\n1,2,3,1,1,1,1,0,0,0\n",
+        1,
+        "X",
+        "unknown",
+    );
+}
+
+#[test]
+fn empty_column_name() {
+    assert_err(
+        &format!("{RQ_HEADER},\n1,2,3,1,1,1,1,0,0,0,\n"),
+        1,
+        "column 11",
+        "empty column name",
+    );
+}
+
+#[test]
+fn duplicate_column() {
+    assert_err(
+        &format!("{RQ_HEADER},x\n1,2,3,1,1,1,1,0,0,0,1\n"),
+        1,
+        "x",
+        "duplicate",
+    );
+}
+
+#[test]
+fn missing_required_column() {
+    assert_err(
+        "x,z,rx,ry,rz,qw,qx,qy,qz\n1,3,1,1,1,1,0,0,0\n",
+        1,
+        "y",
+        "missing",
+    );
+    assert_err(
+        "x,y,z,rx,ry,rz,qw,qx,qz\n1,2,3,1,1,1,1,0,0\n",
+        1,
+        "qy",
+        "missing",
+    );
+    assert_err(
+        "x,y,z,txx,txy,txz,tyy,tzz\n1,2,3,1,0,0,1,1\n",
+        1,
+        "tyz",
+        "missing",
+    );
+}
+
+#[test]
+fn both_or_neither_shape_forms() {
+    assert_err(
+        &format!("{RQ_HEADER},txx,txy,txz,tyy,tyz,tzz\n1,2,3,1,1,1,1,0,0,0,1,0,0,1,0,1\n"),
+        1,
+        "txx",
+        "both shape forms",
+    );
+    assert_err(
+        &format!("{RQ_HEADER},tyy\n1,2,3,1,1,1,1,0,0,0,1\n"),
+        1,
+        "tyy",
+        "both",
+    );
+    assert_err("x,y,z\n1,2,3\n", 1, "header", "no shape columns");
+    assert_err("x,y,z,r,g,b\n1,2,3,1,1,1\n", 1, "header", "no shape");
+}
+
+#[test]
+fn partial_colour_triple() {
+    assert_err(
+        &format!("{RQ_HEADER},r,g\n1,2,3,1,1,1,1,0,0,0,1,1\n"),
+        1,
+        "b",
+        "partial colour",
+    );
+    assert_err(
+        &format!("{T_HEADER},b\n1,2,3,1,0,0,1,0,1,1\n"),
+        1,
+        "r",
+        "partial colour",
+    );
+}
+
+#[test]
+fn zero_data_rows() {
+    assert_err(
+        &format!("# c\n{RQ_HEADER}\n# no rows\n"),
+        2,
+        "header",
+        "no ellipsoids",
+    );
+}
+
+// ---- malformed rows ----
+
+#[test]
+fn wrong_number_of_fields() {
+    let text = format!("{RQ_HEADER}\n1,2,3,1,1,1,1,0,0,0\n1,2,3,1,1,1,1,0,0\n");
+    assert_err(&text, 3, "row", "wrong number of fields");
+    let (_, _, reason) = parse_err(&text);
+    assert!(
+        reason.contains("expected 10") && reason.contains("found 9"),
+        "{reason}"
+    );
+    assert_err(
+        &format!("{RQ_HEADER}\n1,2,3,1,1,1,1,0,0,0,5\n"),
+        2,
+        "row",
+        "found 11",
+    );
+}
+
+#[test]
+fn non_numeric_field() {
+    assert_err(
+        &format!("{RQ_HEADER}\n1,2,3,1,1,1,1,0,0,0\n1,two,3,1,1,1,1,0,0,0\n"),
+        3,
+        "y",
+        "not a number: \"two\"",
+    );
+    assert_err(
+        &format!("{RQ_HEADER}\n1,2,3,1,,1,1,0,0,0\n"),
+        2,
+        "ry",
+        "empty field",
+    );
+    // The first bad field in file order is reported.
+    assert_err(
+        "qz,qy,qx,qw,rz,ry,rx,z,y,x\n0,0,0,1,1,1,1,a,b,c\n",
+        2,
+        "z",
+        "\"a\"",
+    );
+}
+
+#[test]
+fn non_finite_number() {
+    for text in ["NaN", "inf", "-inf", "infinity"] {
+        assert_err(
+            &format!("{RQ_HEADER}\n1,2,{text},1,1,1,1,0,0,0\n"),
+            2,
+            "z",
+            "non-finite",
+        );
+    }
+    assert_err(
+        &format!("{T_HEADER}\n1,2,3,1,0,0,1e400,0,1\n"),
+        2,
+        "tyy",
+        "non-finite",
+    );
+}
+
+#[test]
+fn non_positive_radius() {
+    assert_err(
+        &format!("{RQ_HEADER}\n1,2,3,1,0,1,1,0,0,0\n"),
+        2,
+        "ry",
+        "non-positive radius",
+    );
+    assert_err(
+        &format!("{RQ_HEADER}\n1,2,3,1,1,-0.5,1,0,0,0\n"),
+        2,
+        "rz",
+        "non-positive radius",
+    );
+}
+
+#[test]
+fn zero_quaternion() {
+    assert_err(
+        &format!("{RQ_HEADER}\n1,2,3,1,1,1,0,0,0,0\n"),
+        2,
+        "qw,qx,qy,qz",
+        "zero quaternion",
+    );
+    // Too small to normalise reliably is rejected by `Ellipsoid::new` and reported the same way.
+    assert_err(
+        &format!("{RQ_HEADER}\n1,2,3,1,1,1,1e-20,0,0,0\n"),
+        2,
+        "qw,qx,qy,qz",
+        "non-zero",
+    );
+}
+
+#[test]
+fn tensor_not_positive_definite() {
+    assert_err(
+        &format!("{T_HEADER}\n1,2,3,1,0,0,-1,0,1\n"),
+        2,
+        "txx,txy,txz,tyy,tyz,tzz",
+        "positive definite",
+    );
+    // Singular (a flat disc) is not positive definite either.
+    assert_err(
+        &format!("{T_HEADER}\n1,2,3,1,0,0,1,0,0\n"),
+        2,
+        "txx,txy,txz,tyy,tyz,tzz",
+        "positive definite",
+    );
+    // Positive diagonal but indefinite: eigenvalues 3 and -1.
+    assert_err(
+        &format!("{T_HEADER}\n1,2,3,1,2,0,1,0,1\n"),
+        2,
+        "txx,txy,txz,tyy,tyz,tzz",
+        "positive definite",
+    );
+}
+
+#[test]
+fn colour_out_of_range() {
+    assert_err(
+        &format!("{RQ_HEADER},r,g,b\n1,2,3,1,1,1,1,0,0,0,0.5,1.5,0\n"),
+        2,
+        "g",
+        "out of range",
+    );
+    assert_err(
+        &format!("{T_HEADER},r,g,b\n1,2,3,1,0,0,1,0,1,-0.1,0,0\n"),
+        2,
+        "r",
+        "[0, 1]",
+    );
+}

@@ -1,0 +1,9 @@
+//! The float64 CPU reference renderer of `ellipsoid-splat` (the oracle of every accuracy test)
+//! and the statistics of a GPU frame's error against it.
+
+pub mod compare;
+pub mod reference;
+pub mod testing;
+
+pub use compare::{compare, Bounds, ErrorStats};
+pub use reference::{render_reference, ReferenceFrame};

@@ -1,0 +1,706 @@
+//! `ellipsoid-splat bench`: every drawing method on one time-versus-error chart, measured side
+//! by side in one run on the same machine.
+//!
+//! Per scene: the float64 reference once; per method one read-back frame for the error (it
+//! also builds the pipeline and warms lavapipe's shader cache), two warm-up frames, then
+//! `frames` rounds in which the methods take turns (so drift hits all alike), each frame timed
+//! from submit to fence with GPU timestamps and fragment-shader-invocation counts beside it.
+
+use std::path::Path;
+
+use glam::DVec3;
+
+use crate::report::{
+    bar_chart, fmt_sci, format_table, line_chart, markdown_table, scatter_chart, write_csv, Axis,
+    Series,
+};
+use ellipsoid_splat::camera::{Camera, Projection};
+use ellipsoid_splat::draw::{Geometry, Method};
+use ellipsoid_splat::error::{Error, Result};
+use ellipsoid_splat::instances::InstanceFormat;
+use ellipsoid_splat::offscreen::OffscreenRenderer;
+use ellipsoid_splat::Scene;
+use ellipsoid_splat_loaders::{random_cloud, tensor_field, Progress};
+use ellipsoid_splat_reference::render_reference;
+use ellipsoid_splat_reference::{compare, Bounds, ErrorStats};
+
+/// Image size of every bench scene.
+pub const WIDTH: u32 = 1920;
+/// Image height of every bench scene.
+pub const HEIGHT: u32 = 1080;
+/// Vertices one frame may push through lavapipe's single-threaded front end before a method
+/// is skipped on a scene (about 2 s per frame).
+const VERTEX_BUDGET: f64 = 2.0e7;
+
+/// Columns of `results.csv`.
+pub const CSV_HEADER: &[&str] = &[
+    "method",
+    "scene",
+    "count",
+    "width",
+    "height",
+    "wall_ms",
+    "gpu_ms",
+    "fragments",
+    "covered_pixels",
+    "coverage_mismatch",
+    "depth_rel_p99",
+    "normal_deg_p99",
+    "shaded_pixels",
+    "visible_pixels",
+    "wall_ms_p25",
+    "wall_ms_p75",
+];
+
+/// One scene of the benchmark.
+pub struct BenchScene {
+    /// Name in the `scene` column, e.g. `cloud-16px`.
+    pub name: String,
+    /// The ellipsoids.
+    pub scene: Scene,
+    /// The camera (1920x1080, perspective).
+    pub camera: Camera,
+    /// Projected size in pixels (0 for the tensor field, whose glyphs vary).
+    pub size_px: f64,
+}
+
+/// One method measured on one scene.
+#[derive(Clone, Debug)]
+pub struct BenchResult {
+    /// The method.
+    pub method: Method,
+    /// Scene name.
+    pub scene: String,
+    /// Ellipsoids in the scene.
+    pub count: usize,
+    /// Projected glyph size of the scene (0 = mixed).
+    pub size_px: f64,
+    /// Median submit-to-fence time.
+    pub wall_ms: f64,
+    /// Lower and upper quartile of the submit-to-fence times: the run's noise.
+    pub wall_quartiles_ms: (f64, f64),
+    /// Median GPU time from timestamps around the pass.
+    pub gpu_ms: f64,
+    /// Fragment shader invocations of the read-back frame, from pipeline statistics (lavapipe
+    /// counts whole 4x4 blocks here).
+    pub fragments: u64,
+    /// Pixels the fragment shader ran for, counted exactly by an atomic in the shader.
+    pub shaded_pixels: Option<u64>,
+    /// Pixel centres inside each ellipsoid's silhouette, summed over all ellipsoids (hidden
+    /// ones included): what an exact per-glyph footprint would shade.
+    pub silhouette_pixels: u64,
+    /// Error against the reference.
+    pub stats: ErrorStats,
+}
+
+impl BenchResult {
+    /// Largest ratio of an error to its strict bound (coverage, and depth and normal p99
+    /// beyond the float32 floor, as `stress` judges them), floored at 1: every method within
+    /// the bounds counts as exact, and exact methods compete on time alone.
+    pub fn error_ratio(&self) -> f64 {
+        let b = Bounds::STRICT;
+        let s = &self.stats;
+        (s.coverage_mismatch_fraction / b.coverage_fraction)
+            .max(s.depth_cond_p99 / b.depth_rel_p99)
+            .max(s.normal_cond_p99 / b.normal_deg_p99)
+            .max(1.0)
+    }
+
+    /// Pixels shaded per silhouette pixel (1 = no wasted fragment); from the exact count
+    /// where there is one, else from pipeline statistics.
+    pub fn fill_ratio(&self) -> f64 {
+        self.shaded_pixels.unwrap_or(self.fragments) as f64 / self.silhouette_pixels.max(1) as f64
+    }
+
+    fn csv_row(&self) -> Vec<String> {
+        let s = &self.stats;
+        vec![
+            self.method.name(),
+            self.scene.clone(),
+            self.count.to_string(),
+            WIDTH.to_string(),
+            HEIGHT.to_string(),
+            format!("{:.3}", self.wall_ms),
+            format!("{:.3}", self.gpu_ms),
+            self.fragments.to_string(),
+            self.silhouette_pixels.to_string(),
+            format!("{:.4e}", s.coverage_mismatch_fraction),
+            format!("{:.4e}", s.depth_rel_p99),
+            format!("{:.4e}", s.normal_deg_p99),
+            self.shaded_pixels.map_or(String::new(), |n| n.to_string()),
+            s.covered_pixels.to_string(),
+            format!("{:.3}", self.wall_quartiles_ms.0),
+            format!("{:.3}", self.wall_quartiles_ms.1),
+        ]
+    }
+}
+
+/// Ellipsoids filling the view frustum between depth 10 and 20, each about `size_px` pixels
+/// across on screen, seen from the origin along -z.
+pub fn frustum_cloud(count: usize, size_px: f64, seed: u64) -> BenchScene {
+    let fov: f64 = 45.0;
+    let tan = (fov.to_radians() * 0.5).tan();
+    let aspect = WIDTH as f64 / HEIGHT as f64;
+    let mut scene = random_cloud(count, seed, 1.0, 1.0);
+    for e in &mut scene.ellipsoids {
+        let depth = 15.0 + 5.0 * e.center.z;
+        e.center = DVec3::new(
+            e.center.x * tan * aspect * depth * 0.95,
+            e.center.y * tan * depth * 0.95,
+            -depth,
+        );
+        // random_cloud's largest semi-axis is at most 1: scale it to size_px / 2 pixels.
+        let pixel = 2.0 * tan * depth / HEIGHT as f64;
+        e.radii *= 0.5 * size_px * pixel;
+    }
+    let camera = Camera::new(
+        DVec3::ZERO,
+        DVec3::NEG_Z,
+        DVec3::Y,
+        Projection::Perspective { fov_y_deg: fov },
+        5.0,
+        WIDTH,
+        HEIGHT,
+    )
+    .expect("bench camera is valid");
+    BenchScene {
+        name: format!("cloud-{size_px}px"),
+        scene,
+        camera,
+        size_px,
+    }
+}
+
+/// Gumhold's 64,000-glyph tensor field, framed as in the demo.
+pub fn tensor_field_scene() -> BenchScene {
+    let scene = tensor_field(40);
+    let (c, r) = scene.bounding_sphere().expect("tensor field is not empty");
+    let camera = Camera::framing(c, r, WIDTH, HEIGHT).expect("framing camera is valid");
+    BenchScene {
+        name: "tensor-field".into(),
+        scene,
+        camera,
+        size_px: 0.0,
+    }
+}
+
+/// The (count, projected size) pairs of the run. The full run leaves out the clouds whose
+/// fragments alone would take minutes per frame on lavapipe (1e5 and 1e6 glyphs of 128 px:
+/// over 1000 screens of overdraw).
+pub fn cloud_specs(quick: bool) -> Vec<(usize, f64)> {
+    if quick {
+        vec![
+            (1_000, 2.0),
+            (10_000, 2.0),
+            (100_000, 2.0),
+            (1_000_000, 2.0),
+            (1_000, 16.0),
+            (10_000, 16.0),
+            (1_000, 128.0),
+        ]
+    } else {
+        let mut specs = Vec::new();
+        for size in [2.0, 16.0, 128.0] {
+            for count in [1_000, 10_000, 100_000, 1_000_000] {
+                if count as f64 * size * size <= 2.0e8 {
+                    specs.push((count, size));
+                }
+            }
+        }
+        specs
+    }
+}
+
+/// Vertices a method pushes per instance (for the skip budget).
+fn vertices_per_instance(method: Method) -> f64 {
+    match method.config().geometry {
+        Geometry::Impostor => method.config().footprint.vertices() as f64,
+        Geometry::BoxProxy => 36.0,
+        Geometry::Mesh(level) => 10.0 * 4f64.powi(level as i32) + 2.0,
+    }
+}
+
+/// Runs `methods` on every scene; `frames` timed rounds per scene (at least 15 for the report).
+/// Methods whose vertex work exceeds the budget on a scene are skipped and named in `skipped`.
+pub fn run(
+    renderer: &mut OffscreenRenderer,
+    scenes: &mut dyn Iterator<Item = BenchScene>,
+    scene_count: usize,
+    methods: &[Method],
+    frames: usize,
+    skipped: &mut Vec<String>,
+) -> Result<Vec<BenchResult>> {
+    let progress = Progress::new(scene_count as u64, "bench");
+    let mut results = Vec::new();
+    for bench in scenes {
+        progress.inc(&bench.name);
+        let count = bench.scene.len();
+        let active: Vec<Method> = methods
+            .iter()
+            .copied()
+            .filter(|&m| {
+                let keep = count as f64 * vertices_per_instance(m) <= VERTEX_BUDGET;
+                if !keep {
+                    skipped.push(format!("{} on {} ({count})", m.name(), bench.name));
+                }
+                keep
+            })
+            .collect();
+        renderer.set_instance_format(InstanceFormat::Full);
+        renderer.upload(&bench.scene)?;
+        let reference = render_reference(&bench.scene, &bench.camera)?;
+        let silhouette_pixels = reference.silhouette_pixels();
+        let mut measured: Vec<Measured> = Vec::new();
+        let mut format = InstanceFormat::Full;
+        for &method in &active {
+            use_method(renderer, method, &mut format, &bench.scene)?;
+            let (frame, timing) = renderer.render_uploaded(&bench.camera)?;
+            let stats = compare(&frame, &reference)?;
+            // The exact pixel count comes from the counting build of the same shaders.
+            renderer.set_count_fragments(true);
+            let counted = renderer.render_uploaded(&bench.camera);
+            renderer.set_count_fragments(false);
+            let shaded_pixels = counted?.1.shaded_fragments;
+            for _ in 0..2 {
+                renderer.render_timed(&bench.camera)?;
+            }
+            measured.push(Measured {
+                method,
+                stats,
+                fragments: timing.gpu.fragments.unwrap_or(0),
+                shaded_pixels,
+                wall: Vec::new(),
+                gpu: Vec::new(),
+            });
+        }
+        let mut order: Vec<usize> = (0..measured.len()).collect();
+        let mut rng = 0x2545_f491_4f6c_dd1d_u64;
+        for _ in 0..frames {
+            // A fresh order each round (Fisher-Yates, xorshift64), so no method always follows
+            // the same one: in a fixed order two methods sharing one pipeline differed by
+            // 10-20 % on lavapipe, depending on which frame came before.
+            for i in (1..order.len()).rev() {
+                rng ^= rng << 13;
+                rng ^= rng >> 7;
+                rng ^= rng << 17;
+                order.swap(i, (rng % (i as u64 + 1)) as usize);
+            }
+            for &k in &order {
+                let entry = &mut measured[k];
+                use_method(renderer, entry.method, &mut format, &bench.scene)?;
+                let timing = renderer.render_timed(&bench.camera)?;
+                entry.wall.push(timing.gpu_wall.as_secs_f64() * 1e3);
+                entry.gpu.push(timing.gpu.gpu_ms);
+            }
+        }
+        for mut m in measured {
+            results.push(BenchResult {
+                method: m.method,
+                scene: bench.name.clone(),
+                count,
+                size_px: bench.size_px,
+                wall_quartiles_ms: (quantile(&mut m.wall, 0.25), quantile(&mut m.wall, 0.75)),
+                wall_ms: median(&mut m.wall),
+                gpu_ms: median(&mut m.gpu),
+                fragments: m.fragments,
+                shaded_pixels: m.shaded_pixels,
+                silhouette_pixels,
+                stats: m.stats,
+            });
+        }
+    }
+    progress.finish();
+    Ok(results)
+}
+
+/// What is collected for one method on one scene.
+struct Measured {
+    method: Method,
+    stats: ErrorStats,
+    fragments: u64,
+    shaded_pixels: Option<u64>,
+    wall: Vec<f64>,
+    gpu: Vec<f64>,
+}
+
+/// Linear-interpolated quantile `p` in [0, 1].
+fn quantile(values: &mut [f64], p: f64) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
+    values.sort_by(f64::total_cmp);
+    let x = p * (values.len() - 1) as f64;
+    let (i, frac) = (x.floor() as usize, x.fract());
+    let next = values[(i + 1).min(values.len() - 1)];
+    values[i] + frac * (next - values[i])
+}
+
+/// Median (mean of the middle two for an even count); NaN when empty.
+pub(crate) fn median(values: &mut [f64]) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        0.5 * (values[n / 2 - 1] + values[n / 2])
+    }
+}
+
+/// A method's place on the time-versus-error chart.
+#[derive(Clone, Copy, Debug)]
+pub struct ChartPoint {
+    /// Median frame time.
+    pub time: f64,
+    /// Lower and upper quartile of the frame times.
+    pub quartiles: (f64, f64),
+    /// Worst error over bound.
+    pub error: f64,
+}
+
+impl ChartPoint {
+    fn of(r: &BenchResult) -> Self {
+        Self {
+            time: r.wall_ms,
+            quartiles: r.wall_quartiles_ms,
+            error: r.error_ratio(),
+        }
+    }
+
+    /// `self` beats `other`: faster beyond the noise (its upper quartile below the other's
+    /// lower quartile) and no worse in error, or lower in error and not clearly slower.
+    pub fn beats(&self, other: &ChartPoint) -> bool {
+        let faster = self.quartiles.1 < other.quartiles.0;
+        let not_slower = self.quartiles.0 <= other.quartiles.1;
+        (faster && self.error <= other.error) || (not_slower && self.error < other.error)
+    }
+}
+
+/// Indices of the points no other point beats.
+pub fn pareto_front(points: &[ChartPoint]) -> Vec<usize> {
+    (0..points.len())
+        .filter(|&i| {
+            !points
+                .iter()
+                .enumerate()
+                .any(|(j, p)| j != i && p.beats(&points[i]))
+        })
+        .collect()
+}
+
+/// The headline checks of issue 4, each with its measured value.
+pub struct TargetCheck {
+    /// What is checked.
+    pub target: String,
+    /// The measured value(s).
+    pub measured: String,
+    /// Whether it holds.
+    pub holds: bool,
+}
+
+/// Evaluates the targets on `results`.
+pub fn check_targets(results: &[BenchResult]) -> Vec<TargetCheck> {
+    let mut checks = Vec::new();
+    // A scene is a name and a count.
+    let mut scenes: Vec<(&str, usize)> = results
+        .iter()
+        .map(|r| (r.scene.as_str(), r.count))
+        .collect();
+    scenes.dedup();
+    let of = |(scene, count): (&str, usize)| -> Vec<&BenchResult> {
+        results
+            .iter()
+            .filter(|r| r.scene == scene && r.count == count)
+            .collect()
+    };
+
+    // Pareto front of (time, error ratio).
+    let mut off_front = Vec::new();
+    let mut mesh_faster = Vec::new();
+    let mut fill = Vec::new();
+    let mut flat_ratio = Vec::new();
+    for &key in &scenes {
+        let rs = of(key);
+        let scene = format!("{} ({})", key.0, key.1);
+        let scene = scene.as_str();
+        let points: Vec<ChartPoint> = rs.iter().map(|r| ChartPoint::of(r)).collect();
+        let front = pareto_front(&points);
+        let Some(imp) = rs.iter().position(|r| r.method == Method::Impostor) else {
+            continue;
+        };
+        if !front.contains(&imp) {
+            off_front.push(scene.to_string());
+        }
+        for r in &rs {
+            if matches!(r.method, Method::Mesh(_))
+                && r.stats.normal_deg_p99 <= 1.0
+                && r.wall_ms < rs[imp].wall_ms
+            {
+                mesh_faster.push(format!(
+                    "{} on {} ({:.1} vs {:.1} ms)",
+                    r.method.name(),
+                    scene,
+                    r.wall_ms,
+                    rs[imp].wall_ms
+                ));
+            }
+        }
+        fill.push((scene.to_string(), rs[imp].fill_ratio()));
+        if rs[imp].size_px >= 128.0 {
+            if let Some(ff) = rs.iter().find(|r| r.method == Method::FlatFill) {
+                flat_ratio.push((scene.to_string(), ff.wall_ms / rs[imp].wall_ms));
+            }
+        }
+    }
+    checks.push(TargetCheck {
+        target: "impostor on the Pareto front of every scene".into(),
+        measured: if off_front.is_empty() {
+            "on the front in every scene".into()
+        } else {
+            format!("off the front on {}", off_front.join(", "))
+        },
+        holds: off_front.is_empty(),
+    });
+    checks.push(TargetCheck {
+        target: "impostor faster than every mesh level with normal p99 <= 1 degree".into(),
+        measured: if mesh_faster.is_empty() {
+            "no such mesh is faster".into()
+        } else {
+            mesh_faster.join("; ")
+        },
+        holds: mesh_faster.is_empty(),
+    });
+    let worst_fill = fill.iter().map(|f| f.1).fold(0.0, f64::max);
+    checks.push(TargetCheck {
+        target: "impostor fragments / covered pixels <= 1.35 on every scene".into(),
+        measured: fill
+            .iter()
+            .map(|(s, v)| format!("{s} {v:.3}"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        holds: worst_fill <= 1.35,
+    });
+    checks.push(TargetCheck {
+        target: "impostor at least half the speed of flat-fill on pixel-bound scenes".into(),
+        measured: if flat_ratio.is_empty() {
+            "no pixel-bound scene measured".into()
+        } else {
+            flat_ratio
+                .iter()
+                .map(|(s, v)| format!("{s}: impostor speed {v:.2} x flat-fill"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        },
+        holds: !flat_ratio.is_empty() && flat_ratio.iter().all(|f| f.1 >= 0.5),
+    });
+    // Linear scaling: time per ellipsoid at the largest count within 2x of the smallest
+    // count >= 1e4 (below that, fixed per-frame costs dominate).
+    let mut per_glyph: Vec<(usize, f64)> = results
+        .iter()
+        .filter(|r| r.method == Method::Impostor && r.size_px == 2.0)
+        .map(|r| (r.count, r.wall_ms / r.count as f64))
+        .collect();
+    per_glyph.sort_by_key(|p| p.0);
+    let scaling: Vec<&(usize, f64)> = per_glyph.iter().filter(|p| p.0 >= 10_000).collect();
+    let linear = match (scaling.first(), scaling.last()) {
+        (Some(a), Some(b)) if scaling.len() >= 2 => b.1 <= 2.0 * a.1 && b.1 >= 0.5 * a.1,
+        _ => false,
+    };
+    checks.push(TargetCheck {
+        target: "time grows linearly with count up to 1e6 (2 px clouds)".into(),
+        measured: per_glyph
+            .iter()
+            .map(|(n, t)| format!("{n}: {:.3} us/glyph", t * 1e3))
+            .collect::<Vec<_>>()
+            .join(", "),
+        holds: linear,
+    });
+    checks
+}
+
+/// Writes `results.csv`, `time_vs_error.png`, `fill_efficiency.png` and `scaling.png` into
+/// `dir` and returns the printed table and the Markdown table of headline ratios.
+pub fn write_report(results: &[BenchResult], dir: &Path) -> Result<(String, String)> {
+    std::fs::create_dir_all(dir).map_err(|source| Error::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let rows: Vec<Vec<String>> = results.iter().map(BenchResult::csv_row).collect();
+    write_csv(&dir.join("results.csv"), CSV_HEADER, &rows)?;
+
+    // Time against error on the headline scene (the tensor field), Pareto front marked.
+    let headline: Vec<&BenchResult> = {
+        let tf: Vec<&BenchResult> = results
+            .iter()
+            .filter(|r| r.scene == "tensor-field")
+            .collect();
+        if tf.is_empty() {
+            results.iter().collect()
+        } else {
+            tf
+        }
+    };
+    let chart: Vec<ChartPoint> = headline.iter().map(|r| ChartPoint::of(r)).collect();
+    let points: Vec<(f64, f64)> = chart.iter().map(|p| (p.time, p.error)).collect();
+    let front: Vec<(f64, f64)> = pareto_front(&chart)
+        .into_iter()
+        .map(|i| points[i])
+        .collect();
+    let series: Vec<Series> = headline
+        .iter()
+        .zip(&points)
+        .map(|(r, &p)| Series::new(r.method.name(), vec![p]))
+        .collect();
+    scatter_chart(
+        &dir.join("time_vs_error.png"),
+        &format!(
+            "time versus error, {} ({}x{}, lavapipe)",
+            headline.first().map_or("", |r| r.scene.as_str()),
+            WIDTH,
+            HEIGHT
+        ),
+        &Axis::log("median frame time, submit to fence (ms)"),
+        &Axis::log("worst error / strict bound (1 = within every bound)"),
+        &series,
+        Some(&front),
+    )?;
+
+    // Fragments per covered pixel by method on the headline scene.
+    let bars: Vec<(String, f64)> = headline
+        .iter()
+        .map(|r| (r.method.name(), r.fill_ratio()))
+        .collect();
+    bar_chart(
+        &dir.join("fill_efficiency.png"),
+        "fragment shader invocations per covered pixel",
+        &Axis::log("fragments / covered pixels"),
+        &bars,
+    )?;
+
+    // Time against count for the 2 px clouds.
+    let mut scaling: Vec<Series> = Vec::new();
+    for r in results.iter().filter(|r| r.size_px == 2.0) {
+        let name = r.method.name();
+        match scaling.iter_mut().find(|s| s.name == name) {
+            Some(s) => s.points.push((r.count as f64, r.wall_ms)),
+            None => scaling.push(Series::new(name, vec![(r.count as f64, r.wall_ms)])),
+        }
+    }
+    line_chart(
+        &dir.join("scaling.png"),
+        "frame time against ellipsoid count (2 px glyphs)",
+        &Axis::log("ellipsoids"),
+        &Axis::log("median frame time (ms)"),
+        &scaling,
+        &[],
+    )?;
+
+    let header = [
+        "method",
+        "scene",
+        "count",
+        "wall ms",
+        "gpu ms",
+        "frag/covered",
+        "cov. mismatch",
+        "depth p99",
+        "normal p99 deg",
+    ];
+    let table: Vec<Vec<String>> = results
+        .iter()
+        .map(|r| {
+            vec![
+                r.method.name(),
+                r.scene.clone(),
+                r.count.to_string(),
+                format!("{:.2}", r.wall_ms),
+                format!("{:.2}", r.gpu_ms),
+                format!("{:.3}", r.fill_ratio()),
+                fmt_sci(r.stats.coverage_mismatch_fraction),
+                fmt_sci(r.stats.depth_rel_p99),
+                fmt_sci(r.stats.normal_deg_p99),
+            ]
+        })
+        .collect();
+    let headline_rows: Vec<Vec<String>> = headline
+        .iter()
+        .map(|r| {
+            let imp = headline.iter().find(|x| x.method == Method::Impostor);
+            vec![
+                r.method.name(),
+                format!("{:.1}", r.wall_ms),
+                imp.map_or("-".into(), |i| format!("{:.2}", r.wall_ms / i.wall_ms)),
+                format!("{:.3}", r.fill_ratio()),
+                fmt_sci(r.stats.coverage_mismatch_fraction),
+                fmt_sci(r.stats.depth_rel_p99),
+                fmt_sci(r.stats.normal_deg_p99),
+            ]
+        })
+        .collect();
+    let markdown = markdown_table(
+        &[
+            "method",
+            "wall ms",
+            "time / impostor",
+            "fragments / covered",
+            "coverage mismatch",
+            "depth rel p99",
+            "normal p99 (deg)",
+        ],
+        &headline_rows,
+    );
+    Ok((format_table(&header, &table), markdown))
+}
+
+/// Sets up `renderer` for `method`: its draw configuration, and its instance format (the scene
+/// is uploaded again when the format changes; uploads are outside the timed frames).
+fn use_method(
+    renderer: &mut OffscreenRenderer,
+    method: Method,
+    format: &mut InstanceFormat,
+    scene: &Scene,
+) -> Result<()> {
+    if method.instance_format() != *format {
+        *format = method.instance_format();
+        renderer.set_instance_format(*format);
+        renderer.upload(scene)?;
+    }
+    renderer.set_config(method.config());
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(time: f64, spread: f64, error: f64) -> ChartPoint {
+        ChartPoint {
+            time,
+            quartiles: (time - spread, time + spread),
+            error,
+        }
+    }
+
+    #[test]
+    fn front_keeps_points_nobody_beats_beyond_noise() {
+        let points = [
+            point(10.0, 0.5, 1.0),  // exact, the reference
+            point(10.4, 0.5, 1.0),  // exact, slower within the noise: no one beats it either
+            point(5.0, 0.2, 50.0),  // fast but wrong: on the front
+            point(20.0, 0.5, 1.0),  // exact but clearly slower: beaten by the first
+            point(12.0, 0.5, 80.0), // slower and worse: beaten
+        ];
+        assert_eq!(pareto_front(&points), vec![0, 1, 2]);
+    }
+
+    #[test]
+    fn quantiles_interpolate() {
+        let mut v = vec![4.0, 1.0, 3.0, 2.0];
+        assert_eq!(quantile(&mut v, 0.0), 1.0);
+        assert_eq!(quantile(&mut v, 0.5), 2.5);
+        assert_eq!(quantile(&mut v, 1.0), 4.0);
+        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
+    }
+}

@@ -1,0 +1,336 @@
+//! Command-line arguments of the `ellipsoid-splat` binary and how they become a scene and a
+//! camera.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+use glam::DVec3;
+
+use ellipsoid_splat::camera::{Camera, Projection};
+use ellipsoid_splat::error::{Error, Result};
+use ellipsoid_splat::Scene;
+use ellipsoid_splat_loaders as scene;
+
+/// Exact ray-cast ellipsoid impostors on Vulkan.
+#[derive(Debug, Parser)]
+#[command(name = "ellipsoid-splat", version, about)]
+pub struct Cli {
+    /// What to do; with none, renders the default demo.
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// Subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render a scene to PNG (and optionally depth, normal and ID images).
+    Render(Box<RenderArgs>),
+    /// Numerical-stability sweep: every point rendered on the GPU and by the float64
+    /// reference; writes a CSV table and plots, exits non-zero if a bound breaks.
+    Stress(StressArgs),
+    /// Run time against error: every drawing method on the same scenes, timed and compared
+    /// with the float64 reference; writes results.csv and plots.
+    Bench(BenchArgs),
+    /// Print the Vulkan device, driver and features used.
+    Info(DeviceArgs),
+}
+
+/// Arguments of `bench`.
+#[derive(Debug, Clone, Args)]
+pub struct BenchArgs {
+    /// Directory for results.csv and the plots.
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    /// Fewer and smaller scenes: the whole run stays under 10 minutes on 2 cores.
+    #[arg(long)]
+    pub quick: bool,
+    /// Timed frames per method and scene (median reported).
+    #[arg(long, default_value_t = 15)]
+    pub frames: usize,
+    /// Comma-separated method names (default: all).
+    #[arg(long, value_delimiter = ',')]
+    pub methods: Vec<String>,
+    /// Only scenes whose name contains one of these comma-separated words (default: all).
+    #[arg(long, value_delimiter = ',')]
+    pub scenes: Vec<String>,
+    /// Instead: measure each skippable piece of work on and off (culling, outputs, order);
+    /// writes skip.csv and skip.png.
+    #[arg(long)]
+    pub skip: bool,
+    /// Device and validation.
+    #[command(flatten)]
+    pub device: DeviceArgs,
+}
+
+/// Ray/ellipsoid intersection formulation (`--intersection`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, Default)]
+pub enum IntersectionArg {
+    /// Gumhold's closed form in the silhouette frame (the shipped renderer).
+    #[default]
+    Stable,
+    /// The textbook quadratic in float32: a baseline that breaks at large distance/radius.
+    Textbook,
+}
+
+impl From<IntersectionArg> for ellipsoid_splat::draw::Intersection {
+    fn from(value: IntersectionArg) -> Self {
+        match value {
+            IntersectionArg::Stable => Self::Stable,
+            IntersectionArg::Textbook => Self::Textbook,
+        }
+    }
+}
+
+/// Arguments of `stress`.
+#[derive(Debug, Clone, Args)]
+pub struct StressArgs {
+    /// Directory for `stress.csv` and the plots.
+    #[arg(long, default_value = "stress-out")]
+    pub out: PathBuf,
+    /// The reduced sweep the tests run: each parameter's extremes and a middle value, small
+    /// images.
+    #[arg(long)]
+    pub quick: bool,
+    /// Skip the textbook baseline rows.
+    #[arg(long)]
+    pub no_baseline: bool,
+    /// Device and validation.
+    #[command(flatten)]
+    pub device: DeviceArgs,
+}
+
+/// Device selection and validation.
+#[derive(Debug, Clone, Args, Default)]
+pub struct DeviceArgs {
+    /// Device index or name substring (default: prefer a real GPU, fall back to lavapipe).
+    #[arg(long)]
+    pub device: Option<String>,
+    /// Run with the Khronos validation layer (and synchronization validation); any message
+    /// makes the command fail.
+    #[arg(long)]
+    pub validation: bool,
+}
+
+/// How scene files are read (see `scene::LoadOptions`).
+#[derive(Debug, Clone, Args)]
+pub struct LoadArgs {
+    /// Drop invalid records, report how many, and render the rest (default: fail on the
+    /// first, naming where and why).
+    #[arg(long)]
+    pub skip_invalid: bool,
+    /// Gaussian splats: radii are SIGMA standard deviations (`SIGMA * exp(scale)`).
+    #[arg(long, default_value_t = 2.0)]
+    pub sigma: f64,
+    /// Gaussian splats: leave out splats whose opacity (after the sigmoid) is below this.
+    #[arg(long, default_value_t = 0.0)]
+    pub min_opacity: f64,
+    /// Tensor volumes: component order of the six stored values.
+    #[arg(long, value_enum, default_value_t = TensorOrderArg::Fsl)]
+    pub tensor_order: TensorOrderArg,
+    /// Tensor volumes: leave out voxels with fractional anisotropy below this.
+    #[arg(long, default_value_t = 0.0)]
+    pub min_fa: f64,
+    /// Tensor volumes: a mask NIfTI on the same grid; voxels where it is 0 are left out.
+    #[arg(long)]
+    pub mask: Option<PathBuf>,
+    /// Tensor volumes: the largest eigenvalue in the volume becomes a semi-axis of this many
+    /// voxels.
+    #[arg(long, default_value_t = 0.5)]
+    pub glyph_scale: f64,
+}
+
+impl LoadArgs {
+    /// The loader options these flags ask for.
+    pub fn options(&self) -> scene::LoadOptions {
+        scene::LoadOptions {
+            skip_invalid: self.skip_invalid,
+            sigma: self.sigma,
+            min_opacity: self.min_opacity,
+            tensor_order: match self.tensor_order {
+                TensorOrderArg::Fsl => scene::TensorOrder::Fsl,
+                TensorOrderArg::Nifti => scene::TensorOrder::Nifti,
+            },
+            min_fa: self.min_fa,
+            mask: self.mask.clone(),
+            glyph_scale: self.glyph_scale,
+            progress: true,
+        }
+    }
+}
+
+/// Component order of stored tensors (`--tensor-order`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum TensorOrderArg {
+    /// FSL (dtifit --save_tensor): xx, xy, xz, yy, yz, zz.
+    Fsl,
+    /// The NIfTI standard and DIPY (lower triangle by rows): xx, yx, yy, zx, zy, zz.
+    Nifti,
+}
+
+/// Arguments of `render`.
+#[derive(Debug, Clone, Args)]
+pub struct RenderArgs {
+    /// A scene file -- Ellipsoid CSV (`.csv`), 3D Gaussian Splatting (`.ply`), diffusion tensor
+    /// NIfTI (`.nii`, `.nii.gz`), PDB (`.pdb`, `.ent`) or mmCIF (`.cif`) with anisotropic
+    /// displacements; other names are recognised by content -- or `tensor-field[:N]` (N^3
+    /// glyphs, default 40) or `random:COUNT`.
+    #[arg(long, default_value = "tensor-field")]
+    pub scene: String,
+    /// How scene files are read.
+    #[command(flatten)]
+    pub load: LoadArgs,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 1920)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 1080)]
+    pub height: u32,
+    /// Eye position `x,y,z` (default: frames the scene).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub eye: Option<DVec3>,
+    /// Point looked at `x,y,z` (default: the scene's centre).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub target: Option<DVec3>,
+    /// Up direction `x,y,z`.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, default_value = "0,1,0")]
+    pub up: DVec3,
+    /// Vertical field of view in degrees (perspective).
+    #[arg(long, default_value_t = 45.0, conflicts_with = "ortho")]
+    pub fov_y: f64,
+    /// Orthographic projection with this view height.
+    #[arg(long)]
+    pub ortho: Option<f64>,
+    /// Near-plane distance (default: half the distance to the scene's bounding sphere).
+    #[arg(long)]
+    pub near: Option<f64>,
+    /// Colour PNG.
+    #[arg(long, default_value = "ellipsoids.png")]
+    pub output: PathBuf,
+    /// Float32 EXR of view depth (background +inf).
+    #[arg(long)]
+    pub depth: Option<PathBuf>,
+    /// Float32 EXR of world-space unit normals (background 0).
+    #[arg(long)]
+    pub normal: Option<PathBuf>,
+    /// Lossless 32-bit instance-ID image (`.exr`: uint channel; `.png`: RGBA8 little-endian).
+    #[arg(long)]
+    pub id: Option<PathBuf>,
+    /// Ray/ellipsoid intersection formulation.
+    #[arg(long, value_enum, default_value_t = IntersectionArg::Stable)]
+    pub intersection: IntersectionArg,
+    /// Store instances in the 32-byte compact format (float16 semi-axes, snorm16 rotation)
+    /// instead of 48-byte float32: a third less GPU memory, at the error `bench` reports for
+    /// `impostor-compact`.
+    #[arg(long)]
+    pub compact: bool,
+    /// Device and validation.
+    #[command(flatten)]
+    pub device: DeviceArgs,
+}
+
+impl Default for RenderArgs {
+    fn default() -> Self {
+        // The demo: exactly what `render` does with no flags.
+        Cli::parse_from(["ellipsoid-splat", "render"])
+            .command
+            .and_then(|c| match c {
+                Command::Render(r) => Some(*r),
+                _ => None,
+            })
+            .expect("`render` with no flags parses")
+    }
+}
+
+fn parse_vec3(text: &str) -> std::result::Result<DVec3, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected x,y,z, got '{text}'"));
+    }
+    let mut v = [0.0; 3];
+    for (slot, part) in v.iter_mut().zip(&parts) {
+        *slot = part
+            .parse::<f64>()
+            .map_err(|_| format!("'{part}' is not a number"))?;
+        if !slot.is_finite() {
+            return Err(format!("'{part}' is not finite"));
+        }
+    }
+    Ok(DVec3::from_array(v))
+}
+
+/// Loads or generates the scene named by `--scene`, with what the loader reports.
+pub fn load_scene(spec: &str, options: &scene::LoadOptions) -> Result<scene::Loaded> {
+    let generated = |scene: Scene| scene::Loaded {
+        scene,
+        ..Default::default()
+    };
+    let count = |text: &str, what: &str| {
+        text.parse::<usize>().map_err(|_| {
+            Error::invalid(
+                "--scene",
+                format!("{what} count '{text}' is not a whole number"),
+            )
+        })
+    };
+    if spec == "tensor-field" {
+        return Ok(generated(scene::tensor_field(40)));
+    }
+    if let Some(n) = spec.strip_prefix("tensor-field:") {
+        let n = count(n, "tensor-field")?;
+        if n == 0 || n > 256 {
+            return Err(Error::invalid(
+                "--scene",
+                "tensor-field:N needs 1 <= N <= 256",
+            ));
+        }
+        return Ok(generated(scene::tensor_field(n)));
+    }
+    if let Some(n) = spec.strip_prefix("random:") {
+        let n = count(n, "random")?;
+        if n == 0 {
+            return Err(Error::invalid("--scene", "random:COUNT needs COUNT >= 1"));
+        }
+        let extent = (n as f64).cbrt() * 2.0;
+        return Ok(generated(scene::random_cloud(n, 1, extent, 1.0)));
+    }
+    scene::load(std::path::Path::new(spec), options)
+}
+
+/// The camera of the render arguments, framing the scene where positions are not given.
+pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
+    let (center, radius) = scene
+        .bounding_sphere()
+        .ok_or_else(|| Error::invalid("scene", "has no ellipsoids"))?;
+    let projection = match args.ortho {
+        Some(height) => Projection::Orthographic { height },
+        None => Projection::Perspective {
+            fov_y_deg: args.fov_y,
+        },
+    };
+    let mut camera = Camera::framing(center, radius, args.width, args.height)?;
+    camera.projection = projection;
+    camera.up = args.up;
+    if let Some(target) = args.target {
+        camera.target = target;
+    }
+    if let Some(eye) = args.eye {
+        camera.eye = eye;
+        if args.target.is_none() {
+            camera.target = center;
+        }
+    }
+    camera.near = match args.near {
+        Some(near) => near,
+        None => {
+            // Half way to the bounding sphere, or a small fraction of its size from inside.
+            let gap = (center - camera.eye).length() - radius;
+            if gap > 0.0 {
+                0.5 * gap
+            } else {
+                radius * 1e-3
+            }
+        }
+    };
+    camera.validate()?;
+    Ok(camera)
+}

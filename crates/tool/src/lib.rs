@@ -1,0 +1,10 @@
+//! The `ellipsoid-splat` command line as a library: argument parsing, the numerical-stability
+//! sweep, the time-against-error benchmark, the skip benchmark, reports and image outputs.
+//! `main.rs` dispatches to these; tests call them directly.
+
+pub mod bench;
+pub mod cli;
+pub mod output;
+pub mod report;
+pub mod skip;
+pub mod stress;

@@ -1,0 +1,324 @@
+//! The `ellipsoid-splat` command-line tool.
+
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::Parser;
+
+use ellipsoid_splat::draw::Intersection;
+use ellipsoid_splat::draw::Method;
+use ellipsoid_splat::gpu::{Context, ContextOptions};
+use ellipsoid_splat::{OffscreenRenderer, Result};
+use ellipsoid_splat_loaders::Progress;
+use ellipsoid_splat_tool::bench;
+use ellipsoid_splat_tool::cli::{
+    self, BenchArgs, Cli, Command, DeviceArgs, RenderArgs, StressArgs,
+};
+use ellipsoid_splat_tool::output;
+use ellipsoid_splat_tool::skip;
+use ellipsoid_splat_tool::stress::{run_point, sweep_points, write_report, Extent, StressResult};
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => render(&RenderArgs::default()),
+        Some(Command::Render(args)) => render(&args),
+        Some(Command::Stress(args)) => return stress(&args),
+        Some(Command::Bench(args)) => return bench(&args),
+        Some(Command::Info(args)) => info(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn context_options(args: &DeviceArgs) -> ContextOptions {
+    ContextOptions {
+        validation: args.validation,
+        synchronization_validation: args.validation,
+        device: args.device.clone(),
+        ..ContextOptions::default()
+    }
+}
+
+fn render(args: &RenderArgs) -> Result<()> {
+    let start = Instant::now();
+    let loaded = cli::load_scene(&args.scene, &args.load.options())?;
+    for note in &loaded.notes {
+        eprintln!("{}: {note}", args.scene);
+    }
+    let scene = loaded.scene;
+    let camera = cli::camera_for(args, &scene)?;
+    let load_time = start.elapsed();
+
+    let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
+    let setup = start.elapsed() - load_time;
+    renderer.set_intersection(args.intersection.into());
+    if args.compact {
+        renderer.set_instance_format(ellipsoid_splat::instances::InstanceFormat::Compact);
+    }
+    renderer.upload(&scene)?;
+    let (frame, timing) = renderer.render_uploaded(&camera)?;
+    renderer.context().check_validation()?;
+
+    output::write_color_png(&frame, &args.output)?;
+    if let Some(path) = &args.depth {
+        output::write_depth_exr(&frame, path)?;
+    }
+    if let Some(path) = &args.normal {
+        output::write_normal_exr(&frame, path)?;
+    }
+    if let Some(path) = &args.id {
+        output::write_id_image(&frame, path)?;
+    }
+    let device = renderer.context().info().name.clone();
+    let memory = renderer.gpu_memory_bytes();
+    drop(renderer);
+    println!(
+        "wrote {} ({}x{}, {} ellipsoids) in {:.0} ms: scene {:.0} ms, device set-up {:.0} ms, \
+         frame {:.1} ms (submit to fence) on {device}; GPU memory {:.1} MiB ({:.1} bytes per \
+         ellipsoid)",
+        args.output.display(),
+        camera.width,
+        camera.height,
+        scene.len(),
+        start.elapsed().as_secs_f64() * 1e3,
+        load_time.as_secs_f64() * 1e3,
+        setup.as_secs_f64() * 1e3,
+        timing.gpu_wall.as_secs_f64() * 1e3,
+        memory as f64 / (1 << 20) as f64,
+        memory as f64 / scene.len().max(1) as f64,
+    );
+    Ok(())
+}
+
+/// Runs the stability sweep; exit status 1 when a stable-method point breaks a bound, 2 on
+/// an error.
+fn stress(args: &StressArgs) -> ExitCode {
+    match run_stress(args) {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(1),
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run_stress(args: &StressArgs) -> Result<bool> {
+    let extent = if args.quick {
+        Extent::Reduced
+    } else {
+        Extent::Full
+    };
+    let points = sweep_points(extent);
+    let mut methods = vec![Intersection::Stable];
+    if !args.no_baseline {
+        methods.push(Intersection::Textbook);
+    }
+    let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
+    let progress = Progress::new((points.len() * methods.len()) as u64, "stress");
+    let mut results = Vec::new();
+    for point in &points {
+        for &method in &methods {
+            progress.inc(&format!(
+                "{} {} {}",
+                point.sweep, point.case, point.parameter
+            ));
+            results.push(run_point(&mut renderer, point, method)?);
+        }
+    }
+    progress.finish();
+    renderer.context().check_validation()?;
+    renderer.finish()?;
+    let table = write_report(&results, extent.size(), &args.out)?;
+    println!("{table}");
+    let broken: Vec<&StressResult> = results
+        .iter()
+        .filter(|r| r.method == Intersection::Stable && r.broken.is_some())
+        .collect();
+    let baseline_broken = results
+        .iter()
+        .filter(|r| r.method == Intersection::Textbook && r.broken.is_some())
+        .count();
+    println!(
+        "stable: {} of {} points within every bound; textbook baseline: {} of {} points break a bound",
+        results.iter().filter(|r| r.method == Intersection::Stable).count() - broken.len(),
+        points.len(),
+        baseline_broken,
+        if args.no_baseline { 0 } else { points.len() },
+    );
+    for r in &broken {
+        println!(
+            "BROKEN {} {} {}: {}",
+            r.sweep,
+            r.case,
+            r.parameter,
+            r.broken.as_deref().unwrap_or_default()
+        );
+    }
+    println!("wrote {}/stress.csv and stress_*.png", args.out.display());
+    Ok(broken.is_empty())
+}
+
+/// Runs the time-versus-error benchmark; exit status 1 when a target is missed, 2 on error.
+fn bench(args: &BenchArgs) -> ExitCode {
+    match run_bench(args) {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(1),
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run_bench(args: &BenchArgs) -> Result<bool> {
+    if args.skip {
+        return run_skip(args);
+    }
+    let methods: Vec<Method> = if args.methods.is_empty() {
+        Method::ALL.to_vec()
+    } else {
+        args.methods
+            .iter()
+            .map(|name| {
+                Method::ALL
+                    .iter()
+                    .copied()
+                    .find(|m| m.name() == *name)
+                    .ok_or_else(|| {
+                        ellipsoid_splat::Error::invalid(
+                            "--methods",
+                            format!(
+                                "unknown method '{name}'; known: {}",
+                                Method::ALL.map(|m| m.name()).join(", ")
+                            ),
+                        )
+                    })
+            })
+            .collect::<Result<_>>()?
+    };
+    if args.frames == 0 {
+        return Err(ellipsoid_splat::Error::invalid(
+            "--frames",
+            "must be at least 1",
+        ));
+    }
+    let wanted = |name: &str| {
+        args.scenes.is_empty() || args.scenes.iter().any(|s| name.contains(s.as_str()))
+    };
+    let specs: Vec<(usize, f64)> = bench::cloud_specs(args.quick)
+        .into_iter()
+        .filter(|&(_, size)| wanted(&format!("cloud-{size}px")))
+        .collect();
+    let with_field = wanted("tensor-field");
+    let scene_count = specs.len() + with_field as usize;
+    let mut scenes = with_field
+        .then(bench::tensor_field_scene)
+        .into_iter()
+        .chain(
+            specs
+                .into_iter()
+                .map(|(count, size)| bench::frustum_cloud(count, size, 1)),
+        );
+    let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
+    let mut skipped = Vec::new();
+    let started = std::time::Instant::now();
+    let results = bench::run(
+        &mut renderer,
+        &mut scenes,
+        scene_count,
+        &methods,
+        args.frames,
+        &mut skipped,
+    )?;
+    let device = renderer.context().info().name.clone();
+    renderer.context().check_validation()?;
+    renderer.finish()?;
+    let (table, markdown) = bench::write_report(&results, &args.out)?;
+    println!("{table}");
+    println!("headline scene (Markdown):\n{markdown}");
+    if !skipped.is_empty() {
+        println!("skipped (vertex work over budget): {}", skipped.join(", "));
+    }
+    let checks = bench::check_targets(&results);
+    let mut all = true;
+    for c in &checks {
+        println!(
+            "[{}] {}: {}",
+            if c.holds { "met" } else { "MISSED" },
+            c.target,
+            c.measured
+        );
+        all &= c.holds;
+    }
+    println!(
+        "{} results in {:.0} s on {device}; wrote {}/results.csv, time_vs_error.png, fill_efficiency.png, scaling.png",
+        results.len(),
+        started.elapsed().as_secs_f64(),
+        args.out.display()
+    );
+    Ok(all)
+}
+
+/// `bench --skip`: every skippable piece of work on and off.
+fn run_skip(args: &BenchArgs) -> Result<bool> {
+    let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
+    let started = std::time::Instant::now();
+    let results = skip::run(&mut renderer, args.quick, args.frames)?;
+    renderer.context().check_validation()?;
+    renderer.finish()?;
+    let table = skip::write_report(&results, &args.out)?;
+    println!("{table}");
+    let features_meeting_both = skip::Feature::ALL
+        .iter()
+        .filter(|&&f| {
+            results
+                .iter()
+                .filter(|r| r.feature == f)
+                .all(|r| r.meets_target())
+        })
+        .count();
+    println!(
+        "{features_meeting_both} of {} features meet both targets (need 4); {:.0} s; wrote {}/skip.csv and skip.png",
+        skip::Feature::ALL.len(),
+        started.elapsed().as_secs_f64(),
+        args.out.display()
+    );
+    Ok(features_meeting_both >= 4)
+}
+
+fn info(args: &DeviceArgs) -> Result<()> {
+    let context = Context::new(&context_options(args))?;
+    let info = context.info();
+    let version = info.api_version;
+    println!("device:            {}", info.name);
+    println!("type:              {:?}", info.device_type);
+    println!("driver:            {}", info.driver);
+    println!(
+        "Vulkan:            {}.{}.{}",
+        ash::vk::api_version_major(version),
+        ash::vk::api_version_minor(version),
+        ash::vk::api_version_patch(version)
+    );
+    println!("timestamp period:  {} ns", info.timestamp_period);
+    println!("max storage range: {} bytes", info.max_storage_buffer_range);
+    println!(
+        "features used:     dynamicRendering, pipelineStatisticsQuery={}",
+        info.pipeline_statistics
+    );
+    println!(
+        "validation:        {}",
+        if args.validation {
+            "on (core + synchronization)"
+        } else {
+            "off"
+        }
+    );
+    context.check_validation()
+}

@@ -1,0 +1,418 @@
+//! `ellipsoid-splat bench --skip`: each piece of work a scene may not need, measured on and
+//! off, on a scene built to need it and on a plain scene that does not, with the frames
+//! compared pixel for pixel.
+
+use std::path::Path;
+
+use glam::DVec3;
+
+use crate::bench::{frustum_cloud, median, HEIGHT, WIDTH};
+use crate::report::{bar_chart, format_table, write_csv, Axis};
+use ellipsoid_splat::camera::Camera;
+use ellipsoid_splat::draw::Footprint;
+use ellipsoid_splat::error::{Error, Result};
+use ellipsoid_splat::frame::Frame;
+use ellipsoid_splat::offscreen::OffscreenRenderer;
+use ellipsoid_splat::renderer::Culling;
+use ellipsoid_splat::Scene;
+use ellipsoid_splat_loaders::{packed_block, random_cloud, Progress};
+
+/// Columns of `skip.csv`.
+pub const CSV_HEADER: &[&str] = &[
+    "feature",
+    "scene",
+    "applies",
+    "on_ms",
+    "off_ms",
+    "pixels_changed",
+];
+
+/// A skippable piece of work.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Feature {
+    /// Exact per-ellipsoid frustum culling in the pre-pass.
+    FrustumCulling,
+    /// Dropping ellipsoids whose silhouette holds no pixel centre, in the pre-pass.
+    PixelCentreCulling,
+    /// Dropping ellipsoids hidden behind nearer ones' inscribed spheres, in the pre-pass.
+    OcclusionCulling,
+    /// Each impostor's set-up computed once in the pre-pass, not in each of its vertices, and
+    /// handed to the fragment stage through a buffer instead of flat varyings.
+    SetupOnce,
+    /// The sphere path (no rotation, one radius) when every instance is a sphere.
+    SpherePath,
+    /// No near-plane cap code when no ellipsoid reaches in front of the near plane.
+    CapFreePath,
+    /// Glyphs of a few pixels drawn as one triangle (three vertices, one primitive) instead of
+    /// the oriented rectangle's four and two (opt-in: it shades more fragments).
+    SmallGlyphTriangles,
+    /// Normal and ID outputs only when asked for (a colour-only pipeline and pass otherwise).
+    AuxOutputsOnDemand,
+    /// Instances uploaded sorted front to back by nearest depth (for early depth rejection on
+    /// hardware that has it; lavapipe has none when the shader writes depth).
+    FrontToBack,
+}
+
+impl Feature {
+    /// Every feature measured.
+    pub const ALL: [Feature; 9] = [
+        Feature::FrustumCulling,
+        Feature::PixelCentreCulling,
+        Feature::OcclusionCulling,
+        Feature::SetupOnce,
+        Feature::SpherePath,
+        Feature::CapFreePath,
+        Feature::SmallGlyphTriangles,
+        Feature::AuxOutputsOnDemand,
+        Feature::FrontToBack,
+    ];
+
+    /// Name in the `feature` column.
+    pub fn name(self) -> &'static str {
+        match self {
+            Feature::FrustumCulling => "frustum-culling",
+            Feature::PixelCentreCulling => "pixel-centre-culling",
+            Feature::OcclusionCulling => "occlusion-culling",
+            Feature::SetupOnce => "setup-once",
+            Feature::SpherePath => "sphere-path",
+            Feature::CapFreePath => "cap-free-path",
+            Feature::SmallGlyphTriangles => "small-glyph-triangles",
+            Feature::AuxOutputsOnDemand => "aux-outputs-on-demand",
+            Feature::FrontToBack => "front-to-back",
+        }
+    }
+
+    /// The scene built to need it.
+    fn scene_needing_it(self) -> &'static str {
+        match self {
+            Feature::FrustumCulling => "inside-field",
+            Feature::PixelCentreCulling => "tiny-far",
+            Feature::OcclusionCulling => "dense-block",
+            Feature::SetupOnce => "tiny-visible",
+            Feature::SpherePath => "sphere-only",
+            Feature::CapFreePath => "tiny-visible",
+            Feature::SmallGlyphTriangles => "tiny-visible",
+            Feature::AuxOutputsOnDemand => "molecule",
+            Feature::FrontToBack => "heavy-overlap",
+        }
+    }
+
+    /// A scene that does not need it: the plain one, or for the cap-free path one whose
+    /// glyphs cross the near plane.
+    fn scene_not_needing_it(self) -> &'static str {
+        match self {
+            Feature::CapFreePath => "inside-field",
+            // Its glyphs are large enough for the hexagon and octagon either way.
+            Feature::SmallGlyphTriangles => "heavy-overlap",
+            _ => "plain",
+        }
+    }
+
+    /// Puts the renderer in the feature's on or off state (everything else as shipped).
+    fn apply(self, renderer: &mut OffscreenRenderer, on: bool) {
+        reset_to_shipped(renderer);
+        match self {
+            Feature::FrustumCulling => renderer.set_culling(Culling {
+                frustum: on,
+                ..Culling::ON
+            }),
+            Feature::PixelCentreCulling => renderer.set_culling(Culling {
+                pixel_centres: on,
+                ..Culling::ON
+            }),
+            Feature::OcclusionCulling => renderer.set_culling(Culling {
+                occlusion: on,
+                ..Culling::ON
+            }),
+            Feature::SetupOnce => renderer.set_setup_in_prepass(on),
+            Feature::SpherePath => renderer.set_sphere_path(on),
+            Feature::CapFreePath => renderer.set_cap_free_path(on),
+            Feature::SmallGlyphTriangles => renderer.set_small_glyph_triangles(on),
+            Feature::AuxOutputsOnDemand => renderer.set_timed_aux_outputs(!on),
+            Feature::FrontToBack => {}
+        }
+    }
+}
+
+/// Every skippable piece as shipped.
+fn reset_to_shipped(renderer: &mut OffscreenRenderer) {
+    renderer.set_culling(Culling::ON);
+    renderer.set_timed_aux_outputs(false);
+    renderer.set_setup_in_prepass(true);
+    renderer.set_footprint(Footprint::Auto);
+    renderer.set_small_glyph_triangles(false);
+    renderer.set_sphere_path(true);
+    renderer.set_cap_free_path(true);
+}
+
+/// One scene of the skip benchmark.
+struct SkipScene {
+    name: &'static str,
+    scene: Scene,
+    camera: Camera,
+}
+
+fn camera(eye: DVec3, target: DVec3, fov: f64, near: f64) -> Camera {
+    Camera::look_at(eye, target, fov, near, WIDTH, HEIGHT).expect("skip-bench camera is valid")
+}
+
+/// The scenes: each built so that one feature has work to skip, plus a plain one.
+fn scenes(quick: bool) -> Vec<SkipScene> {
+    let scale = if quick { 1 } else { 4 };
+    // Camera inside a large field, looking at a corner: most glyphs are off screen.
+    let field = random_cloud(100_000 * scale, 31, 50.0, 0.15);
+    // A million glyphs far beyond the point where they reach a pixel centre.
+    let mut tiny = random_cloud(1_000_000, 32, 40.0, 0.01);
+    for e in &mut tiny.ellipsoids {
+        e.center.z -= 2_000.0;
+    }
+    // Many layers of overlap in front of the camera.
+    let overlap = random_cloud(3_000, 33, 3.0, 0.8);
+    // A million glyphs of about two pixels, all on screen.
+    let tiny_visible = frustum_cloud(1_000_000, 2.0, 36);
+    // Spheres of about three pixels, all on screen (a molecule-like load).
+    let mut spheres = frustum_cloud(300_000, 3.0, 37);
+    for e in &mut spheres.scene.ellipsoids {
+        let r = e.radii.max_element();
+        e.radii = DVec3::splat(r);
+    }
+    // A small molecule: about 1,600 atoms as spheres in a ball, filling the view. Light
+    // enough that per-pixel output work is a large share of the frame.
+    let mut molecule = random_cloud(3_000, 38, 18.0, 1.0);
+    molecule.ellipsoids.retain(|e| e.center.length() < 18.0);
+    for e in &mut molecule.ellipsoids {
+        e.radii = DVec3::splat(1.2 + 0.6 * e.radii.x);
+    }
+    let (centre, radius) = molecule.bounding_sphere().expect("the molecule has atoms");
+    let molecule_camera =
+        Camera::framing(centre, radius, WIDTH, HEIGHT).expect("skip-bench camera is valid");
+    // A packed block seen corner on: only its shell can show.
+    let side = if quick { 40 } else { 64 };
+    let block = packed_block(side, 35);
+    // Every glyph on screen, a few pixels to tens of pixels across, little overlap.
+    let plain = random_cloud(20_000, 34, 12.0, 0.25);
+    vec![
+        SkipScene {
+            name: "inside-field",
+            scene: field,
+            camera: camera(
+                DVec3::new(-45.0, -45.0, -45.0),
+                DVec3::new(-50.0, -50.0, -60.0),
+                45.0,
+                0.05,
+            ),
+        },
+        SkipScene {
+            name: "tiny-far",
+            scene: tiny,
+            camera: camera(
+                DVec3::new(0.0, 0.0, 0.0),
+                DVec3::new(0.0, 0.0, -1.0),
+                45.0,
+                1.0,
+            ),
+        },
+        SkipScene {
+            name: "heavy-overlap",
+            scene: overlap,
+            camera: camera(DVec3::new(0.0, 0.0, 9.0), DVec3::ZERO, 45.0, 1.0),
+        },
+        SkipScene {
+            name: "tiny-visible",
+            scene: tiny_visible.scene,
+            camera: tiny_visible.camera,
+        },
+        SkipScene {
+            name: "sphere-only",
+            scene: spheres.scene,
+            camera: spheres.camera,
+        },
+        SkipScene {
+            name: "molecule",
+            scene: molecule,
+            camera: molecule_camera,
+        },
+        SkipScene {
+            name: "dense-block",
+            camera: camera(
+                DVec3::new(55.0, 45.0, 70.0) * (side as f64 / 40.0),
+                DVec3::ZERO,
+                45.0,
+                1.0,
+            ),
+            scene: block,
+        },
+        SkipScene {
+            name: "plain",
+            scene: plain,
+            camera: camera(DVec3::new(0.0, 0.0, 30.0), DVec3::ZERO, 45.0, 1.0),
+        },
+    ]
+}
+
+/// The scene sorted front to back by each ellipsoid's nearest view depth.
+fn front_to_back(scene: &Scene, camera: &Camera) -> Scene {
+    let mut sorted = scene.clone();
+    let nearest = |e: &ellipsoid_splat::ellipsoid::Ellipsoid| {
+        camera.view_depth(e.center) - e.bounding_radius()
+    };
+    sorted
+        .ellipsoids
+        .sort_by(|a, b| nearest(a).total_cmp(&nearest(b)));
+    sorted
+}
+
+/// Pixels whose colour or depth differ between two frames.
+fn pixels_changed(a: &Frame, b: &Frame) -> usize {
+    (0..a.len())
+        .filter(|&k| a.color[k] != b.color[k] || a.depth[k].to_bits() != b.depth[k].to_bits())
+        .count()
+}
+
+/// One measured row.
+pub struct SkipResult {
+    /// The feature.
+    pub feature: Feature,
+    /// Scene name.
+    pub scene: &'static str,
+    /// Whether the scene was built to need the feature.
+    pub applies: bool,
+    /// Median frame time with the feature on.
+    pub on_ms: f64,
+    /// Median frame time with it off.
+    pub off_ms: f64,
+    /// Pixels whose colour or depth change when the feature is turned on.
+    pub pixels_changed: usize,
+}
+
+impl SkipResult {
+    /// Whether the row meets its target: 1.25x faster with no pixel changed where the feature
+    /// applies, at most 5 % slower where it does not.
+    pub fn meets_target(&self) -> bool {
+        if self.applies {
+            self.pixels_changed == 0 && self.on_ms <= 0.8 * self.off_ms
+        } else {
+            self.pixels_changed == 0 && self.on_ms <= 1.05 * self.off_ms
+        }
+    }
+}
+
+/// Measures every feature on its scene and on the plain scene: `2 frames` interleaved on/off
+/// pairs (twice the method benchmark's count: the rows compare ratios near 1.05 and 0.8, and
+/// this machine's frame times wander by several percent).
+pub fn run(
+    renderer: &mut OffscreenRenderer,
+    quick: bool,
+    frames: usize,
+) -> Result<Vec<SkipResult>> {
+    let scenes = scenes(quick);
+    let progress = Progress::new((Feature::ALL.len() * 2) as u64, "skip");
+    let mut results = Vec::new();
+    for feature in Feature::ALL {
+        let targets = [feature.scene_needing_it(), feature.scene_not_needing_it()];
+        for name in targets {
+            progress.inc(&format!("{} on {name}", feature.name()));
+            let s = scenes
+                .iter()
+                .find(|s| s.name == name)
+                .expect("scene exists");
+            let sorted =
+                (feature == Feature::FrontToBack).then(|| front_to_back(&s.scene, &s.camera));
+            let scene_for = |on: bool| -> &Scene {
+                match (&sorted, on) {
+                    (Some(sorted), true) => sorted,
+                    _ => &s.scene,
+                }
+            };
+            // Read-back frames for the pixel comparison (they also warm up the pipelines).
+            let mut frames_read = Vec::new();
+            for on in [false, true] {
+                feature.apply(renderer, on);
+                renderer.upload(scene_for(on))?;
+                frames_read.push(renderer.render_uploaded(&s.camera)?.0);
+                renderer.render_timed(&s.camera)?;
+            }
+            let changed = pixels_changed(&frames_read[0], &frames_read[1]);
+            let (mut on_ms, mut off_ms) = (Vec::new(), Vec::new());
+            let uploads_differ = sorted.is_some();
+            for round in 0..2 * frames {
+                // Alternate which state goes first, so neither always follows the other.
+                for on in if round % 2 == 0 {
+                    [true, false]
+                } else {
+                    [false, true]
+                } {
+                    feature.apply(renderer, on);
+                    if uploads_differ {
+                        renderer.upload(scene_for(on))?;
+                    }
+                    let ms = renderer.render_timed(&s.camera)?.gpu_wall.as_secs_f64() * 1e3;
+                    if on {
+                        on_ms.push(ms)
+                    } else {
+                        off_ms.push(ms)
+                    }
+                }
+            }
+            results.push(SkipResult {
+                feature,
+                scene: name,
+                applies: name == feature.scene_needing_it(),
+                on_ms: median(&mut on_ms),
+                off_ms: median(&mut off_ms),
+                pixels_changed: changed,
+            });
+        }
+    }
+    progress.finish();
+    reset_to_shipped(renderer);
+    Ok(results)
+}
+
+/// Writes `skip.csv` and `skip.png` into `dir`; returns the printed table.
+pub fn write_report(results: &[SkipResult], dir: &Path) -> Result<String> {
+    std::fs::create_dir_all(dir).map_err(|source| Error::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let rows: Vec<Vec<String>> = results
+        .iter()
+        .map(|r| {
+            vec![
+                r.feature.name().to_string(),
+                r.scene.to_string(),
+                if r.applies { "yes" } else { "no" }.to_string(),
+                format!("{:.3}", r.on_ms),
+                format!("{:.3}", r.off_ms),
+                r.pixels_changed.to_string(),
+            ]
+        })
+        .collect();
+    write_csv(&dir.join("skip.csv"), CSV_HEADER, &rows)?;
+    let bars: Vec<(String, f64)> = results
+        .iter()
+        .map(|r| {
+            (
+                format!("{} / {}", r.feature.name(), r.scene),
+                r.off_ms / r.on_ms,
+            )
+        })
+        .collect();
+    bar_chart(
+        &dir.join("skip.png"),
+        "speed-up with the feature on (off_ms / on_ms; target >= 1.25 where it applies)",
+        &Axis::log("off_ms / on_ms"),
+        &bars,
+    )?;
+    let mut header: Vec<&str> = CSV_HEADER.to_vec();
+    header.push("target");
+    let table: Vec<Vec<String>> = rows
+        .into_iter()
+        .zip(results)
+        .map(|(mut row, r)| {
+            row.push(if r.meets_target() { "met" } else { "MISSED" }.to_string());
+            row
+        })
+        .collect();
+    Ok(format_table(&header, &table))
+}
