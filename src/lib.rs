@@ -59,3 +59,4 @@ pub mod target;
 
 pub use offscreen::OffscreenRenderer;
 pub use renderer::EllipsoidRenderer;
+pub use target::{HostDevice, Pass, RendererOptions, Target};
