@@ -38,10 +38,10 @@ void main() {
     Instance inst = load_instance(uint(gl_InstanceIndex));
     mat3 R = quat_to_mat3(inst.rotation);
     vec3 radii = inst.radii.xyz;
-    vec3 r = cam.right_sx.xyz, u = cam.up_sy.xyz, f = cam.forward.xyz;
+    vec3 r = cam.right, u = cam.up, f = cam.forward;
     vec3 world = inst.center + R * (radii * cube_corner(gl_VertexIndex));
-    vec3 v = vec3(dot(world, r), dot(world, u), dot(world, f)) - cam.eye_near.xyz;
-    vec3 c = vec3(dot(inst.center, r), dot(inst.center, u), dot(inst.center, f)) - cam.eye_near.xyz;
+    vec3 v = vec3(dot(world, r), dot(world, u), dot(world, f)) - cam.eye_view;
+    vec3 c = vec3(dot(inst.center, r), dot(inst.center, u), dot(inst.center, f)) - cam.eye_view;
 
     // The textbook fragment path reads the centre relative to the eye (world axes) and M.
     v_depth = vec4(c.x * r + c.y * u + c.z * f, c.z);
@@ -55,5 +55,5 @@ void main() {
     v_flags = FLAG_MAY_CAP;
     v_id = uint(gl_InstanceIndex);
     v_color = srgb_to_linear(unpackUnorm4x8(inst.color).rgb);
-    gl_Position = vec4(v.x / cam.right_sx.w, -v.y / cam.up_sy.w, depth_clip_z(v.z), v.z);
+    gl_Position = vec4(v.x / cam.ndc_scale_x, -v.y / cam.ndc_scale_y, depth_clip_z(v.z), v.z);
 }

@@ -26,12 +26,7 @@
 layout(local_size_x = 256) in;
 const uint GROUP = 256u;
 
-layout(constant_id = 6) const bool CULL_FRUSTUM = true;
-layout(constant_id = 7) const bool CULL_PIXEL_CENTRES = true;
-layout(constant_id = 9) const int CULL_STEP = 1;
-layout(constant_id = 10) const bool CULL_OCCLUSION = false;
-// CLASSIFY also computes each kept instance's set-up for the PRESET_SETUP impostor stages.
-layout(constant_id = 11) const bool CULL_SETUP = false;
+// CLASSIFY also computes each kept instance's set-up for the SETUP_ONCE impostor stages.
 const int STEP_OCCLUDERS = 0;
 const int STEP_CLASSIFY = 1;
 const int STEP_SCAN = 2;
@@ -39,14 +34,6 @@ const int STEP_SCATTER = 3;
 
 layout(std430, set = 0, binding = 2) writeonly buffer Visible {
     uint visible[];
-};
-// A VkDrawIndirectCommand followed by the number of instances uploaded.
-layout(std430, set = 0, binding = 3) buffer Indirect {
-    uint vertex_count;
-    uint instance_count;
-    uint first_vertex;
-    uint first_instance;
-    uint total;
 };
 // Per group of 256 instances: 8 words of keep bits, then (after all groups' bits) the
 // group's count, which SCAN replaces by its first output slot.
@@ -87,9 +74,9 @@ void tiles_touched(vec4 centres, out ivec2 lo, out ivec2 hi) {
 
 // View depth of the instance's centre and its half-extent along the view axis.
 vec2 depth_range(Instance inst) {
-    vec3 f = cam.forward.xyz;
+    vec3 f = cam.forward;
     vec3 a_f = (transpose(instance_rotation(inst)) * f) * instance_radii(inst);
-    return vec2(dot(inst.center, f) - cam.eye_near.z, length(a_f));
+    return vec2(dot(inst.center, f) - cam.eye_view.z, length(a_f));
 }
 
 // OCCLUDERS: the ellipsoid contains the sphere of its smallest radius r around its centre c,
@@ -101,22 +88,22 @@ vec2 depth_range(Instance inst) {
 // axis, no deeper than cz.
 void write_occluder(uint index) {
     Instance inst = load_instance(index);
-    vec3 r = cam.right_sx.xyz, u_axis = cam.up_sy.xyz, f = cam.forward.xyz;
-    vec2 s = vec2(cam.right_sx.w, cam.up_sy.w);
-    vec3 c = vec3(dot(inst.center, r), dot(inst.center, u_axis), dot(inst.center, f)) - cam.eye_near.xyz;
+    vec3 r = cam.right, u_axis = cam.up, f = cam.forward;
+    vec2 s = vec2(cam.ndc_scale_x, cam.ndc_scale_y);
+    vec3 c = vec3(dot(inst.center, r), dot(inst.center, u_axis), dot(inst.center, f)) - cam.eye_view;
     float radius = min(inst.radii.x, min(inst.radii.y, inst.radii.z));
     float reach = ORTHOGRAPHIC ? radius : radius / length(c);
     // The disc's radius in pixels (square: screen-plane units per pixel are sy 2 / H on both
     // axes), shrunk so float rounding never claims a pixel the fragment stage might miss.
     // Most glyphs vouch for no whole tile: leave before the costlier tests.
-    float per_pixel = cam.up_sy.w * cam.viewport.y;
+    float per_pixel = cam.ndc_scale_y * cam.ndc_per_pixel.y;
     float pixels = 0.99 * reach / per_pixel - 0.05;
     if (!(pixels >= 0.5 * float(TILE))) {
         return;
     }
     // Only ellipsoids wholly beyond the near plane (no cap) and in front of the eye.
     vec2 z = depth_range(inst);
-    if (!(z.x - z.y > cam.eye_near.w) || !(z.x - z.y > 0.0)) {
+    if (!(z.x - z.y > cam.near_plane) || !(z.x - z.y > 0.0)) {
         return;
     }
     vec2 centre; // screen plane
@@ -215,7 +202,7 @@ bool needed(uint index, bool reaches, vec4 rect) {
         return true; // degenerate: the vertex stage drops it
     }
     // A sliver of a pixel of slack, as the vertex stage grows its polygon.
-    vec2 margin = cam.viewport.z * cam.viewport.xy;
+    vec2 margin = cam.quad_margin_px * cam.ndc_per_pixel;
     rect += vec4(-margin, margin);
     if (CULL_FRUSTUM && (rect.z < -1.0 || rect.x > 1.0 || rect.w < -1.0 || rect.y > 1.0)) {
         return false;
@@ -239,7 +226,7 @@ bool setup_rect(Setup s, out vec4 rect) {
         return false;
     }
     if (s.bounded && !s.screen_polygon) {
-        vec2 sxy = vec2(cam.right_sx.w, cam.up_sy.w);
+        vec2 sxy = vec2(cam.ndc_scale_x, cam.ndc_scale_y);
         vec2 extent = sqrt(s.axis1 * s.axis1 + s.axis2 * s.axis2);
         rect = vec4((s.centre - extent) / sxy, (s.centre + extent) / sxy);
     }

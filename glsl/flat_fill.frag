@@ -29,6 +29,6 @@ void main() {
     out_color = vec4(v_color, 1.0);
 #ifdef AUX_OUTPUTS
     out_normal = vec4(0.0);
-    out_id = v_id + cam.chunk.x;
+    out_id = v_id + cam.first_instance;
 #endif
 }

@@ -22,6 +22,6 @@ void main() {
     out_color = vec4(shade(n, v_color), 1.0);
 #ifdef AUX_OUTPUTS
     out_normal = vec4(n, 0.0);
-    out_id = v_id + cam.chunk.x;
+    out_id = v_id + cam.first_instance;
 #endif
 }

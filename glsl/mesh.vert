@@ -15,10 +15,10 @@ void main() {
     mat3 R = quat_to_mat3(inst.rotation);
     vec3 radii = inst.radii.xyz;
     vec3 world = inst.center + R * (radii * in_position);
-    vec3 v = vec3(dot(world, cam.right_sx.xyz), dot(world, cam.up_sy.xyz), dot(world, cam.forward.xyz))
-        - cam.eye_near.xyz;
+    vec3 v = vec3(dot(world, cam.right), dot(world, cam.up), dot(world, cam.forward))
+        - cam.eye_view;
     v_normal = R * (in_position / radii);
     v_id = uint(gl_InstanceIndex);
     v_color = srgb_to_linear(unpackUnorm4x8(inst.color).rgb);
-    gl_Position = vec4(v.x / cam.right_sx.w, -v.y / cam.up_sy.w, depth_clip_z(v.z), v.z);
+    gl_Position = vec4(v.x / cam.ndc_scale_x, -v.y / cam.ndc_scale_y, depth_clip_z(v.z), v.z);
 }

@@ -4,6 +4,7 @@
 use ash::vk;
 
 use crate::barriers;
+use crate::gpu_layout::{IndirectDraw, PushConstants};
 
 /// Which exact culling the pre-pass does before the draw (none: no pre-pass). Nothing culled
 /// can change a pixel: see `glsl/cull.comp`.
@@ -108,10 +109,10 @@ pub(crate) struct PrepassBuffers {
 pub(crate) struct Prepass {
     pub layout: vk::PipelineLayout,
     pub descriptor_set: vk::DescriptorSet,
-    /// The camera push constants.
-    pub push: Vec<u8>,
-    /// The `VkDrawIndirectCommand` and total the steps start from.
-    pub command: Vec<u8>,
+    /// The push constants.
+    pub push: PushConstants,
+    /// The indirect command the steps start from.
+    pub command: IndirectDraw,
     /// Where in the indirect buffer this chunk's command lies.
     pub indirect_offset: u64,
     pub steps: Vec<(CullStep, vk::Pipeline)>,
@@ -137,7 +138,12 @@ impl Prepass {
         // every region lies within the buffers.
         unsafe {
             barriers::PREPASS_AFTER_PREVIOUS_FRAME.record(device, cmd);
-            device.cmd_update_buffer(cmd, b.indirect, self.indirect_offset, &self.command);
+            device.cmd_update_buffer(
+                cmd,
+                b.indirect,
+                self.indirect_offset,
+                bytemuck::bytes_of(&self.command),
+            );
             if self.clear_tiles {
                 // +inf: no surface known in front of any tile yet.
                 device.cmd_fill_buffer(cmd, b.tiles, 0, vk::WHOLE_SIZE, f32::INFINITY.to_bits());
@@ -156,7 +162,7 @@ impl Prepass {
                 self.layout,
                 vk::ShaderStageFlags::COMPUTE,
                 0,
-                &self.push,
+                bytemuck::bytes_of(&self.push),
             );
             for (k, &(step, pipeline)) in self.steps.iter().enumerate() {
                 if k > 0 {

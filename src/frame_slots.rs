@@ -22,12 +22,15 @@ pub(crate) enum Retired {
 }
 
 impl Retired {
-    /// Destroys the object; no pending work may use it.
-    pub fn destroy(self, device: &ash::Device, allocator: &mut Allocator) {
+    /// Destroys the object.
+    ///
+    /// # Safety
+    /// No pending work uses it (the frame-slot rule above proves that for what `begin`
+    /// returns).
+    pub unsafe fn destroy(self, device: &ash::Device, allocator: &mut Allocator) {
         match self {
             Retired::Buffer(buffer) => buffer.destroy(device, allocator),
-            // SAFETY: created by the renderer from `device`; the frame-slot rule above proves
-            // no pending work uses it.
+            // SAFETY: created by the renderer from `device`; caller contract.
             Retired::DescriptorPool(pool) => unsafe { device.destroy_descriptor_pool(pool, None) },
         }
     }

@@ -1,10 +1,11 @@
 //! The GPU instance record: how a scene becomes the bytes of the instance buffer.
 //!
 //! Two layouts (`load_instance` in `glsl/include/ellipsoid_common.glsl` reads both):
-//! - **full**, 48 bytes (std430 `Instance`): centre relative to the scene origin (3 x f32),
+//! - **full**, 48 bytes ([`Instance`]): centre relative to the scene origin (3 x f32),
 //!   sRGB colour as RGBA8 (u32), unit quaternion (x, y, z, w: 4 x f32), semi-axes (3 x f32) and
 //!   one unused f32;
-//! - **compact**, 32 bytes: the same centre and colour, the quaternion as 4 x snorm16, and the
+//! - **compact**, 32 bytes ([`CompactInstance`]): the same centre and colour, the quaternion as
+//!   4 x snorm16, and the
 //!   semi-axes as 3 x float16 in units of the scene's largest semi-axis (so every scene uses
 //!   the half floats' full precision), one float16 unused. The quantisation moves the surface
 //!   by at most about 2^-11 of a semi-axis (the float16 rounding) plus 2^-15 of a radian of
@@ -14,10 +15,8 @@ use glam::DVec3;
 
 use crate::ellipsoid::Ellipsoid;
 use crate::error::{Error, Result};
+use crate::gpu_layout::{CompactInstance, Instance};
 use crate::scene::Scene;
-
-/// Bytes per instance on the GPU in the full format.
-pub const INSTANCE_BYTES: usize = 48;
 
 /// How instances are stored on the GPU.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -33,20 +32,52 @@ impl InstanceFormat {
     /// Bytes per instance.
     pub fn bytes(self) -> usize {
         match self {
-            InstanceFormat::Full => INSTANCE_BYTES,
-            InstanceFormat::Compact => 32,
+            InstanceFormat::Full => size_of::<Instance>(),
+            InstanceFormat::Compact => size_of::<CompactInstance>(),
         }
     }
 }
 
+/// Instance records in one of the two formats.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Records {
+    /// [`InstanceFormat::Full`].
+    Full(Vec<Instance>),
+    /// [`InstanceFormat::Compact`].
+    Compact(Vec<CompactInstance>),
+}
+
+impl Records {
+    /// The records as the bytes the instance buffer holds.
+    pub fn bytes(&self) -> &[u8] {
+        match self {
+            Records::Full(v) => bytemuck::cast_slice(v),
+            Records::Compact(v) => bytemuck::cast_slice(v),
+        }
+    }
+
+    /// Number of records.
+    pub fn len(&self) -> usize {
+        match self {
+            Records::Full(v) => v.len(),
+            Records::Compact(v) => v.len(),
+        }
+    }
+
+    /// True when there are none.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
 /// A scene packed for the GPU.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct PackedInstances {
     /// Positions are stored relative to this point (the centre of the data's bounds), so
     /// float32 keeps its precision where the data is, however far from the world origin.
     pub origin: DVec3,
-    /// `INSTANCE_BYTES` per ellipsoid, in scene order.
-    pub bytes: Vec<u8>,
+    /// One record per ellipsoid, in scene order.
+    pub records: Records,
     /// Every instance is a sphere (equal float32 semi-axes): the shaders may take the sphere
     /// path. Spheres are stored with the identity rotation, so both paths compute the same
     /// bits.
@@ -54,8 +85,6 @@ pub struct PackedInstances {
     /// Corners of a box holding every ellipsoid whole (centre +- largest semi-axis), in world
     /// coordinates; `None` for an empty scene.
     pub extent: Option<(DVec3, DVec3)>,
-    /// The layout of `bytes`.
-    pub format: InstanceFormat,
     /// Compact format: the unit of the stored semi-axes (the scene's largest semi-axis).
     pub radius_scale: f32,
 }
@@ -63,12 +92,20 @@ pub struct PackedInstances {
 impl PackedInstances {
     /// Number of instances.
     pub fn len(&self) -> usize {
-        self.bytes.len() / self.format.bytes()
+        self.records.len()
     }
 
     /// True when there are none.
     pub fn is_empty(&self) -> bool {
-        self.bytes.is_empty()
+        self.records.is_empty()
+    }
+
+    /// The layout of the records.
+    pub fn format(&self) -> InstanceFormat {
+        match self.records {
+            Records::Full(_) => InstanceFormat::Full,
+            Records::Compact(_) => InstanceFormat::Compact,
+        }
     }
 }
 
@@ -109,7 +146,10 @@ pub fn pack_relative(
     format: InstanceFormat,
     radius_scale: f32,
 ) -> Result<PackedInstances> {
-    let mut bytes = Vec::with_capacity(format.bytes() * ellipsoids.len());
+    let mut records = match format {
+        InstanceFormat::Full => Records::Full(Vec::with_capacity(ellipsoids.len())),
+        InstanceFormat::Compact => Records::Compact(Vec::with_capacity(ellipsoids.len())),
+    };
     let mut all_spheres = true;
     let mut extent: Option<(DVec3, DVec3)> = None;
     for (k, e) in ellipsoids.iter().enumerate() {
@@ -140,17 +180,16 @@ pub fn pack_relative(
         }
         let color = e.color.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u32);
         let packed = color[0] | (color[1] << 8) | (color[2] << 16) | (255 << 24);
-        for v in [c.x, c.y, c.z] {
-            bytes.extend_from_slice(&v.to_ne_bytes());
-        }
-        bytes.extend_from_slice(&packed.to_ne_bytes());
-        match format {
-            InstanceFormat::Full => {
-                for v in [q.x, q.y, q.z, q.w, r.x, r.y, r.z, 0.0] {
-                    bytes.extend_from_slice(&v.to_ne_bytes());
-                }
-            }
-            InstanceFormat::Compact => {
+        let center = c.to_array();
+        match &mut records {
+            Records::Full(v) => v.push(Instance {
+                center,
+                color: packed,
+                rotation: q.to_array(),
+                radii: r.to_array(),
+                unused: 0.0,
+            }),
+            Records::Compact(v) => {
                 let snorm = |v: f32| ((v.clamp(-1.0, 1.0) * 32767.0).round() as i16) as u16;
                 let relative = r / radius_scale;
                 let halves = [relative.x, relative.y, relative.z].map(f16_bits);
@@ -164,24 +203,21 @@ pub fn pack_relative(
                         ),
                     ));
                 }
-                let words = [
-                    snorm(q.x) as u32 | (snorm(q.y) as u32) << 16,
-                    snorm(q.z) as u32 | (snorm(q.w) as u32) << 16,
-                    halves[0] as u32 | (halves[1] as u32) << 16,
-                    halves[2] as u32,
-                ];
-                for w in words {
-                    bytes.extend_from_slice(&w.to_ne_bytes());
-                }
+                let pair = |lo: u16, hi: u16| lo as u32 | (hi as u32) << 16;
+                v.push(CompactInstance {
+                    center,
+                    color: packed,
+                    rotation: [pair(snorm(q.x), snorm(q.y)), pair(snorm(q.z), snorm(q.w))],
+                    radii: [pair(halves[0], halves[1]), halves[2] as u32],
+                });
             }
         }
     }
     Ok(PackedInstances {
         origin,
-        bytes,
+        records,
         all_spheres: all_spheres && !ellipsoids.is_empty(),
         extent,
-        format,
         radius_scale,
     })
 }
@@ -189,32 +225,7 @@ pub fn pack_relative(
 /// The IEEE binary16 bits nearest to `v` (round to nearest even; overflow gives infinity,
 /// values below the subnormal range give zero), as GLSL's `unpackHalf2x16` reads them.
 fn f16_bits(v: f32) -> u16 {
-    let bits = v.to_bits();
-    let sign = ((bits >> 16) & 0x8000) as u16;
-    let exponent = ((bits >> 23) & 0xff) as i32;
-    let mantissa = bits & 0x7f_ffff;
-    if exponent == 0xff {
-        return sign | 0x7c00 | if mantissa != 0 { 0x200 } else { 0 };
-    }
-    let e = exponent - 127 + 15;
-    if e >= 0x1f {
-        return sign | 0x7c00;
-    }
-    if e <= 0 {
-        if e < -10 {
-            return sign;
-        }
-        // Subnormal: shift the mantissa (with its implicit 1) into place, rounding to even.
-        let m = mantissa | 0x80_0000;
-        let shift = (14 - e) as u32;
-        let half = 1u32 << (shift - 1);
-        let rounded = (m + half - 1 + ((m >> shift) & 1)) >> shift;
-        return sign | rounded as u16;
-    }
-    let half = 0x1000u32;
-    let rounded = mantissa + half - 1 + ((mantissa >> 13) & 1);
-    let value = ((e as u32) << 10) + (rounded >> 13);
-    sign | value.min(0x7c00) as u16
+    half::f16::from_f32(v).to_bits()
 }
 
 #[cfg(test)]
@@ -241,7 +252,7 @@ mod tests {
             |r: f64| Ellipsoid::new(DVec3::ZERO, DVec3::new(r, 1.0, 1.0), DQuat::IDENTITY, None);
         let scene = Scene::new(vec![e(1.0).unwrap(), e(2.0).unwrap()]);
         let packed = pack_scene(&scene, InstanceFormat::Compact).unwrap();
-        assert_eq!(packed.bytes.len(), 64);
+        assert_eq!(packed.records.bytes().len(), 64);
         assert_eq!(packed.radius_scale, 2.0);
         let wide = Scene::new(vec![e(1e-9).unwrap(), e(1.0).unwrap()]);
         let err = pack_scene(&wide, InstanceFormat::Compact).unwrap_err();
@@ -265,10 +276,11 @@ mod tests {
         let packed = pack_instances(&Scene::new(vec![e(1e7), e(1e7 + 4.0)])).unwrap();
         assert_eq!(packed.len(), 2);
         assert_eq!(packed.origin, DVec3::new(1e7 + 2.0, 0.0, 0.0));
-        let x0 = f32::from_ne_bytes(packed.bytes[0..4].try_into().unwrap());
-        assert_eq!(x0, -2.0);
-        let color = u32::from_ne_bytes(packed.bytes[12..16].try_into().unwrap());
-        assert_eq!(color, 255 | (128 << 8) | (255 << 24));
+        let Records::Full(records) = &packed.records else {
+            panic!("full format asked for");
+        };
+        assert_eq!(records[0].center[0], -2.0);
+        assert_eq!(records[0].color, 255 | (128 << 8) | (255 << 24));
     }
 
     #[test]

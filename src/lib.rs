@@ -1,15 +1,24 @@
 //! `ellipsoid-splat`: very many ellipsoids drawn exactly as ray-cast impostors in one instanced
 //! Vulkan draw.
 //!
-//! The quickest way in is [`OffscreenRenderer`], which owns its Vulkan device and reads frames
-//! back; [`renderer::EllipsoidRenderer`] records into a command buffer it is given.
+//! [`EllipsoidRenderer`] records into a host's command buffers: the host's device, allocator,
+//! render pass (or dynamic rendering), sample count and projection (see `examples/minimal.rs`
+//! and the README's "Embedding" section). With the default feature `offscreen`,
+//! [`OffscreenRenderer`] owns its Vulkan device and reads frames back.
+//!
+//! Features:
+//! - `offscreen` (default): [`OffscreenRenderer`], [`Frame`] and the [`gpu`] context; no extra
+//!   dependency.
+//! - `research`: the benchmark's baselines ([`draw::Method`]: textbook intersection, box proxy,
+//!   icosphere meshes, flat fill, fixed footprints) and fragment counting. Hosts never need it.
 //!
 //! ```
+//! # #[cfg(feature = "offscreen")]
+//! # fn main() -> ellipsoid_splat::Result<()> {
 //! use ellipsoid_splat::gpu::ContextOptions;
-//! use ellipsoid_splat::{Camera, Ellipsoid, OffscreenRenderer, Scene};
+//! use ellipsoid_splat::{Camera, Ellipsoid, OffscreenRenderer, Outputs, Scene};
 //! use glam::{DQuat, DVec3};
 //!
-//! # fn main() -> ellipsoid_splat::Result<()> {
 //! let glyph = Ellipsoid::new(
 //!     DVec3::ZERO,
 //!     DVec3::new(1.0, 0.5, 0.25),
@@ -20,43 +29,54 @@
 //! let (centre, radius) = scene.bounding_sphere().expect("one glyph");
 //! let camera = Camera::framing(centre, radius, 640, 480)?;
 //! let mut renderer = OffscreenRenderer::new(&ContextOptions::default())?;
-//! let frame = renderer.render(&scene, &camera)?;
+//! let frame = renderer.render(&scene, &camera, Outputs::ALL)?;
 //! assert_eq!(frame.len(), 640 * 480);
 //! renderer.finish()?;
 //! # Ok(())
 //! # }
+//! # #[cfg(not(feature = "offscreen"))]
+//! # fn main() {}
 //! ```
-
-#![deny(missing_docs)]
 
 pub mod barriers;
 pub mod bounds;
 pub mod camera;
-pub mod culling;
+mod culling;
 pub mod depth;
 pub mod draw;
 pub mod ellipsoid;
 pub mod error;
 pub mod features;
-pub mod frame;
 mod frame_slots;
+pub mod gpu_layout;
 mod host_camera;
+pub mod instances;
+mod pipeline;
+pub mod renderer;
 pub mod scene;
+pub mod settings;
+mod target;
+
+#[cfg(feature = "offscreen")]
+pub mod frame;
+pub mod gpu;
+#[cfg(feature = "research")]
+pub mod icosphere;
+#[cfg(feature = "offscreen")]
+pub mod offscreen;
 
 pub use camera::{Camera, Projection};
+pub use culling::Culling;
 pub use depth::DepthConvention;
 pub use ellipsoid::Ellipsoid;
 pub use error::{Error, Result};
-pub use frame::{Frame, NO_INSTANCE};
+pub use instances::InstanceFormat;
+pub use renderer::{EllipsoidRenderer, FramePlan};
 pub use scene::Scene;
-pub mod gpu;
-pub mod icosphere;
-pub mod instances;
-pub mod offscreen;
-mod pipeline;
-pub mod renderer;
-pub mod target;
+pub use settings::{Material, Settings};
+pub use target::{HostDevice, Pass, RendererOptions, Target, ID_FORMAT, NORMAL_FORMAT};
 
-pub use offscreen::OffscreenRenderer;
-pub use renderer::EllipsoidRenderer;
-pub use target::{HostDevice, Pass, RendererOptions, Target};
+#[cfg(feature = "offscreen")]
+pub use frame::{Frame, NO_INSTANCE};
+#[cfg(feature = "offscreen")]
+pub use offscreen::{OffscreenRenderer, Outputs};

@@ -1,4 +1,5 @@
-//! Building the graphics pipeline for one [`DrawConfig`] and projection kind.
+//! Building the pipelines a frame plan asks for: the graphics pipeline of the draw and the
+//! compute pipelines of the pre-pass's steps.
 
 use ash::vk;
 
@@ -6,6 +7,8 @@ use crate::culling::{CullStep, Culling};
 use crate::draw::{DrawConfig, Geometry, Intersection, Shading};
 use crate::error::{Error, Result};
 use crate::gpu::shaders;
+use crate::gpu_layout::SpecConstants;
+use crate::renderer::FramePlan;
 use crate::target::{Pass, Target};
 
 /// What a pipeline is specialised for.
@@ -21,14 +24,94 @@ pub(crate) struct PipelineKey {
     pub count_fragments: bool,
     /// The vertex stage reads instance indices compacted by the culling pre-pass.
     pub culled: bool,
-    /// The impostor stages read the set-up the pre-pass computed (`PRESET_SETUP`).
-    pub preset: bool,
+    /// The impostor stages read the set-up the pre-pass computed (`SETUP_ONCE`).
+    pub setup_once: bool,
     /// Every instance is a sphere (`SPHERES`).
     pub spheres: bool,
     /// Instances are in the compact format (`COMPACT`).
     pub compact: bool,
     /// Nothing reaches in front of the near plane (`NO_CAPS`).
     pub no_caps: bool,
+}
+
+impl PipelineKey {
+    /// The draw pipeline `plan` needs.
+    pub fn of(plan: &FramePlan) -> Self {
+        Self {
+            orthographic: plan.orthographic,
+            config: plan.config,
+            target: plan.target,
+            reversed_z: plan.reversed_z,
+            count_fragments: plan.count_fragments,
+            culled: plan.prepass,
+            setup_once: plan.setup_once,
+            spheres: plan.spheres,
+            compact: plan.compact,
+            no_caps: plan.no_caps,
+        }
+    }
+
+    /// The specialization constants of the draw's stages.
+    fn spec_constants(&self) -> SpecConstants {
+        SpecConstants {
+            orthographic: self.orthographic as u32,
+            textbook: (self.config.intersection == Intersection::Textbook) as u32,
+            bounds: self.config.footprint.bounds_mode(),
+            corners: self.config.footprint.vertices(),
+            fast_normal: (self.config.shading == Shading::FastNormal) as u32,
+            culled: self.culled as u32,
+            spheres: self.spheres as u32,
+            no_caps: self.no_caps as u32,
+            compact: self.compact as u32,
+            ..SpecConstants::default()
+        }
+    }
+}
+
+/// What one pre-pass pipeline is specialised for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct CullKey {
+    pub orthographic: bool,
+    pub culling: Culling,
+    pub step: CullStep,
+    /// The draw whose set-up the step computes, if it does.
+    pub setup: Option<DrawConfig>,
+    pub spheres: bool,
+    pub compact: bool,
+}
+
+impl CullKey {
+    /// The pre-pass pipeline of `step` that `plan` needs.
+    pub fn of(plan: &FramePlan, step: CullStep) -> Self {
+        Self {
+            orthographic: plan.orthographic,
+            culling: plan.culling,
+            step,
+            setup: plan.setup_once.then_some(plan.config),
+            spheres: plan.spheres,
+            compact: plan.compact,
+        }
+    }
+
+    /// The specialization constants of the step; with a set-up, the footprint and
+    /// intersection of that draw.
+    fn spec_constants(&self) -> SpecConstants {
+        let config = self.setup.unwrap_or_default();
+        SpecConstants {
+            orthographic: self.orthographic as u32,
+            cull_frustum: self.culling.frustum as u32,
+            cull_pixel_centres: self.culling.pixel_centres as u32,
+            cull_step: self.step as u32,
+            cull_occlusion: self.culling.occlusion as u32,
+            cull_setup: self.setup.is_some() as u32,
+            textbook: (config.intersection == Intersection::Textbook) as u32,
+            bounds: config.footprint.bounds_mode(),
+            corners: config.footprint.vertices(),
+            spheres: self.spheres as u32,
+            compact: self.compact as u32,
+            ..SpecConstants::default()
+        }
+    }
 }
 
 /// The SPIR-V of the two stages for `key`, the fragment stage writing the normal and ID
@@ -38,9 +121,9 @@ fn stage_code(key: &PipelineKey, aux_outputs: bool) -> (&'static [u8], &'static 
     let (vertex, fragment) = match config.geometry {
         Geometry::Mesh(_) => (shaders::MESH_VERT, shaders::MESH_FRAG),
         Geometry::BoxProxy => (shaders::BOX_VERT, shaders::ELLIPSOID_FRAG),
-        Geometry::Impostor if key.preset => (
-            shaders::ELLIPSOID_PRESET_VERT,
-            shaders::ELLIPSOID_PRESET_FRAG,
+        Geometry::Impostor if key.setup_once => (
+            shaders::ELLIPSOID_SETUP_ONCE_VERT,
+            shaders::ELLIPSOID_SETUP_ONCE_FRAG,
         ),
         Geometry::Impostor => (
             shaders::ELLIPSOID_VERT,
@@ -92,32 +175,11 @@ fn build(
     frag: vk::ShaderModule,
 ) -> Result<vk::Pipeline> {
     let config = key.config;
-    // Specialization constants, 4 bytes each (glsl/include/ellipsoid_common.glsl and the
-    // fragment shaders): 0 ORTHOGRAPHIC, 2 TEXTBOOK, 3 BOUNDS, 4 CORNERS, 5 FAST_NORMAL,
-    // 8 CULLED, 13 SPHERES, 14 NO_CAPS, 15 COMPACT. Stages ignore the ones they do not declare.
-    let values: [u32; 9] = [
-        key.orthographic as u32,
-        (config.intersection == Intersection::Textbook) as u32,
-        config.footprint.bounds_mode(),
-        config.footprint.vertices(),
-        (config.shading == Shading::FastNormal) as u32,
-        key.culled as u32,
-        key.spheres as u32,
-        key.no_caps as u32,
-        key.compact as u32,
-    ];
-    let ids: [u32; 9] = [0, 2, 3, 4, 5, 8, 13, 14, 15];
-    let spec_data: Vec<u8> = values.iter().flat_map(|v| v.to_ne_bytes()).collect();
-    let entries: Vec<vk::SpecializationMapEntry> = (0..values.len() as u32)
-        .map(|i| vk::SpecializationMapEntry {
-            constant_id: ids[i as usize],
-            offset: 4 * i,
-            size: 4,
-        })
-        .collect();
+    let constants = key.spec_constants();
+    let entries = SpecConstants::map_entries();
     let spec = vk::SpecializationInfo::default()
         .map_entries(&entries)
-        .data(&spec_data);
+        .data(bytemuck::bytes_of(&constants));
     let stages = [
         vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::VERTEX)
@@ -235,51 +297,19 @@ fn build(
     Ok(pipelines[0])
 }
 
-/// One step of the culling pre-pass (`glsl/cull.comp`) for one projection kind and choice of
-/// culling; with `setup`, it also computes the set-up of that draw's impostors.
-#[allow(clippy::too_many_arguments)]
+/// The pre-pass pipeline for `key` (`glsl/cull.comp`); the caller owns it.
 pub(crate) fn create_cull_pipeline(
     device: &ash::Device,
     cache: vk::PipelineCache,
     layout: vk::PipelineLayout,
-    orthographic: bool,
-    culling: Culling,
-    step: CullStep,
-    setup: Option<DrawConfig>,
-    spheres: bool,
-    compact: bool,
+    key: CullKey,
 ) -> Result<vk::Pipeline> {
     let module = shaders::create_module(device, shaders::CULL_COMP)?;
-    // Specialization constants 0 ORTHOGRAPHIC, 6 CULL_FRUSTUM, 7 CULL_PIXEL_CENTRES,
-    // 9 CULL_STEP, 10 CULL_OCCLUSION, 11 CULL_SETUP, and for the set-up the footprint and
-    // intersection of the draw: 2 TEXTBOOK, 3 BOUNDS, 4 CORNERS; 13 SPHERES; 15 COMPACT.
-    let config = setup.unwrap_or_default();
-    let values: [(u32, u32); 11] = [
-        (0, orthographic as u32),
-        (6, culling.frustum as u32),
-        (7, culling.pixel_centres as u32),
-        (9, step as u32),
-        (10, culling.occlusion as u32),
-        (11, setup.is_some() as u32),
-        (2, (config.intersection == Intersection::Textbook) as u32),
-        (3, config.footprint.bounds_mode()),
-        (4, config.footprint.vertices()),
-        (13, spheres as u32),
-        (15, compact as u32),
-    ];
-    let data: Vec<u8> = values.iter().flat_map(|(_, v)| v.to_ne_bytes()).collect();
-    let entries: Vec<vk::SpecializationMapEntry> = values
-        .iter()
-        .enumerate()
-        .map(|(k, &(constant_id, _))| vk::SpecializationMapEntry {
-            constant_id,
-            offset: 4 * k as u32,
-            size: 4,
-        })
-        .collect();
+    let constants = key.spec_constants();
+    let entries = SpecConstants::map_entries();
     let spec = vk::SpecializationInfo::default()
         .map_entries(&entries)
-        .data(&data);
+        .data(bytemuck::bytes_of(&constants));
     let stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module)

@@ -5,6 +5,7 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::features;
+use crate::settings::Settings;
 
 /// Normal attachment format when `Target::aux_outputs` is set.
 pub const NORMAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
@@ -173,6 +174,8 @@ pub struct RendererOptions {
     /// How many frames the host records before waiting for the oldest: the renderer keeps
     /// what it replaces alive until every frame slot has begun again (`begin_frame`).
     pub frames_in_flight: u32,
+    /// The material and the work-skipping the renderer does.
+    pub settings: Settings,
     /// The host's pipeline cache, used for every pipeline the renderer builds (borrowed; null
     /// for none).
     pub pipeline_cache: vk::PipelineCache,
@@ -185,6 +188,7 @@ impl RendererOptions {
             target,
             frames_in_flight: 1,
             pipeline_cache: vk::PipelineCache::null(),
+            settings: Settings::default(),
         }
     }
 }

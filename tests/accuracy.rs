@@ -1,5 +1,6 @@
 //! GPU impostors against the float64 reference renderer, under validation.
 
+use ellipsoid_splat::{draw::DrawConfig, Outputs};
 use ellipsoid_splat_reference::testing as common;
 
 use common::{assert_matches_reference, finish_validated, validated_renderer};
@@ -117,14 +118,19 @@ fn every_footprint_covers_exactly() {
         Footprint::AxisRect,
         Footprint::WorldQuad,
     ] {
-        renderer.set_footprint(footprint);
+        renderer.set_draw_config(DrawConfig {
+            footprint: footprint,
+            ..DrawConfig::default()
+        });
         for (name, scene, camera) in [
             ("cloud", &scene, &perspective_cam),
             ("thin", &thin, &perspective_cam),
             ("cut", &scene, &cut_cam),
             ("ortho", &scene, &ortho_cam),
         ] {
-            let frame = renderer.render(scene, camera).expect("render");
+            let frame = renderer
+                .render(scene, camera, Outputs::ALL)
+                .expect("render");
             let stats = compare(&frame, &render_reference(scene, camera).unwrap()).unwrap();
             println!("{footprint:?} {name}: {stats}");
             assert!(

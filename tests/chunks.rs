@@ -3,6 +3,7 @@
 //! lowered so a few thousand glyphs make many chunks, and every output is compared bit for
 //! bit with the one-chunk rendering.
 
+use ellipsoid_splat::{Outputs, Settings};
 use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
@@ -14,11 +15,17 @@ use glam::DVec3;
 fn assert_chunking_changes_nothing(scene: &Scene, camera: &Camera, expect_presets: bool) {
     let mut renderer = validated_renderer();
     renderer.upload(scene).unwrap();
-    assert_eq!(renderer.sets_up_in_prepass(camera), expect_presets);
-    let (whole, _) = renderer.render_uploaded(camera).unwrap();
-    renderer.set_max_chunk_instances(256);
+    assert_eq!(
+        renderer.plan(camera).expect("plan").setup_once,
+        expect_presets
+    );
+    let (whole, _) = renderer.render_uploaded(camera, Outputs::ALL).unwrap();
+    renderer.set_settings(Settings {
+        max_chunk_instances: 256,
+        ..*renderer.settings()
+    });
     renderer.upload(scene).unwrap();
-    let (chunked, _) = renderer.render_uploaded(camera).unwrap();
+    let (chunked, _) = renderer.render_uploaded(camera, Outputs::ALL).unwrap();
     let shown = whole.id.iter().filter(|&&id| id != NO_INSTANCE).count();
     let high = whole
         .id
@@ -66,9 +73,12 @@ fn compact_instances_stay_within_their_quantisation_error() {
         Camera::look_at(DVec3::new(4.0, 5.0, 22.0), DVec3::ZERO, 45.0, 1.0, 240, 180).unwrap();
     let reference = render_reference(&scene, &camera).unwrap();
     let mut renderer = validated_renderer();
-    renderer.set_instance_format(InstanceFormat::Compact);
+    renderer.set_settings(Settings {
+        instance_format: InstanceFormat::Compact,
+        ..*renderer.settings()
+    });
     renderer.upload(&scene).unwrap();
-    let (compact, _) = renderer.render_uploaded(&camera).unwrap();
+    let (compact, _) = renderer.render_uploaded(&camera, Outputs::ALL).unwrap();
     let stats = compare(&compact, &reference).unwrap();
     println!("compact: {stats}");
     // The quantisation's error, derived in `common::compact_format_bounds`.
@@ -76,9 +86,12 @@ fn compact_instances_stay_within_their_quantisation_error() {
     if let Err(broken) = stats.check(&bounds) {
         panic!("compact format beyond its quantisation error: {broken}\n{stats}");
     }
-    renderer.set_max_chunk_instances(256);
+    renderer.set_settings(Settings {
+        max_chunk_instances: 256,
+        ..*renderer.settings()
+    });
     renderer.upload(&scene).unwrap();
-    let (chunked, _) = renderer.render_uploaded(&camera).unwrap();
+    let (chunked, _) = renderer.render_uploaded(&camera, Outputs::ALL).unwrap();
     assert_eq!(compact.id, chunked.id);
     assert_eq!(compact.depth, chunked.depth);
     finish_validated(renderer);

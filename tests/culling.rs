@@ -2,12 +2,13 @@
 //! it are identical, bit for bit, in colour, depth, normal and instance ID, and each kind of
 //! culling does drop instances on a scene built for it.
 
+use ellipsoid_splat::{Outputs, Settings};
 use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
 use ellipsoid_splat::ellipsoid::Ellipsoid;
 use ellipsoid_splat::offscreen::OffscreenRenderer;
-use ellipsoid_splat::renderer::Culling;
+use ellipsoid_splat::Culling;
 use ellipsoid_splat::Scene;
 use ellipsoid_splat::{Camera, Projection};
 use ellipsoid_splat_loaders::{packed_block, random_cloud};
@@ -40,10 +41,13 @@ fn assert_culling_exact(
     scene: &Scene,
     camera: &Camera,
 ) -> (Vec<u64>, u64) {
-    renderer.set_culling(Culling::OFF);
+    renderer.set_settings(Settings {
+        culling: Culling::OFF,
+        ..*renderer.settings()
+    });
     renderer.upload(scene).expect("upload");
     let (plain, timing) = renderer
-        .render_uploaded(camera)
+        .render_uploaded(camera, Outputs::ALL)
         .expect("render without culling");
     let plain_vertices = timing.gpu.vertices.expect("pipeline statistics");
 
@@ -53,9 +57,12 @@ fn assert_culling_exact(
         .any(|&id| id != ellipsoid_splat::NO_INSTANCE));
     let mut vertices = Vec::new();
     for culling in VARIANTS {
-        renderer.set_culling(culling);
+        renderer.set_settings(Settings {
+            culling: culling,
+            ..*renderer.settings()
+        });
         let (culled, timing) = renderer
-            .render_uploaded(camera)
+            .render_uploaded(camera, Outputs::ALL)
             .expect("render with culling");
         assert_eq!(plain.id, culled.id, "{culling:?}: instance IDs differ");
         assert_eq!(plain.color, culled.color, "{culling:?}: colours differ");
@@ -182,16 +189,29 @@ fn setup_in_the_prepass_changes_no_pixel() {
     renderer.upload(&scene).expect("upload");
     for camera in [perspective, orthographic] {
         for culling in [Culling::ON, Culling::OFF] {
-            renderer.set_culling(culling);
-            renderer.set_setup_in_prepass(false);
-            let (plain, _) = renderer.render_uploaded(&camera).expect("render");
-            assert!(!renderer.sets_up_in_prepass(&camera));
-            renderer.set_setup_in_prepass(true);
+            renderer.set_settings(Settings {
+                culling: culling,
+                ..*renderer.settings()
+            });
+            renderer.set_settings(Settings {
+                setup_once: false,
+                ..*renderer.settings()
+            });
+            let (plain, _) = renderer
+                .render_uploaded(&camera, Outputs::ALL)
+                .expect("render");
+            assert!(!renderer.plan(&camera).expect("plan").setup_once);
+            renderer.set_settings(Settings {
+                setup_once: true,
+                ..*renderer.settings()
+            });
             assert!(
-                renderer.sets_up_in_prepass(&camera),
+                renderer.plan(&camera).expect("plan").setup_once,
                 "the glyphs should be small enough for the pre-pass set-up"
             );
-            let (preset, _) = renderer.render_uploaded(&camera).expect("render");
+            let (preset, _) = renderer
+                .render_uploaded(&camera, Outputs::ALL)
+                .expect("render");
             assert!(plain
                 .id
                 .iter()

@@ -2,6 +2,7 @@
 //! plane, perspective or orthographic -- gives the float64 reference's picture, and a finite
 //! far plane hides exactly what lies beyond it.
 
+use ellipsoid_splat::Outputs;
 use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
@@ -48,7 +49,7 @@ fn every_convention_matches_the_reference() {
         // The far plane lies beyond the whole scene: nothing is clipped.
         for convention in conventions(60.0) {
             let camera = base.with_depth(convention).unwrap();
-            let (frame, _) = renderer.render_uploaded(&camera).unwrap();
+            let (frame, _) = renderer.render_uploaded(&camera, Outputs::ALL).unwrap();
             let stats = compare(&frame, reference).unwrap();
             println!(
                 "{convention:?} orthographic {}: {stats}",
@@ -86,7 +87,7 @@ fn a_finite_far_plane_hides_what_lies_beyond() {
     renderer.upload(&scene).unwrap();
     for convention in conventions(far).into_iter().filter(|c| c.far.is_some()) {
         let camera = base.with_depth(convention).unwrap();
-        let (frame, _) = renderer.render_uploaded(&camera).unwrap();
+        let (frame, _) = renderer.render_uploaded(&camera, Outputs::ALL).unwrap();
         let (mut shown, mut hidden) = (0, 0);
         for (k, &depth) in reference.depth.iter().enumerate() {
             if !depth.is_finite() || (depth - far).abs() < 1e-4 * far {

@@ -11,7 +11,7 @@ use ellipsoid_splat_test_host as host;
 
 use ash::vk;
 use ellipsoid_splat::renderer::{EllipsoidRenderer, HostDevice, Pass, RendererOptions, Target};
-use ellipsoid_splat::{Camera, Ellipsoid, Scene};
+use ellipsoid_splat::{Camera, Ellipsoid, Material, Scene, Settings};
 use glam::{DMat4, DQuat, DVec3};
 use host::{DepthKind, Host, HostTarget, MeshPipeline, TargetKind};
 
@@ -205,6 +205,14 @@ fn render(
         },
         frames_in_flight: 2,
         pipeline_cache: vk::PipelineCache::null(),
+        // No specular highlight: the green channel stays the plane's alone.
+        settings: Settings {
+            material: Material {
+                specular: 0.0,
+                ..Material::default()
+            },
+            ..Settings::default()
+        },
     };
     let (instance, device) = (host.instance().clone(), host.device().clone());
     let handles = HostDevice {
@@ -216,7 +224,6 @@ fn render(
     // SAFETY: the host's handles belong together and enable the required features.
     let mut renderer =
         unsafe { EllipsoidRenderer::new(&handles, host.allocator_mut(), options) }.unwrap();
-    renderer.material.specular = 0.0; // keep the green channel the plane's alone
     let scene = Scene::new(vec![setup.glyph]);
     let cmd = host.begin().unwrap();
     // SAFETY: `cmd` is recording; the pre-pass and upload go outside the pass, the draw

@@ -1,6 +1,7 @@
 //! Every `bench` method renders under validation, and each is as accurate as its design
 //! allows: the exact impostors match the reference, the approximations err where expected.
 
+use ellipsoid_splat::{Outputs, Settings};
 use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
@@ -28,9 +29,14 @@ fn every_method_renders_what_it_promises() {
     let mut renderer = validated_renderer();
     let mut mesh_mismatch = Vec::new();
     for method in Method::ALL {
-        renderer.set_config(method.config());
-        renderer.set_instance_format(method.instance_format());
-        let frame = renderer.render(&scene, &camera).expect("render");
+        renderer.set_draw_config(method.config());
+        renderer.set_settings(Settings {
+            instance_format: method.instance_format(),
+            ..*renderer.settings()
+        });
+        let frame = renderer
+            .render(&scene, &camera, Outputs::ALL)
+            .expect("render");
         let stats = compare(&frame, &reference).unwrap();
         let name = method.name();
         println!("{name:<22} {stats}");
@@ -131,8 +137,8 @@ fn footprints_shade_their_area_ratio() {
         footprint: Footprint::Triangle,
         ..DrawConfig::default()
     };
-    renderer.set_config(triangle);
-    let (_, timing) = renderer.render_uploaded(&camera).unwrap();
+    renderer.set_draw_config(triangle);
+    let (_, timing) = renderer.render_uploaded(&camera, Outputs::ALL).unwrap();
     let ratio = timing.shaded_fragments.expect("counted") as f64 / silhouette;
     let expected = 3.0 * (std::f64::consts::PI / 3.0).tan() / std::f64::consts::PI;
     assert!(
@@ -150,8 +156,8 @@ fn footprints_shade_their_area_ratio() {
             8.0 * (std::f64::consts::PI / 8.0).tan() / std::f64::consts::PI,
         ),
     ] {
-        renderer.set_config(method.config());
-        let (_, timing) = renderer.render_uploaded(&camera).unwrap();
+        renderer.set_draw_config(method.config());
+        let (_, timing) = renderer.render_uploaded(&camera, Outputs::ALL).unwrap();
         let shaded = timing.shaded_fragments.expect("counted") as f64;
         let ratio = shaded / silhouette;
         println!("{}: {ratio:.4} (geometry {expected:.4})", method.name());
@@ -162,8 +168,8 @@ fn footprints_shade_their_area_ratio() {
         );
         ratios.push(ratio);
     }
-    renderer.set_config(Method::ImpostorAxisRect.config());
-    let (_, timing) = renderer.render_uploaded(&camera).unwrap();
+    renderer.set_draw_config(Method::ImpostorAxisRect.config());
+    let (_, timing) = renderer.render_uploaded(&camera, Outputs::ALL).unwrap();
     let axis_rect = timing.shaded_fragments.unwrap() as f64 / silhouette;
     println!("impostor-axis-rect: {axis_rect:.4}");
     assert!(

@@ -2,6 +2,7 @@
 //! sphere path for all-sphere scenes and the cap-free fragment stage when nothing reaches the
 //! near plane.
 
+use ellipsoid_splat::{Outputs, Settings};
 use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
@@ -18,21 +19,40 @@ fn assert_same_frames(
     camera: &Camera,
 ) -> (bool, bool) {
     renderer.upload(scene).expect("upload");
-    renderer.set_sphere_path(false);
-    renderer.set_cap_free_path(false);
-    let (general, _) = renderer.render_uploaded(camera).expect("render");
+    renderer.set_settings(Settings {
+        sphere_path: false,
+        ..*renderer.settings()
+    });
+    renderer.set_settings(Settings {
+        cap_free_path: false,
+        ..*renderer.settings()
+    });
+    let (general, _) = renderer
+        .render_uploaded(camera, Outputs::ALL)
+        .expect("render");
     assert!(general
         .id
         .iter()
         .any(|&id| id != ellipsoid_splat::NO_INSTANCE));
-    renderer.set_sphere_path(true);
-    renderer.set_cap_free_path(true);
-    let (variant, _) = renderer.render_uploaded(camera).expect("render");
+    renderer.set_settings(Settings {
+        sphere_path: true,
+        ..*renderer.settings()
+    });
+    renderer.set_settings(Settings {
+        cap_free_path: true,
+        ..*renderer.settings()
+    });
+    let (variant, _) = renderer
+        .render_uploaded(camera, Outputs::ALL)
+        .expect("render");
     assert_eq!(general.id, variant.id, "instance IDs differ");
     assert_eq!(general.color, variant.color, "colours differ");
     assert_eq!(general.depth, variant.depth, "depths differ");
     assert_eq!(general.normal, variant.normal, "normals differ");
-    renderer.shader_variants(camera)
+    {
+        let plan = renderer.plan(camera).expect("plan");
+        (plan.spheres, plan.no_caps)
+    }
 }
 
 #[test]

@@ -109,6 +109,7 @@ fn renderer_for(
         },
         frames_in_flight: FRAMES_IN_FLIGHT,
         pipeline_cache,
+        settings: Default::default(),
     };
     // SAFETY: the host's handles belong together, its device enables the features of
     // `ellipsoid_splat::features::required_device_features`, and the render pass and pipeline

@@ -8,17 +8,11 @@
 #include "shading.glsl"
 #include "fragment_counter.glsl"
 
-// Outputs beyond colour only when the pipeline has those attachments.
-// Herbison-Evans' modulus-normalised gradient instead of a unit normal (no square root).
-layout(constant_id = 5) const bool FAST_NORMAL = false;
-// No ellipsoid reaches in front of the near plane (nor holds the eye): no cap code.
-layout(constant_id = 14) const bool NO_CAPS = false;
-
-// The instance's set-up (include/instance_setup.glsl): flat varyings, or with PRESET_SETUP
+// The instance's set-up (include/instance_setup.glsl): flat varyings, or with SETUP_ONCE
 // the record the culling pre-pass wrote, read at the start of main.
 layout(location = 7) flat in uint v_id;
-#ifdef PRESET_SETUP
-#define PRESET_SETUP_FRAGMENT
+#ifdef SETUP_ONCE
+#define SETUP_ONCE_FRAGMENT
 #include "setup_records.glsl"
 vec3 v_ray_x, v_ray_y, v_ray_c;
 vec2 v_ray_origin;
@@ -29,34 +23,31 @@ vec3 v_color;
 
 // What the hit test needs (see store_setup for the layout and the derived values).
 void load_setup() {
-    uint base = 8u * v_id;
-    vec4 a = shading[base], b = shading[base + 1u], c = shading[base + 2u];
-    float r = a.w, u = b.w, cz = c.z, eye_dist = 0.0;
-    v_ray_x = a.xyz;
-    v_ray_y = b.xyz;
-    v_flags = floatBitsToUint(c.w);
+    float r = shading[v_id].radius, u = shading[v_id].inv_eye_dist;
+    float cz = shading[v_id].centre_depth, eye_dist = 0.0;
+    v_ray_x = shading[v_id].ray_x;
+    v_ray_y = shading[v_id].ray_y;
+    v_flags = shading[v_id].flags;
     bool origin = (v_flags & FLAG_OFFSET_ORIGIN) != 0u;
-    v_ray_origin = c.xy;
+    v_ray_origin = shading[v_id].ray_origin;
     v_ray_c = vec3(0.0);
     if (!origin) {
-        vec4 d = shading[base + 3u];
-        v_ray_c = d.xyz;
-        eye_dist = d.w;
+        v_ray_c = shading[v_id].ray_c;
+        eye_dist = shading[v_id].eye_dist;
     }
     v_k = ORTHOGRAPHIC ? vec4(1.0, 1.0, 0.0, 1.0)
         : (origin ? vec4(1.0, r * cz, cz * u, r) : vec4(0.0, r, u, r));
     // Only orthographic depth reads g.
-    v_depth = vec4(ORTHOGRAPHIC ? shading[base + 4u].xyz : vec3(0.0), cz);
+    v_depth = vec4(ORTHOGRAPHIC ? shading[v_id].depth_gradient : vec3(0.0), cz);
     float depth_scale = origin && !ORTHOGRAPHIC ? cz : 1.0;
     v_misc = vec4(u, eye_dist, r * r, depth_scale);
 }
 
 // What shading a hit needs: loaded only for fragments that hit.
 void load_shading() {
-    uint base = 8u * v_id;
-    vec4 e = shading[base + 5u], f = shading[base + 6u], g = shading[base + 7u];
-    v_to_normal = mat3(e.xyz, f.xyz, g.xyz);
-    v_color = vec3(e.w, f.w, g.w);
+    v_to_normal = mat3(shading[v_id].to_normal_x, shading[v_id].to_normal_y,
+                       shading[v_id].to_normal_z);
+    v_color = vec3(shading[v_id].color_r, shading[v_id].color_g, shading[v_id].color_b);
 }
 #else
 layout(location = 0) flat in vec3 v_ray_x;
@@ -87,7 +78,7 @@ layout(depth_less) out float gl_FragDepth;
 // Textbook baseline: |O + t D|^2 = 1 in parameter space with the discriminant b^2 - ac, all in
 // float32. v_depth.xyz holds the centre relative to the eye, v_to_normal the world->parameter map.
 bool hit_textbook(out float depth, out vec3 normal, out bool cap) {
-    float near = cam.eye_near.w;
+    float near = cam.near_plane;
     vec3 origin, dir;
     pixel_ray(origin, dir);
     mat3 m = v_to_normal;
@@ -113,7 +104,7 @@ bool hit_textbook(out float depth, out vec3 normal, out bool cap) {
 
 // This pixel's ray in the silhouette frame (see ellipsoid.vert).
 vec3 frame_ray() {
-    vec2 ndc = vec2(gl_FragCoord.x * cam.viewport.x - 1.0, 1.0 - gl_FragCoord.y * cam.viewport.y);
+    vec2 ndc = vec2(gl_FragCoord.x * cam.ndc_per_pixel.x - 1.0, 1.0 - gl_FragCoord.y * cam.ndc_per_pixel.y);
     vec2 d = ndc - v_ray_origin;
     return v_ray_x * d.x + v_ray_y * d.y + v_ray_c;
 }
@@ -121,7 +112,7 @@ vec3 frame_ray() {
 // The closed form in the silhouette frame (see the top of this file).
 bool hit_stable(out float depth, out vec3 normal, out bool cap) {
     vec3 v_ray = frame_ray();
-    float near = cam.eye_near.w;
+    float near = cam.near_plane;
     vec3 g = v_depth.xyz;
     float cz = v_depth.w;
     cap = false;
@@ -174,7 +165,7 @@ bool hit_stable(out float depth, out vec3 normal, out bool cap) {
 void main() {
     count_fragment();
     load_setup();
-    float near = cam.eye_near.w;
+    float near = cam.near_plane;
     float depth;
     vec3 normal;
     bool cap;
@@ -188,7 +179,7 @@ void main() {
     if (!TEXTBOOK) {
         normal = v_to_normal * normal;
     }
-    vec3 f = cam.forward.xyz;
+    vec3 f = cam.forward;
     vec3 n;
     if (cap) {
         n = -f;
@@ -204,6 +195,6 @@ void main() {
     out_color = vec4(shade(n, v_color), 1.0);
 #ifdef AUX_OUTPUTS
     out_normal = vec4(n, 0.0);
-    out_id = v_id + cam.chunk.x;
+    out_id = v_id + cam.first_instance;
 #endif
 }

@@ -99,14 +99,14 @@ Setup setup_instance(Instance inst) {
     s.centre = s.axis1 = s.axis2 = vec2(0.0);
     s.quad_z = 0.0;
 
-    vec3 r = cam.right_sx.xyz, u_axis = cam.up_sy.xyz, f = cam.forward.xyz;
-    float sx = cam.right_sx.w, sy = cam.up_sy.w, near = cam.eye_near.w;
+    vec3 r = cam.right, u_axis = cam.up, f = cam.forward;
+    float sx = cam.ndc_scale_x, sy = cam.ndc_scale_y, near = cam.near_plane;
     mat3 R = instance_rotation(inst);
     mat3 Rt = transpose(R);
     vec3 radii = instance_radii(inst);
 
     // Centre relative to the eye in view coordinates (cx, cy, cz): V centre - V eye.
-    vec3 c = vec3(dot(inst.center, r), dot(inst.center, u_axis), dot(inst.center, f)) - cam.eye_near.xyz;
+    vec3 c = vec3(dot(inst.center, r), dot(inst.center, u_axis), dot(inst.center, f)) - cam.eye_view;
     // View axes in the ellipsoid's local axes; M = diag(1/radii) R^T maps world offsets to
     // parameter space, A^T = diag(radii) R^T maps view axes to half-extent vectors.
     vec3 lr = Rt * r, lu = Rt * u_axis, lf = Rt * f;
@@ -198,7 +198,7 @@ Setup setup_instance(Instance inst) {
     }
 
     // Grow by a sliver of a pixel so float rounding never drops a covered pixel centre.
-    float margin = cam.viewport.z * cam.viewport.y * sy;
+    float margin = cam.quad_margin_px * cam.ndc_per_pixel.y * sy;
     if (bounded) {
         axis1 += margin * normalize_or(axis1, vec2(1.0, 0.0));
         axis2 += margin * normalize_or(axis2, vec2(0.0, 1.0));
@@ -271,7 +271,7 @@ vec4 corner_position(Setup s, int vertex_index) {
     int i = vertex_index;
     int k = i == 0 ? 0 : ((i & 1) != 0 ? (i + 1) / 2 : CORNERS - i / 2);
     vec2 dir = corner_direction(k);
-    vec2 sxy = vec2(cam.right_sx.w, cam.up_sy.w);
+    vec2 sxy = vec2(cam.ndc_scale_x, cam.ndc_scale_y);
     vec2 corner = s.screen_polygon ? dir * sxy * SQRT2 : s.centre + dir.x * s.axis1 + dir.y * s.axis2;
     if (BOUNDS == BOUNDS_WORLD_QUAD && !ORTHOGRAPHIC && s.offset_mode) {
         // Gumhold's quad: the square around the silhouette circle in the silhouette plane,

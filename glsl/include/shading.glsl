@@ -11,8 +11,8 @@ float specular_lobe(float x, float n) {
 // constant, so a fragment pays for three dot products and two divisions. `n` is the unit
 // world normal.
 vec3 shade(vec3 n, vec3 base) {
-    vec3 nv = vec3(dot(n, cam.right_sx.xyz), dot(n, cam.up_sy.xyz), -dot(n, cam.forward.xyz));
-    float ka = cam.material.x, kd = cam.material.y, ks = cam.material.z, shininess = cam.material.w;
+    vec3 nv = vec3(dot(n, cam.right), dot(n, cam.up), -dot(n, cam.forward));
+    float ka = cam.ambient, kd = cam.diffuse, ks = cam.specular, shininess = cam.shininess;
     // key = normalize(-0.45, 0.65, 0.6); half = normalize(key + (0, 0, 1)).
     const vec3 KEY = vec3(-0.45, 0.65, 0.6) / 0.99247166;
     const vec3 HALF_KEY = (KEY + vec3(0.0, 0.0, 1.0)) / length(KEY + vec3(0.0, 0.0, 1.0));
@@ -21,16 +21,16 @@ vec3 shade(vec3 n, vec3 base) {
     float spec_head = specular_lobe(head, shininess);
     float spec_side = side > 0.0 ? specular_lobe(max(dot(nv, HALF_KEY), 0.0), shininess) : 0.0;
     return ka * base
-        + 0.55 * (kd * head * base + ks * spec_head * cam.specular_color.rgb)
-        + 0.6 * (kd * side * base + ks * spec_side * cam.specular_color.rgb);
+        + 0.55 * (kd * head * base + ks * spec_head * cam.specular_color)
+        + 0.6 * (kd * side * base + ks * spec_side * cam.specular_color);
 }
 
 // The pixel's ray relative to the eye: origin offset (orthographic) and direction with unit
 // forward component, so the ray parameter is the view depth.
 void pixel_ray(out vec3 origin, out vec3 dir) {
-    vec2 ndc = vec2(gl_FragCoord.x * cam.viewport.x - 1.0, 1.0 - gl_FragCoord.y * cam.viewport.y);
-    vec3 offset = ndc.x * cam.right_sx.w * cam.right_sx.xyz + ndc.y * cam.up_sy.w * cam.up_sy.xyz;
+    vec2 ndc = vec2(gl_FragCoord.x * cam.ndc_per_pixel.x - 1.0, 1.0 - gl_FragCoord.y * cam.ndc_per_pixel.y);
+    vec3 offset = ndc.x * cam.ndc_scale_x * cam.right + ndc.y * cam.ndc_scale_y * cam.up;
     origin = ORTHOGRAPHIC ? offset : vec3(0.0);
-    dir = ORTHOGRAPHIC ? cam.forward.xyz : cam.forward.xyz + offset;
+    dir = ORTHOGRAPHIC ? cam.forward : cam.forward + offset;
 }
 

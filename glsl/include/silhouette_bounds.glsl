@@ -23,11 +23,11 @@ vec2 tangent_slopes(vec3 a, vec3 b, float c_side, float cz, float b_len) {
 // instance's silhouette, and false when nothing of it lies beyond the near plane. A silhouette
 // reaching the eye plane gets the whole screen.
 bool silhouette_rect(Instance inst, out vec4 rect) {
-    vec3 r = cam.right_sx.xyz, u_axis = cam.up_sy.xyz, f = cam.forward.xyz;
-    float sx = cam.right_sx.w, sy = cam.up_sy.w, near = cam.eye_near.w;
+    vec3 r = cam.right, u_axis = cam.up, f = cam.forward;
+    float sx = cam.ndc_scale_x, sy = cam.ndc_scale_y, near = cam.near_plane;
     mat3 Rt = transpose(instance_rotation(inst));
     vec3 radii = instance_radii(inst);
-    vec3 c = vec3(dot(inst.center, r), dot(inst.center, u_axis), dot(inst.center, f)) - cam.eye_near.xyz;
+    vec3 c = vec3(dot(inst.center, r), dot(inst.center, u_axis), dot(inst.center, f)) - cam.eye_view;
     vec3 a_r = (Rt * r) * radii, a_u = (Rt * u_axis) * radii, a_f = (Rt * f) * radii;
     float half_z = length(a_f);
     rect = vec4(-1.0, -1.0, 1.0, 1.0);

@@ -11,7 +11,6 @@ pub struct GpuImage {
     image: vk::Image,
     view: vk::ImageView,
     allocation: Option<Allocation>,
-    format: vk::Format,
     extent: vk::Extent2D,
     name: &'static str,
 }
@@ -89,7 +88,6 @@ impl GpuImage {
             image,
             view,
             allocation: Some(allocation),
-            format,
             extent,
             name,
         })
@@ -103,11 +101,6 @@ impl GpuImage {
     /// The view of the whole image.
     pub fn view(&self) -> vk::ImageView {
         self.view
-    }
-
-    /// Pixel format.
-    pub fn format(&self) -> vk::Format {
-        self.format
     }
 
     /// Size in pixels.

@@ -1,12 +1,19 @@
-//! Vulkan plumbing: context, owned buffers and images, shaders, validation messages.
+//! Vulkan plumbing: owned buffers and shader modules; with the `offscreen` feature also the
+//! own-device context, owned images, queries and the validation messenger.
 
-pub mod buffer;
+pub(crate) mod buffer;
+#[cfg(feature = "offscreen")]
 pub mod context;
-pub mod image;
+#[cfg(feature = "offscreen")]
+pub(crate) mod image;
+#[cfg(feature = "offscreen")]
 pub mod queries;
-pub mod shaders;
+pub(crate) mod shaders;
+#[cfg(feature = "offscreen")]
 pub mod validation;
 
-pub use buffer::GpuBuffer;
+pub(crate) use buffer::GpuBuffer;
+#[cfg(feature = "offscreen")]
 pub use context::{Context, ContextOptions, DeviceInfo};
-pub use image::GpuImage;
+#[cfg(feature = "offscreen")]
+pub(crate) use image::GpuImage;

@@ -51,10 +51,10 @@ macro_rules! fragment_shader {
 pub const ELLIPSOID_VERT: &[u8] = spirv!("ellipsoid.vert.spv");
 /// The ellipsoid impostor fragment shader.
 pub const ELLIPSOID_FRAG: FragmentShader = fragment_shader!("ellipsoid.frag");
-/// `ELLIPSOID_VERT` reading the set-up the culling pre-pass computed (`PRESET_SETUP`).
-pub const ELLIPSOID_PRESET_VERT: &[u8] = spirv!("ellipsoid_preset.vert.spv");
-/// `ELLIPSOID_FRAG` reading the set-up the culling pre-pass computed (`PRESET_SETUP`).
-pub const ELLIPSOID_PRESET_FRAG: FragmentShader = fragment_shader!("ellipsoid_preset.frag");
+/// `ELLIPSOID_VERT` reading the set-up the pre-pass computed once (`SETUP_ONCE`).
+pub const ELLIPSOID_SETUP_ONCE_VERT: &[u8] = spirv!("ellipsoid_setup_once.vert.spv");
+/// `ELLIPSOID_FRAG` reading the set-up the pre-pass computed once (`SETUP_ONCE`).
+pub const ELLIPSOID_SETUP_ONCE_FRAG: FragmentShader = fragment_shader!("ellipsoid_setup_once.frag");
 /// The `impostor-flat-depth` fragment shader (no depth write).
 pub const ELLIPSOID_FLAT_DEPTH_FRAG: FragmentShader = fragment_shader!("ellipsoid_flat_depth.frag");
 /// The `flat-fill` fragment shader.
@@ -128,7 +128,7 @@ mod tests {
         let builds = |f: FragmentShader| [f.plain, f.counted, f.aux, f.aux_counted];
         for spirv in builds(ELLIPSOID_FRAG)
             .into_iter()
-            .chain(builds(ELLIPSOID_PRESET_FRAG))
+            .chain(builds(ELLIPSOID_SETUP_ONCE_FRAG))
         {
             let mut words = ash::util::read_spv(&mut std::io::Cursor::new(spirv)).unwrap();
             assert_eq!(mirror_depth_layout(&mut words), 1);

@@ -5,7 +5,7 @@
 use crate::compare::{compare, Bounds, ErrorStats};
 use crate::reference::render_reference;
 use ellipsoid_splat::gpu::ContextOptions;
-use ellipsoid_splat::{Camera, Frame, OffscreenRenderer, Scene};
+use ellipsoid_splat::{Camera, Frame, OffscreenRenderer, Outputs, Scene};
 
 /// A renderer on a device with validation and synchronization validation on.
 pub fn validated_renderer() -> OffscreenRenderer {
@@ -29,7 +29,9 @@ pub fn finish_validated(renderer: OffscreenRenderer) {
 /// validation message, leak, or error.
 pub fn render_gpu(scene: &Scene, camera: &Camera) -> Frame {
     let mut renderer = validated_renderer();
-    let frame = renderer.render(scene, camera).expect("GPU render");
+    let frame = renderer
+        .render(scene, camera, Outputs::ALL)
+        .expect("GPU render");
     finish_validated(renderer);
     frame
 }

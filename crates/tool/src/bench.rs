@@ -19,7 +19,7 @@ use ellipsoid_splat::draw::{Geometry, Method};
 use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::instances::InstanceFormat;
 use ellipsoid_splat::offscreen::OffscreenRenderer;
-use ellipsoid_splat::Scene;
+use ellipsoid_splat::{Outputs, Scene, Settings};
 use ellipsoid_splat_loaders::{random_cloud, tensor_field, Progress};
 use ellipsoid_splat_reference::render_reference;
 use ellipsoid_splat_reference::{compare, Bounds, ErrorStats};
@@ -246,7 +246,7 @@ pub fn run(
                 keep
             })
             .collect();
-        renderer.set_instance_format(InstanceFormat::Full);
+        renderer.set_settings(Settings::default());
         renderer.upload(&bench.scene)?;
         let reference = render_reference(&bench.scene, &bench.camera)?;
         let silhouette_pixels = reference.silhouette_pixels();
@@ -254,15 +254,15 @@ pub fn run(
         let mut format = InstanceFormat::Full;
         for &method in &active {
             use_method(renderer, method, &mut format, &bench.scene)?;
-            let (frame, timing) = renderer.render_uploaded(&bench.camera)?;
+            let (frame, timing) = renderer.render_uploaded(&bench.camera, Outputs::ALL)?;
             let stats = compare(&frame, &reference)?;
             // The exact pixel count comes from the counting build of the same shaders.
             renderer.set_count_fragments(true);
-            let counted = renderer.render_uploaded(&bench.camera);
+            let counted = renderer.render_uploaded(&bench.camera, Outputs::ALL);
             renderer.set_count_fragments(false);
             let shaded_pixels = counted?.1.shaded_fragments;
             for _ in 0..2 {
-                renderer.render_timed(&bench.camera)?;
+                renderer.render_timed(&bench.camera, Outputs::COLOR_DEPTH)?;
             }
             measured.push(Measured {
                 method,
@@ -288,7 +288,7 @@ pub fn run(
             for &k in &order {
                 let entry = &mut measured[k];
                 use_method(renderer, entry.method, &mut format, &bench.scene)?;
-                let timing = renderer.render_timed(&bench.camera)?;
+                let timing = renderer.render_timed(&bench.camera, Outputs::COLOR_DEPTH)?;
                 entry.wall.push(timing.gpu_wall.as_secs_f64() * 1e3);
                 entry.gpu.push(timing.gpu.gpu_ms);
             }
@@ -664,10 +664,13 @@ fn use_method(
 ) -> Result<()> {
     if method.instance_format() != *format {
         *format = method.instance_format();
-        renderer.set_instance_format(*format);
+        renderer.set_settings(Settings {
+            instance_format: *format,
+            ..Settings::default()
+        });
         renderer.upload(scene)?;
     }
-    renderer.set_config(method.config());
+    renderer.set_draw_config(method.config());
     Ok(())
 }
 

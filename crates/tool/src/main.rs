@@ -8,6 +8,7 @@ use clap::Parser;
 use ellipsoid_splat::draw::Intersection;
 use ellipsoid_splat::draw::Method;
 use ellipsoid_splat::gpu::{Context, ContextOptions};
+use ellipsoid_splat::{draw::DrawConfig, Outputs, Settings};
 use ellipsoid_splat::{OffscreenRenderer, Result};
 use ellipsoid_splat_loaders::Progress;
 use ellipsoid_splat_tool::bench;
@@ -57,12 +58,18 @@ fn render(args: &RenderArgs) -> Result<()> {
 
     let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
     let setup = start.elapsed() - load_time;
-    renderer.set_intersection(args.intersection.into());
+    renderer.set_draw_config(DrawConfig {
+        intersection: args.intersection.into(),
+        ..DrawConfig::default()
+    });
     if args.compact {
-        renderer.set_instance_format(ellipsoid_splat::instances::InstanceFormat::Compact);
+        renderer.set_settings(Settings {
+            instance_format: ellipsoid_splat::instances::InstanceFormat::Compact,
+            ..*renderer.settings()
+        });
     }
     renderer.upload(&scene)?;
-    let (frame, timing) = renderer.render_uploaded(&camera)?;
+    let (frame, timing) = renderer.render_uploaded(&camera, Outputs::ALL)?;
     renderer.context().check_validation()?;
 
     output::write_color_png(&frame, &args.output)?;

@@ -9,12 +9,12 @@ use glam::DVec3;
 use crate::bench::{frustum_cloud, median, HEIGHT, WIDTH};
 use crate::report::{bar_chart, format_table, write_csv, Axis};
 use ellipsoid_splat::camera::Camera;
-use ellipsoid_splat::draw::Footprint;
+use ellipsoid_splat::draw::DrawConfig;
 use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::frame::Frame;
 use ellipsoid_splat::offscreen::OffscreenRenderer;
-use ellipsoid_splat::renderer::Culling;
 use ellipsoid_splat::Scene;
+use ellipsoid_splat::{Outputs, Settings};
 use ellipsoid_splat_loaders::{packed_block, random_cloud, Progress};
 
 /// Columns of `skip.csv`.
@@ -108,41 +108,26 @@ impl Feature {
         }
     }
 
-    /// Puts the renderer in the feature's on or off state (everything else as shipped).
-    fn apply(self, renderer: &mut OffscreenRenderer, on: bool) {
-        reset_to_shipped(renderer);
+    /// Puts the renderer in the feature's on or off state (everything else as shipped);
+    /// returns the outputs timed frames draw.
+    fn apply(self, renderer: &mut OffscreenRenderer, on: bool) -> Outputs {
+        let mut settings = Settings::default();
+        let mut timed = Outputs::COLOR_DEPTH;
         match self {
-            Feature::FrustumCulling => renderer.set_culling(Culling {
-                frustum: on,
-                ..Culling::ON
-            }),
-            Feature::PixelCentreCulling => renderer.set_culling(Culling {
-                pixel_centres: on,
-                ..Culling::ON
-            }),
-            Feature::OcclusionCulling => renderer.set_culling(Culling {
-                occlusion: on,
-                ..Culling::ON
-            }),
-            Feature::SetupOnce => renderer.set_setup_in_prepass(on),
-            Feature::SpherePath => renderer.set_sphere_path(on),
-            Feature::CapFreePath => renderer.set_cap_free_path(on),
-            Feature::SmallGlyphTriangles => renderer.set_small_glyph_triangles(on),
-            Feature::AuxOutputsOnDemand => renderer.set_timed_aux_outputs(!on),
-            Feature::FrontToBack => {}
+            Feature::FrustumCulling => settings.culling.frustum = on,
+            Feature::PixelCentreCulling => settings.culling.pixel_centres = on,
+            Feature::OcclusionCulling => settings.culling.occlusion = on,
+            Feature::SetupOnce => settings.setup_once = on,
+            Feature::SpherePath => settings.sphere_path = on,
+            Feature::CapFreePath => settings.cap_free_path = on,
+            Feature::SmallGlyphTriangles => settings.small_glyph_triangles = on,
+            Feature::AuxOutputsOnDemand if !on => timed = Outputs::ALL,
+            Feature::AuxOutputsOnDemand | Feature::FrontToBack => {}
         }
+        renderer.set_settings(settings);
+        renderer.set_draw_config(DrawConfig::default());
+        timed
     }
-}
-
-/// Every skippable piece as shipped.
-fn reset_to_shipped(renderer: &mut OffscreenRenderer) {
-    renderer.set_culling(Culling::ON);
-    renderer.set_timed_aux_outputs(false);
-    renderer.set_setup_in_prepass(true);
-    renderer.set_footprint(Footprint::Auto);
-    renderer.set_small_glyph_triangles(false);
-    renderer.set_sphere_path(true);
-    renderer.set_cap_free_path(true);
 }
 
 /// One scene of the skip benchmark.
@@ -327,10 +312,10 @@ pub fn run(
             // Read-back frames for the pixel comparison (they also warm up the pipelines).
             let mut frames_read = Vec::new();
             for on in [false, true] {
-                feature.apply(renderer, on);
+                let timed = feature.apply(renderer, on);
                 renderer.upload(scene_for(on))?;
-                frames_read.push(renderer.render_uploaded(&s.camera)?.0);
-                renderer.render_timed(&s.camera)?;
+                frames_read.push(renderer.render_uploaded(&s.camera, Outputs::ALL)?.0);
+                renderer.render_timed(&s.camera, timed)?;
             }
             let changed = pixels_changed(&frames_read[0], &frames_read[1]);
             let (mut on_ms, mut off_ms) = (Vec::new(), Vec::new());
@@ -342,11 +327,15 @@ pub fn run(
                 } else {
                     [false, true]
                 } {
-                    feature.apply(renderer, on);
+                    let timed = feature.apply(renderer, on);
                     if uploads_differ {
                         renderer.upload(scene_for(on))?;
                     }
-                    let ms = renderer.render_timed(&s.camera)?.gpu_wall.as_secs_f64() * 1e3;
+                    let ms = renderer
+                        .render_timed(&s.camera, timed)?
+                        .gpu_wall
+                        .as_secs_f64()
+                        * 1e3;
                     if on {
                         on_ms.push(ms)
                     } else {
@@ -365,7 +354,7 @@ pub fn run(
         }
     }
     progress.finish();
-    reset_to_shipped(renderer);
+    renderer.set_settings(Settings::default());
     Ok(results)
 }
 

@@ -5,11 +5,11 @@
 use glam::{DQuat, DVec3, EulerRot};
 
 use ellipsoid_splat::camera::{Camera, Projection};
-use ellipsoid_splat::draw::Intersection;
+use ellipsoid_splat::draw::{DrawConfig, Intersection};
 use ellipsoid_splat::ellipsoid::Ellipsoid;
 use ellipsoid_splat::error::Result;
 use ellipsoid_splat::offscreen::OffscreenRenderer;
-use ellipsoid_splat::Scene;
+use ellipsoid_splat::{Outputs, Scene};
 use ellipsoid_splat_loaders::random_cloud;
 use ellipsoid_splat_reference::render_reference;
 use ellipsoid_splat_reference::{compare, Bounds, ErrorStats};
@@ -390,8 +390,11 @@ pub fn run_point(
     point: &StressPoint,
     method: Intersection,
 ) -> Result<StressResult> {
-    renderer.set_intersection(method);
-    let frame = renderer.render(&point.scene, &point.camera)?;
+    renderer.set_draw_config(DrawConfig {
+        intersection: method,
+        ..DrawConfig::default()
+    });
+    let frame = renderer.render(&point.scene, &point.camera, Outputs::ALL)?;
     let reference = render_reference(&point.scene, &point.camera)?;
     let stats = compare(&frame, &reference)?;
     let broken = stats.check(&Bounds::STRICT).err();

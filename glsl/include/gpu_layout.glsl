@@ -1,0 +1,116 @@
+// Every layout shared by the CPU and the shaders: push constants, instance records, set-up
+// records, the indirect draw and the specialization constants. `src/gpu_layout.rs` declares
+// the same structs with the same field names (#[repr(C)], sizes and offsets checked there);
+// change both together.
+
+// Push constants (`PushConstants`, 128 bytes: the most every device allows). Positions are
+// relative to the scene origin; the eye arrives already in view axes (rounded once from
+// float64), so float32 never subtracts two large nearly equal positions.
+layout(push_constant, std430) uniform PushConstants {
+    vec3 eye_view;          // the eye relative to the scene origin, in view axes
+    float near_plane;       // view depth of the near plane
+    vec3 right;             // camera right, world axes
+    float ndc_scale_x;      // NDC x -> screen plane: tan(fovy/2) W/H, or h/2 W/H orthographic
+    vec3 up;                // camera up
+    float ndc_scale_y;      // NDC y -> screen plane: tan(fovy/2), or h/2 orthographic
+    vec3 forward;           // view direction
+    float depth_a;          // depth map a (depth = a + b d + c / d, src/depth.rs)
+    vec2 ndc_per_pixel;     // 2/W, 2/H
+    float quad_margin_px;   // how far a footprint reaches beyond the exact silhouette bounds
+    float depth_b;          // depth map b
+    float ambient;          // material (Blinn-Phong)
+    float diffuse;
+    float specular;
+    float shininess;
+    vec3 specular_color;
+    float depth_c;          // depth map c
+    uint first_instance;    // the draw's first instance: scenes beyond one binding are drawn
+                            // in chunks, and shader instance indices are chunk-relative
+    float radius_unit;      // the compact format's unit of semi-axes
+    uint unused0;
+    uint unused1;
+} cam;
+
+// The full instance record (`Instance`, 48 bytes).
+struct Instance {
+    vec3 center;            // relative to the scene origin
+    uint color;             // sRGB-encoded RGBA8, packUnorm4x8 order
+    vec4 rotation;          // unit quaternion (x, y, z, w): local axes -> world
+    vec3 radii;             // semi-axes
+    float unused;
+};
+
+// The compact instance record (`CompactInstance`, 32 bytes).
+struct CompactInstance {
+    vec3 center;            // as in Instance
+    uint color;
+    uvec2 rotation;         // the quaternion as 4 x snorm16 (x, y | z, w)
+    uvec2 radii;            // 3 x float16 in units of cam.radius_unit (x, y | z, unused)
+};
+
+// The pre-pass's set-up of one impostor for the vertex stage (`FootprintRecord`, 32 bytes).
+struct FootprintRecord {
+    vec2 centre;            // footprint: centre + dir.x axis1 + dir.y axis2
+    vec2 axis1;
+    vec2 axis2;
+    float quad_z;           // constant depth-buffer value at the nearest point
+    uint flags;             // FOOTPRINT_CULLED, FOOTPRINT_SCREEN
+};
+
+// The pre-pass's set-up of one impostor for the fragment stage (`ShadingRecord`, 128 bytes:
+// a million instances fit the 128 MiB storage-buffer range every device supports).
+struct ShadingRecord {
+    vec3 ray_x;             // ray = ray_x (ndc.x - o.x) + ray_y (ndc.y - o.y) + ray_c
+    float radius;           // r = sqrt(1 - u^2)
+    vec3 ray_y;
+    float inv_eye_dist;     // u = 1 / |e~|
+    vec2 ray_origin;        // o: the projected centre's NDC (0 without offset mode)
+    float centre_depth;     // cz
+    uint flags;             // FLAG_* of instance_setup, FLAG_OFFSET_ORIGIN
+    vec3 ray_c;             // read only without FLAG_OFFSET_ORIGIN
+    float eye_dist;         // |e~|, likewise
+    vec3 depth_gradient;    // g: depth = cz + g.p (orthographic depth reads it)
+    float unused;
+    vec3 to_normal_x;       // frame point -> world normal (unnormalised), by column
+    float color_r;          // linear colour
+    vec3 to_normal_y;
+    float color_g;
+    vec3 to_normal_z;
+    float color_b;
+};
+
+// Specialization constants (`SpecConstants`): chosen when a pipeline is built. Every stage
+// declares all of them; each reads those it needs.
+layout(constant_id = 0) const bool ORTHOGRAPHIC = false;
+layout(constant_id = 2) const bool TEXTBOOK = false;       // benchmark baseline intersection
+// Footprint of an instance on screen.
+const int BOUNDS_TIGHT = 0;      // n-gon around the projected ellipse (4 corners: its oriented box)
+const int BOUNDS_AXIS_RECT = 1;  // the projected ellipse's axis-aligned bounding rectangle
+const int BOUNDS_WORLD_QUAD = 2; // Gumhold's square in the silhouette plane
+layout(constant_id = 3) const int BOUNDS = BOUNDS_TIGHT;
+layout(constant_id = 4) const int CORNERS = 4;
+layout(constant_id = 5) const bool FAST_NORMAL = false;    // modulus-normalised gradient
+layout(constant_id = 6) const bool CULL_FRUSTUM = true;
+layout(constant_id = 7) const bool CULL_PIXEL_CENTRES = true;
+// The draw reads instance indices compacted by the culling pre-pass (cull.comp).
+layout(constant_id = 8) const bool CULLED = false;
+layout(constant_id = 9) const int CULL_STEP = 1;
+layout(constant_id = 10) const bool CULL_OCCLUSION = false;
+layout(constant_id = 11) const bool CULL_SETUP = false;    // the pre-pass writes set-up records
+// Every instance is a sphere, stored with the identity rotation: rotation and per-axis radii
+// drop out of the set-up (same bits as the general path, less work).
+layout(constant_id = 13) const bool SPHERES = false;
+layout(constant_id = 14) const bool NO_CAPS = false;       // nothing reaches the near plane
+layout(constant_id = 15) const bool COMPACT = false;       // instances are CompactInstance
+
+#ifdef CULL_PASS
+// The culled draw's `VkDrawIndirectCommand` followed by the number of instances in the chunk
+// (`IndirectDraw`, 20 bytes).
+layout(std430, set = 0, binding = 3) buffer IndirectDraw {
+    uint vertex_count;
+    uint instance_count;
+    uint first_vertex;
+    uint first_instance;
+    uint total;
+};
+#endif

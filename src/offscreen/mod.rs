@@ -1,0 +1,410 @@
+//! The standalone path: owns a device, renders a scene into offscreen targets and reads back
+//! colour, view depth, world normal and instance ID.
+
+use std::time::{Duration, Instant};
+
+use ash::vk;
+
+mod outputs;
+mod readback;
+mod record;
+mod targets;
+
+use crate::camera::Camera;
+use crate::error::{Error, Result, VkCall};
+use crate::frame::Frame;
+use crate::gpu::queries::{FrameQueries, QueryResults};
+use crate::gpu::{Context, ContextOptions};
+use crate::renderer::{EllipsoidRenderer, FramePlan};
+use crate::scene::Scene;
+use crate::settings::Settings;
+use crate::target::{HostDevice, Pass, RendererOptions, Target, ID_FORMAT, NORMAL_FORMAT};
+
+pub use outputs::Outputs;
+use targets::Targets;
+
+const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
+const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+/// Background colour (linear RGB).
+const BACKGROUND: [f32; 4] = [0.045, 0.05, 0.065, 1.0];
+/// How long to wait for one frame before calling the device hung.
+const FRAME_TIMEOUT: Duration = Duration::from_secs(300);
+
+/// A self-contained renderer: its own Vulkan device, targets and readback.
+pub struct OffscreenRenderer {
+    renderer: Option<EllipsoidRenderer>,
+    targets: Option<Targets>,
+    command_pool: vk::CommandPool,
+    command_buffer: vk::CommandBuffer,
+    fence: vk::Fence,
+    queries: Option<FrameQueries>,
+    /// Read-back frames count shaded pixels (the benchmark's measuring aid).
+    #[cfg(feature = "research")]
+    count_fragments: bool,
+    /// A submission failed or was not waited for to completion: its command buffer may still
+    /// be pending, so nothing may be recorded again.
+    unfinished: bool,
+    // Declared last: dropped after the fields above have been destroyed by `Drop`.
+    context: Context,
+}
+
+/// Wall time of the parts of one frame, and what the GPU queries measured.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameTiming {
+    /// Submit to fence signalled.
+    pub gpu_wall: Duration,
+    /// Timestamps around the rendering pass, and fragment shader invocations in it.
+    pub gpu: QueryResults,
+    /// Pixels shaded, counted exactly by the fragment shaders (read-back frames on devices
+    /// with `fragmentStoresAndAtomics`).
+    pub shaded_fragments: Option<u64>,
+    /// Copying the readback into a [`Frame`].
+    pub readback: Duration,
+}
+
+impl OffscreenRenderer {
+    /// Creates a context with `options` and the renderer's pipelines.
+    pub fn new(options: &ContextOptions) -> Result<Self> {
+        let context = Context::new(options)?;
+        let mut this = Self {
+            renderer: None,
+            targets: None,
+            command_pool: vk::CommandPool::null(),
+            command_buffer: vk::CommandBuffer::null(),
+            fence: vk::Fence::null(),
+            queries: None,
+            #[cfg(feature = "research")]
+            count_fragments: false,
+            unfinished: false,
+            context,
+        };
+        this.create_objects()?; // on error, Drop releases what exists
+        Ok(this)
+    }
+
+    fn create_objects(&mut self) -> Result<()> {
+        let (_, family) = self.context.queue();
+        let device = self.context.device();
+        let info = vk::CommandPoolCreateInfo::default().queue_family_index(family);
+        // SAFETY: valid create info; owned by `self`, destroyed in `Drop`.
+        self.command_pool =
+            unsafe { device.create_command_pool(&info, None) }.call("vkCreateCommandPool")?;
+        let info = vk::CommandBufferAllocateInfo::default()
+            .command_pool(self.command_pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        // SAFETY: allocated from our pool; freed with it.
+        self.command_buffer =
+            unsafe { device.allocate_command_buffers(&info) }.call("vkAllocateCommandBuffers")?[0];
+        // SAFETY: valid create info; owned by `self`.
+        self.fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
+            .call("vkCreateFence")?;
+        // ash's instance and device are tables of function pointers: cheap to clone.
+        let (instance, device) = (
+            self.context.instance().clone(),
+            self.context.device().clone(),
+        );
+        let host = HostDevice {
+            instance: &instance,
+            physical_device: self.context.physical_device(),
+            device: &device,
+            queue_family_index: family,
+        };
+        let (_, allocator) = self.context.device_and_allocator();
+        // SAFETY: the context's handles belong together and have the required features.
+        let renderer =
+            unsafe { EllipsoidRenderer::new(&host, allocator, RendererOptions::new(target(true))) };
+        self.renderer = Some(renderer?);
+        let info = self.context.info();
+        let (statistics, period) = (info.pipeline_statistics, info.timestamp_period);
+        self.queries = Some(FrameQueries::new(
+            self.context.device(),
+            statistics,
+            period,
+        )?);
+        Ok(())
+    }
+
+    /// The Vulkan context (device info, validation messages).
+    pub fn context(&self) -> &Context {
+        &self.context
+    }
+
+    /// The settings in force (see [`EllipsoidRenderer::settings`]).
+    pub fn settings(&self) -> &Settings {
+        self.renderer().settings()
+    }
+
+    /// Changes the settings (see [`EllipsoidRenderer::set_settings`] for what each costs).
+    pub fn set_settings(&mut self, settings: Settings) {
+        self.renderer_mut().set_settings(settings);
+    }
+
+    /// What a frame of the uploaded scene with `camera` does (see
+    /// [`EllipsoidRenderer::plan`]).
+    pub fn plan(&self, camera: &Camera) -> Result<FramePlan> {
+        self.renderer().plan(camera)
+    }
+
+    /// Bytes of GPU memory the uploaded scene's buffers take (see
+    /// [`EllipsoidRenderer::gpu_memory_bytes`]).
+    pub fn gpu_memory_bytes(&self) -> u64 {
+        self.renderer().gpu_memory_bytes()
+    }
+
+    /// Draws with a benchmark baseline's `config` from the next frame on.
+    #[cfg(feature = "research")]
+    pub fn set_draw_config(&mut self, config: crate::draw::DrawConfig) {
+        self.renderer_mut().set_draw_config(config);
+    }
+
+    /// With `true`, read-back frames run the counting shader builds and report
+    /// `FrameTiming::shaded_fragments` (needs `fragmentStoresAndAtomics`).
+    #[cfg(feature = "research")]
+    pub fn set_count_fragments(&mut self, on: bool) {
+        self.count_fragments = on;
+    }
+
+    fn renderer(&self) -> &EllipsoidRenderer {
+        self.renderer
+            .as_ref()
+            .expect("renderer exists after construction")
+    }
+
+    fn renderer_mut(&mut self) -> &mut EllipsoidRenderer {
+        self.renderer
+            .as_mut()
+            .expect("renderer exists after construction")
+    }
+
+    /// Uploads the scene's instances (replacing the previous scene), in a submission of its
+    /// own.
+    pub fn upload(&mut self, scene: &Scene) -> Result<()> {
+        let cmd = self.begin_commands()?;
+        let renderer = self
+            .renderer
+            .as_mut()
+            .expect("renderer exists after construction");
+        let (device, allocator) = self.context.device_and_allocator();
+        // SAFETY: `cmd` is recording outside a pass; it is submitted and waited for below.
+        let recorded = unsafe { renderer.upload(device, allocator, cmd, scene) };
+        // SAFETY: `cmd` is recording.
+        unsafe { device.end_command_buffer(cmd) }.call("vkEndCommandBuffer")?;
+        recorded?;
+        self.submit_and_wait()
+    }
+
+    /// Starts the renderer's frame (every earlier submission was waited for) and begins the
+    /// one command buffer.
+    fn begin_commands(&mut self) -> Result<vk::CommandBuffer> {
+        if self.unfinished {
+            return Err(Error::invalid(
+                "offscreen renderer",
+                "an earlier frame did not finish (it timed out or the device was lost): create a new renderer",
+            ));
+        }
+        let cmd = self.command_buffer;
+        let renderer = self
+            .renderer
+            .as_mut()
+            .expect("renderer exists after construction");
+        let (device, allocator) = self.context.device_and_allocator();
+        // SAFETY: every submit is waited for, so nothing recorded earlier is pending: the
+        // renderer's one frame slot may begin and the pool may be reset (best practice over
+        // resetting the buffer).
+        unsafe {
+            renderer.begin_frame(device, allocator, 0)?;
+            device
+                .reset_command_pool(self.command_pool, vk::CommandPoolResetFlags::empty())
+                .call("vkResetCommandPool")?;
+            let begin = vk::CommandBufferBeginInfo::default()
+                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            device
+                .begin_command_buffer(cmd, &begin)
+                .call("vkBeginCommandBuffer")?;
+        }
+        Ok(cmd)
+    }
+
+    /// Uploads `scene` and renders `outputs` of it with `camera`.
+    pub fn render(&mut self, scene: &Scene, camera: &Camera, outputs: Outputs) -> Result<Frame> {
+        self.upload(scene)?;
+        Ok(self.render_uploaded(camera, outputs)?.0)
+    }
+
+    /// Renders the last uploaded scene and reads `outputs` back (the [`Frame`]'s other
+    /// images are empty). Only the targets of those outputs are allocated.
+    pub fn render_uploaded(
+        &mut self,
+        camera: &Camera,
+        outputs: Outputs,
+    ) -> Result<(Frame, FrameTiming)> {
+        let mut timing = self.draw(camera, outputs, true)?;
+        let start = Instant::now();
+        let frame = self.read_frame(camera, outputs)?;
+        timing.readback = start.elapsed();
+        Ok((frame, timing))
+    }
+
+    /// Renders the last uploaded scene into the targets of `outputs` without reading them
+    /// back: the frame a benchmark times.
+    pub fn render_timed(&mut self, camera: &Camera, outputs: Outputs) -> Result<FrameTiming> {
+        self.draw(camera, outputs, false)
+    }
+
+    /// Records, submits and waits for one frame; copies the targets out with `readback`.
+    fn draw(&mut self, camera: &Camera, outputs: Outputs, readback: bool) -> Result<FrameTiming> {
+        camera.validate()?;
+        let extent = vk::Extent2D {
+            width: camera.width,
+            height: camera.height,
+        };
+        self.ensure_targets(extent, outputs)?;
+        #[cfg(feature = "research")]
+        let counting =
+            readback && self.count_fragments && self.context.info().fragment_stores_and_atomics;
+        {
+            // Pipelines and meshes are made before recording, never inside a timed frame.
+            let renderer = self
+                .renderer
+                .as_mut()
+                .expect("renderer exists after construction");
+            let (device, allocator) = self.context.device_and_allocator();
+            renderer.set_target(target(outputs.aux()))?;
+            #[cfg(feature = "research")]
+            {
+                renderer.set_count_fragments(counting);
+                renderer.reset_fragment_counter()?;
+            }
+            renderer.prepare_for(device, allocator, camera)?;
+        }
+        self.record(camera, extent, outputs, readback)?;
+        let start = Instant::now();
+        self.submit_and_wait()?;
+        let gpu_wall = start.elapsed();
+        let gpu = match &self.queries {
+            Some(q) => q.read(self.context.device())?,
+            None => QueryResults::default(),
+        };
+        #[cfg(feature = "research")]
+        let shaded_fragments = if counting {
+            self.renderer().fragment_count().map(u64::from)
+        } else {
+            None
+        };
+        #[cfg(not(feature = "research"))]
+        let shaded_fragments = None;
+        Ok(FrameTiming {
+            gpu_wall,
+            gpu,
+            shaded_fragments,
+            readback: Duration::ZERO,
+        })
+    }
+
+    fn submit_and_wait(&mut self) -> Result<()> {
+        // Cleared only once the fence has signalled and been reset.
+        self.unfinished = true;
+        let device = self.context.device();
+        let (queue, _) = self.context.queue();
+        let buffers = [self.command_buffer];
+        let submit = vk::SubmitInfo::default().command_buffers(&buffers);
+        // SAFETY: the command buffer is fully recorded; the fence is unsignalled (reset after
+        // every wait) and owned by `self`.
+        unsafe {
+            device
+                .queue_submit(queue, &[submit], self.fence)
+                .call("vkQueueSubmit")?;
+            let waited =
+                device.wait_for_fences(&[self.fence], true, FRAME_TIMEOUT.as_nanos() as u64);
+            if waited == Err(vk::Result::TIMEOUT) {
+                return Err(Error::vulkan(
+                    "vkWaitForFences (frame took longer than 300 s)",
+                    vk::Result::TIMEOUT,
+                ));
+            }
+            waited.call("vkWaitForFences")?;
+            device.reset_fences(&[self.fence]).call("vkResetFences")?;
+        }
+        self.unfinished = false;
+        Ok(())
+    }
+}
+
+impl OffscreenRenderer {
+    /// Tears everything down and reports what a clean shutdown must not have: allocations the
+    /// allocator still tracks, and validation messages (including those raised while the
+    /// device and instance are destroyed).
+    pub fn finish(mut self) -> Result<()> {
+        self.release();
+        let live = self.context.live_allocations();
+        let log = self.context.message_log();
+        drop(self);
+        let failures = crate::gpu::validation::failures(&log);
+        if let Some(first) = failures.first() {
+            return Err(Error::Validation {
+                count: failures.len(),
+                first: first.to_string(),
+            });
+        }
+        if live != 0 {
+            return Err(Error::Allocation {
+                what: "shutdown",
+                reason: format!(
+                    "{live} allocation(s) still live after every resource was destroyed"
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// Destroys everything but the context (idempotent).
+    fn release(&mut self) {
+        let _ = self.context.wait_idle();
+        let renderer = self.renderer.take();
+        let targets = self.targets.take();
+        if let Some(mut q) = self.queries.take() {
+            q.destroy(self.context.device());
+        }
+        let (pool, fence) = (self.command_pool, self.fence);
+        let (device, allocator) = self.context.device_and_allocator();
+        if let Some(r) = renderer {
+            // SAFETY: the device is idle (waited above).
+            unsafe { r.destroy(device, allocator) };
+        }
+        if let Some(t) = targets {
+            t.destroy(device, allocator);
+        }
+        // SAFETY: the device is idle; pool (with its command buffer) and fence are owned here
+        // (null after the first release, which Vulkan ignores).
+        unsafe {
+            device.destroy_fence(fence, None);
+            device.destroy_command_pool(pool, None);
+        }
+        self.fence = vk::Fence::null();
+        self.command_pool = vk::CommandPool::null();
+    }
+}
+
+impl Drop for OffscreenRenderer {
+    fn drop(&mut self) {
+        self.release();
+    }
+}
+
+/// The offscreen pass: colour and depth, plus the normal and ID targets with `aux_outputs`.
+fn target(aux_outputs: bool) -> Target {
+    let color_formats = if aux_outputs {
+        vec![COLOR_FORMAT, NORMAL_FORMAT, ID_FORMAT]
+    } else {
+        vec![COLOR_FORMAT]
+    };
+    Target {
+        pass: Pass::Dynamic {
+            color_formats,
+            depth_format: DEPTH_FORMAT,
+        },
+        samples: vk::SampleCountFlags::TYPE_1,
+        aux_outputs,
+    }
+}

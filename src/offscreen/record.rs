@@ -1,0 +1,247 @@
+//! Recording one offscreen frame: pre-pass, pass, and the copies to the readback buffer.
+
+use ash::vk;
+
+use crate::camera::Camera;
+use crate::error::{Result, VkCall};
+use crate::frame::NO_INSTANCE;
+use crate::gpu::image::full_range;
+use crate::gpu::GpuImage;
+
+use super::targets::Targets;
+use super::{OffscreenRenderer, Outputs, BACKGROUND};
+
+impl OffscreenRenderer {
+    /// Records one frame into the command buffer: the pre-pass, the pass drawing into the
+    /// attachments of `outputs`, and with `readback` the copies of `outputs` to the readback
+    /// buffer.
+    pub(super) fn record(
+        &mut self,
+        camera: &Camera,
+        extent: vk::Extent2D,
+        outputs: Outputs,
+        readback: bool,
+    ) -> Result<()> {
+        let cmd = self.begin_commands()?;
+        let (device, allocator) = self.context.device_and_allocator();
+        let queries = self.queries.as_ref();
+        let targets = self
+            .targets
+            .as_ref()
+            .expect("targets exist after ensure_targets");
+        let renderer = self
+            .renderer
+            .as_mut()
+            .expect("renderer exists after construction");
+        // Colour always; normal and ID when asked for.
+        let mut colors: Vec<&GpuImage> = vec![&targets.color];
+        if let (true, Some((normal, id))) = (outputs.aux(), &targets.aux) {
+            colors.extend([normal, id]);
+        }
+        // SAFETY: `cmd` is recording (begin_commands) outside a pass; all recorded handles are
+        // owned by `self` and live until the submission, which is waited for, completes.
+        unsafe {
+            if let Some(q) = queries {
+                q.begin(device, cmd);
+            }
+            // The culling pre-pass runs outside the rendering pass.
+            renderer.record_prepass(device, allocator, cmd, camera)?;
+
+            // Attachments to render layouts. The previous frame's copy read them: wait for it.
+            let mut barriers: Vec<vk::ImageMemoryBarrier> = colors
+                .iter()
+                .map(|t| {
+                    vk::ImageMemoryBarrier::default()
+                        .src_access_mask(vk::AccessFlags::empty())
+                        .dst_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)
+                        .old_layout(vk::ImageLayout::UNDEFINED)
+                        .new_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                        .image(t.handle())
+                        .subresource_range(full_range(vk::ImageAspectFlags::COLOR))
+                })
+                .collect();
+            barriers.push(
+                vk::ImageMemoryBarrier::default()
+                    .src_access_mask(vk::AccessFlags::empty())
+                    .dst_access_mask(
+                        vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ
+                            | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                    )
+                    .old_layout(vk::ImageLayout::UNDEFINED)
+                    .new_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                    .image(targets.depth.handle())
+                    .subresource_range(full_range(vk::ImageAspectFlags::DEPTH)),
+            );
+            device.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+                    | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
+                    | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &barriers,
+            );
+
+            let clears = [
+                vk::ClearColorValue {
+                    float32: BACKGROUND,
+                },
+                vk::ClearColorValue { float32: [0.0; 4] },
+                vk::ClearColorValue {
+                    uint32: [NO_INSTANCE, 0, 0, 0],
+                },
+            ];
+            let color_attachments: Vec<vk::RenderingAttachmentInfo> = colors
+                .iter()
+                .zip(clears)
+                .map(|(t, clear)| {
+                    vk::RenderingAttachmentInfo::default()
+                        .image_view(t.view())
+                        .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                        .load_op(vk::AttachmentLoadOp::CLEAR)
+                        .store_op(vk::AttachmentStoreOp::STORE)
+                        .clear_value(vk::ClearValue { color: clear })
+                })
+                .collect();
+            let depth_attachment = vk::RenderingAttachmentInfo::default()
+                .image_view(targets.depth.view())
+                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(vk::ClearValue {
+                    depth_stencil: vk::ClearDepthStencilValue {
+                        depth: camera.depth.clear_value(),
+                        stencil: 0,
+                    },
+                });
+            let rendering = vk::RenderingInfo::default()
+                .render_area(vk::Rect2D {
+                    offset: vk::Offset2D { x: 0, y: 0 },
+                    extent,
+                })
+                .layer_count(1)
+                .color_attachments(&color_attachments)
+                .depth_attachment(&depth_attachment);
+            device.cmd_begin_rendering(cmd, &rendering);
+            if let Some(q) = queries {
+                q.begin_statistics(device, cmd);
+            }
+            renderer.record(device, allocator, cmd, camera)?;
+            if let Some(q) = queries {
+                q.end_statistics(device, cmd);
+            }
+            device.cmd_end_rendering(cmd);
+            if let Some(q) = queries {
+                q.end(device, cmd);
+            }
+
+            if readback {
+                // Attachments to transfer source, then copy into the readback buffer.
+                let to_transfer = |image: vk::Image, aspect, old, src_access| {
+                    vk::ImageMemoryBarrier::default()
+                        .src_access_mask(src_access)
+                        .dst_access_mask(vk::AccessFlags::TRANSFER_READ)
+                        .old_layout(old)
+                        .new_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+                        .image(image)
+                        .subresource_range(full_range(aspect))
+                };
+                let mut barriers: Vec<vk::ImageMemoryBarrier> = colors
+                    .iter()
+                    .map(|t| {
+                        to_transfer(
+                            t.handle(),
+                            vk::ImageAspectFlags::COLOR,
+                            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                            vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
+                        )
+                    })
+                    .collect();
+                barriers.push(to_transfer(
+                    targets.depth.handle(),
+                    vk::ImageAspectFlags::DEPTH,
+                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                    vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                ));
+                device.cmd_pipeline_barrier(
+                    cmd,
+                    vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+                        | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
+                        | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS,
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::DependencyFlags::empty(),
+                    &[],
+                    &[],
+                    &barriers,
+                );
+                let (offsets, _) = Targets::layout(extent, targets.outputs);
+                let (normal, id) = match &targets.aux {
+                    Some((normal, id)) => (Some(normal), Some(id)),
+                    None => (None, None),
+                };
+                let images = [
+                    (
+                        Some(&targets.color),
+                        vk::ImageAspectFlags::COLOR,
+                        offsets[0],
+                    ),
+                    (
+                        Some(&targets.depth),
+                        vk::ImageAspectFlags::DEPTH,
+                        offsets[1],
+                    ),
+                    (normal, vk::ImageAspectFlags::COLOR, offsets[2]),
+                    (id, vk::ImageAspectFlags::COLOR, offsets[3]),
+                ];
+                let wanted = [outputs.color, outputs.depth, outputs.normal, outputs.id];
+                for ((image, aspect, offset), wanted) in images.into_iter().zip(wanted) {
+                    let (Some(image), Some(offset), true) = (image, offset, wanted) else {
+                        continue;
+                    };
+                    let region = vk::BufferImageCopy::default()
+                        .buffer_offset(offset)
+                        .image_subresource(vk::ImageSubresourceLayers {
+                            aspect_mask: aspect,
+                            mip_level: 0,
+                            base_array_layer: 0,
+                            layer_count: 1,
+                        })
+                        .image_extent(vk::Extent3D {
+                            width: extent.width,
+                            height: extent.height,
+                            depth: 1,
+                        });
+                    device.cmd_copy_image_to_buffer(
+                        cmd,
+                        image.handle(),
+                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                        targets.readback.handle(),
+                        &[region],
+                    );
+                }
+                #[cfg(feature = "research")]
+                renderer.record_counter_barrier(device, cmd);
+                // Make the copies visible to the host read after the fence.
+                let to_host = vk::BufferMemoryBarrier::default()
+                    .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
+                    .dst_access_mask(vk::AccessFlags::HOST_READ)
+                    .buffer(targets.readback.handle())
+                    .offset(0)
+                    .size(vk::WHOLE_SIZE);
+                device.cmd_pipeline_barrier(
+                    cmd,
+                    vk::PipelineStageFlags::TRANSFER,
+                    vk::PipelineStageFlags::HOST,
+                    vk::DependencyFlags::empty(),
+                    &[],
+                    &[to_host],
+                    &[],
+                );
+            }
+            device.end_command_buffer(cmd).call("vkEndCommandBuffer")?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,145 @@
+//! The offscreen renderer's attachments and the host buffer they are copied into, made for
+//! one image size and one choice of outputs.
+
+use ash::vk;
+use gpu_allocator::vulkan::Allocator;
+use gpu_allocator::MemoryLocation;
+
+use crate::error::Result;
+use crate::gpu::{GpuBuffer, GpuImage};
+use crate::target::{ID_FORMAT, NORMAL_FORMAT};
+
+use super::{OffscreenRenderer, Outputs, COLOR_FORMAT, DEPTH_FORMAT};
+
+/// The attachments of one size: colour and depth always (the draw needs them), normal and ID
+/// when asked for, and a readback buffer for the outputs that are read back.
+pub(super) struct Targets {
+    pub outputs: Outputs,
+    pub color: GpuImage,
+    pub depth: GpuImage,
+    /// Normal and ID.
+    pub aux: Option<(GpuImage, GpuImage)>,
+    pub readback: GpuBuffer,
+}
+
+/// Bytes per pixel of each output in the readback buffer.
+const NORMAL_TEXEL: u64 = 16;
+const WORD_TEXEL: u64 = 4;
+
+impl Targets {
+    /// Byte offsets of colour, depth, normal and ID inside the readback buffer (`None` for an
+    /// output not read back), and its size. The normal comes first: a copy's buffer offset
+    /// must be a multiple of its 16-byte texel.
+    pub fn layout(extent: vk::Extent2D, outputs: Outputs) -> ([Option<u64>; 4], u64) {
+        let pixels = extent.width as u64 * extent.height as u64;
+        let mut at = 0;
+        let mut place = |wanted: bool, texel: u64| {
+            wanted.then(|| {
+                let offset = at;
+                at += texel * pixels;
+                offset
+            })
+        };
+        let normal = place(outputs.normal, NORMAL_TEXEL);
+        let color = place(outputs.color, WORD_TEXEL);
+        let depth = place(outputs.depth, WORD_TEXEL);
+        let id = place(outputs.id, WORD_TEXEL);
+        ([color, depth, normal, id], at)
+    }
+
+    /// The attachments for `extent` and `outputs`.
+    fn new(
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        extent: vk::Extent2D,
+        outputs: Outputs,
+    ) -> Result<Self> {
+        let attach = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
+        let color_aspect = vk::ImageAspectFlags::COLOR;
+        let mut specs = vec![
+            ("colour target", COLOR_FORMAT, attach, color_aspect),
+            (
+                "depth target",
+                DEPTH_FORMAT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+                vk::ImageAspectFlags::DEPTH,
+            ),
+        ];
+        if outputs.aux() {
+            specs.push(("normal target", NORMAL_FORMAT, attach, color_aspect));
+            specs.push(("id target", ID_FORMAT, attach, color_aspect));
+        }
+        // Build one at a time so a failure frees the ones already made.
+        let mut made: Vec<GpuImage> = Vec::new();
+        let free = |made: Vec<GpuImage>, allocator: &mut Allocator| {
+            made.into_iter().for_each(|i| i.destroy(device, allocator))
+        };
+        for (name, format, usage, aspect) in specs {
+            match GpuImage::new(device, allocator, name, format, extent, usage, aspect) {
+                Ok(image) => made.push(image),
+                Err(e) => {
+                    free(made, allocator);
+                    return Err(e);
+                }
+            }
+        }
+        let readback = match GpuBuffer::new(
+            device,
+            allocator,
+            "readback",
+            Self::layout(extent, outputs).1,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        ) {
+            Ok(b) => b,
+            Err(e) => {
+                free(made, allocator);
+                return Err(e);
+            }
+        };
+        let mut it = made.into_iter();
+        let (Some(color), Some(depth)) = (it.next(), it.next()) else {
+            unreachable!("colour and depth targets were made");
+        };
+        let aux = it.next().zip(it.next());
+        Ok(Self {
+            outputs,
+            color,
+            depth,
+            aux,
+            readback,
+        })
+    }
+
+    /// Destroys every image and the buffer; nothing may use them.
+    pub fn destroy(self, device: &ash::Device, allocator: &mut Allocator) {
+        self.color.destroy(device, allocator);
+        self.depth.destroy(device, allocator);
+        if let Some((normal, id)) = self.aux {
+            normal.destroy(device, allocator);
+            id.destroy(device, allocator);
+        }
+        self.readback.destroy(device, allocator);
+    }
+}
+
+impl OffscreenRenderer {
+    /// Makes the targets match `extent` and hold at least `outputs`, replacing them if they
+    /// do not.
+    pub(super) fn ensure_targets(&mut self, extent: vk::Extent2D, outputs: Outputs) -> Result<()> {
+        if self
+            .targets
+            .as_ref()
+            .is_some_and(|t| t.color.extent() == extent && t.outputs.covers(outputs))
+        {
+            return Ok(());
+        }
+        let (device, allocator) = self.context.device_and_allocator();
+        if let Some(old) = self.targets.take() {
+            // Every submission is waited for before returning, so nothing uses them.
+            old.destroy(device, allocator);
+        }
+        self.targets = Some(Targets::new(device, allocator, extent, outputs)?);
+        Ok(())
+    }
+}

@@ -1,0 +1,171 @@
+//! The renderer's storage buffers, one per descriptor binding, as one table: each grows
+//! through the same rule (a buffer too small is replaced, and the old one retired until no
+//! recorded frame can use it).
+
+use ash::vk;
+use gpu_allocator::vulkan::Allocator;
+use gpu_allocator::MemoryLocation;
+
+use crate::error::{Error, Result};
+use crate::frame_slots::{FrameSlots, Retired};
+use crate::gpu::GpuBuffer;
+
+/// The bindings of the renderer's descriptor set, each backed by one buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Binding {
+    /// The instance records.
+    Instances = 0,
+    /// The benchmark's count of shaded pixels.
+    FragmentCounter = 1,
+    /// Instance indices kept by the pre-pass.
+    Visible = 2,
+    /// The pre-pass's indirect draw commands, one slice per chunk.
+    IndirectDraw = 3,
+    /// The pre-pass's keep bits and group slots.
+    CullGroups = 4,
+    /// The pre-pass's occlusion tiles.
+    OcclusionTiles = 5,
+    /// Set-up records for the fragment stage.
+    ShadingRecords = 6,
+    /// Set-up records for the vertex stage.
+    FootprintRecords = 7,
+}
+
+impl Binding {
+    /// Every binding, in binding order.
+    pub const ALL: [Binding; 8] = [
+        Binding::Instances,
+        Binding::FragmentCounter,
+        Binding::Visible,
+        Binding::IndirectDraw,
+        Binding::CullGroups,
+        Binding::OcclusionTiles,
+        Binding::ShadingRecords,
+        Binding::FootprintRecords,
+    ];
+
+    /// The shader stages that read or write the binding.
+    pub fn stages(self) -> vk::ShaderStageFlags {
+        let vertex_and_compute = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
+        match self {
+            Binding::Instances | Binding::Visible | Binding::FootprintRecords => vertex_and_compute,
+            Binding::FragmentCounter => vk::ShaderStageFlags::FRAGMENT,
+            Binding::IndirectDraw | Binding::CullGroups | Binding::OcclusionTiles => {
+                vk::ShaderStageFlags::COMPUTE
+            }
+            Binding::ShadingRecords => {
+                vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT
+            }
+        }
+    }
+
+    /// Name of the buffer (allocation names and errors).
+    fn name(self) -> &'static str {
+        match self {
+            Binding::Instances => "ellipsoid instances",
+            Binding::FragmentCounter => "fragment counter",
+            Binding::Visible => "visible instances",
+            Binding::IndirectDraw => "culled draw",
+            Binding::CullGroups => "culling groups",
+            Binding::OcclusionTiles => "occlusion tiles",
+            Binding::ShadingRecords => "shading set-up",
+            Binding::FootprintRecords => "footprint set-up",
+        }
+    }
+
+    /// How the buffer is used besides as a storage buffer.
+    fn usage(self) -> vk::BufferUsageFlags {
+        let extra = match self {
+            Binding::Instances | Binding::OcclusionTiles => vk::BufferUsageFlags::TRANSFER_DST,
+            Binding::IndirectDraw => {
+                vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST
+            }
+            _ => vk::BufferUsageFlags::empty(),
+        };
+        vk::BufferUsageFlags::STORAGE_BUFFER | extra
+    }
+
+    /// Where the buffer lives: the counter is read by the host, the rest only by the GPU.
+    fn location(self) -> MemoryLocation {
+        match self {
+            Binding::FragmentCounter => MemoryLocation::GpuToCpu,
+            _ => MemoryLocation::GpuOnly,
+        }
+    }
+}
+
+/// One buffer per [`Binding`], each made on first need and grown on demand.
+#[derive(Default)]
+pub(crate) struct SceneBuffers {
+    buffers: [Option<GpuBuffer>; 8],
+    /// A buffer was replaced since the descriptor sets were written.
+    pub replaced: bool,
+}
+
+impl SceneBuffers {
+    /// The buffer of `binding`, if it exists.
+    pub fn get(&self, binding: Binding) -> Option<&GpuBuffer> {
+        self.buffers[binding as usize].as_ref()
+    }
+
+    /// The handle of `binding`'s buffer, or an error naming it.
+    pub fn handle(&self, binding: Binding) -> Result<vk::Buffer> {
+        self.get(binding).map(GpuBuffer::handle).ok_or_else(|| {
+            Error::invalid(
+                "descriptor set",
+                format!(
+                    "binding {} ({}) has no buffer",
+                    binding as u32,
+                    binding.name()
+                ),
+            )
+        })
+    }
+
+    /// The buffer of `binding`, mutably (the host-visible counter).
+    pub fn get_mut(&mut self, binding: Binding) -> Option<&mut GpuBuffer> {
+        self.buffers[binding as usize].as_mut()
+    }
+
+    /// Makes `binding`'s buffer hold at least `bytes`: a smaller one is replaced and retired
+    /// into `slots` until no recorded frame can use it.
+    pub fn ensure(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        slots: &mut FrameSlots<Retired>,
+        binding: Binding,
+        bytes: u64,
+    ) -> Result<()> {
+        let slot = &mut self.buffers[binding as usize];
+        if let Some(buffer) = slot.take() {
+            if buffer.size() >= bytes {
+                *slot = Some(buffer);
+                return Ok(());
+            }
+            slots.retire(Retired::Buffer(buffer));
+        }
+        *slot = Some(GpuBuffer::new(
+            device,
+            allocator,
+            binding.name(),
+            bytes,
+            binding.usage(),
+            binding.location(),
+        )?);
+        self.replaced = true;
+        Ok(())
+    }
+
+    /// Bytes of GPU memory all buffers take.
+    pub fn memory_bytes(&self) -> u64 {
+        self.buffers.iter().flatten().map(GpuBuffer::size).sum()
+    }
+
+    /// Destroys every buffer.
+    pub fn destroy(&mut self, device: &ash::Device, allocator: &mut Allocator) {
+        for buffer in self.buffers.iter_mut().filter_map(Option::take) {
+            buffer.destroy(device, allocator);
+        }
+    }
+}

@@ -1,0 +1,50 @@
+//! Scenes beyond one storage-buffer binding: the instances are split into chunks, each with
+//! its own descriptor set (slices of the scene's buffers), pre-pass and draw, in instance
+//! order so depth ties resolve as in one draw.
+
+use crate::culling;
+
+/// Alignment of each chunk's slice of a buffer: a multiple of every device's
+/// `minStorageBufferOffsetAlignment` (at most 256 by the specification).
+pub(crate) const SLICE_ALIGN: u64 = 256;
+
+/// How a scene of `count` instances is split.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Chunking {
+    /// Instances per chunk, a multiple of 256 so every slice stays aligned.
+    pub capacity: u32,
+    /// Instances in the scene.
+    pub count: u32,
+}
+
+impl Chunking {
+    /// Chunks of as many instances of `stride` bytes as one binding of `max_range` bytes
+    /// holds, and at most `max_instances`.
+    pub fn new(count: u32, stride: usize, max_range: u32, max_instances: u32) -> Self {
+        let by_device = max_range as u64 / stride as u64;
+        let capacity = by_device.min(max_instances as u64) / 256 * 256;
+        Self {
+            capacity: capacity.max(256) as u32,
+            count,
+        }
+    }
+
+    /// The chunks: (first instance, instances); none for an empty scene.
+    pub fn chunks(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
+        (0..self.count.div_ceil(self.capacity)).map(|k| {
+            let first = k * self.capacity;
+            (first, self.capacity.min(self.count - first))
+        })
+    }
+
+    /// Number of chunks (at least one, so an empty scene still has a descriptor set).
+    pub fn len(&self) -> u32 {
+        self.count.div_ceil(self.capacity).max(1)
+    }
+
+    /// Bytes of one chunk's slice of the culling-groups buffer.
+    pub fn groups_slice(&self) -> u64 {
+        let chunk = self.capacity.min(self.count.max(1));
+        culling::groups_bytes(chunk).next_multiple_of(SLICE_ALIGN)
+    }
+}

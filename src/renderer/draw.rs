@@ -1,0 +1,163 @@
+//! Recording the draw: one instanced (or indirect) draw per chunk, inside the host's pass.
+
+use ash::vk;
+use gpu_allocator::vulkan::Allocator;
+
+use crate::camera::Camera;
+use crate::draw::Geometry;
+use crate::error::{Error, Result};
+use crate::pipeline::PipelineKey;
+
+use super::buffers::Binding;
+use super::chunks::SLICE_ALIGN;
+use super::pipelines::DRAW_PUSH_STAGES;
+use super::plan::FramePlan;
+use super::push::push_constants;
+use super::EllipsoidRenderer;
+
+impl EllipsoidRenderer {
+    /// Creates what a frame with `plan` draws with (the pipeline, and a baseline's mesh)
+    /// ahead of `record`, so recording itself allocates nothing.
+    pub(crate) fn prepare(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        plan: &FramePlan,
+    ) -> Result<()> {
+        #[cfg(feature = "research")]
+        if let Geometry::Mesh(level) = plan.config.geometry {
+            self.meshes.ensure(device, allocator, level)?;
+        }
+        #[cfg(not(feature = "research"))]
+        let _ = allocator;
+        let target = &self.targets[plan.target];
+        self.pipelines
+            .draw(device, PipelineKey::of(plan), target)
+            .map(|_| ())
+    }
+
+    /// Creates the pipeline of a frame with `camera` now, so the first `record` with it
+    /// does not pay for building it.
+    pub fn prepare_for(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        camera: &Camera,
+    ) -> Result<()> {
+        let plan = self.plan(camera)?;
+        self.prepare(device, allocator, &plan)
+    }
+
+    /// Records the draw into `cmd`, inside the host's pass. Sets viewport and scissor to the
+    /// camera's whole image. Records nothing if the scene is empty. A frame whose plan has a
+    /// pre-pass needs `record_prepass` with the same camera first, before the pass (an error
+    /// otherwise).
+    ///
+    /// # Safety
+    /// `cmd` is a command buffer of `device` recording inside a pass compatible with the
+    /// current [`crate::Target`] (same attachments, formats and sample count; for a render
+    /// pass, its subpass), whose attachments are the camera's image size; it is submitted as
+    /// [`EllipsoidRenderer::record_prepass`] requires.
+    pub unsafe fn record(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        cmd: vk::CommandBuffer,
+        camera: &Camera,
+    ) -> Result<()> {
+        camera.validate()?;
+        // The indirect draw needs this frame's pre-pass, recorded with the same plan.
+        let prepared = self.prepared.take();
+        if self.scene.count == 0 {
+            return Ok(());
+        }
+        let plan = match prepared {
+            Some((prepared_camera, plan)) if prepared_camera == *camera => plan,
+            _ => {
+                let plan = self.plan(camera)?;
+                if plan.prepass {
+                    return Err(Error::invalid(
+                        "record",
+                        "this draw goes through the culling pre-pass: call record_prepass \
+                         with the same camera first",
+                    ));
+                }
+                plan
+            }
+        };
+        self.prepare(device, allocator, &plan)?;
+        let key = PipelineKey::of(&plan);
+        let pipeline = self
+            .pipelines
+            .draw(device, key, &self.targets[plan.target])?;
+        let sets = self.descriptor_sets(device)?;
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: camera.width as f32,
+            height: camera.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        let scissor = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent: vk::Extent2D {
+                width: camera.width,
+                height: camera.height,
+            },
+        };
+        let indirect = self.buffers.handle(Binding::IndirectDraw)?;
+        let layout = self.pipelines.draw_layout;
+        // SAFETY: `cmd` is recording inside a compatible rendering pass (caller contract); every
+        // bound object is owned by `self` and outlives the command buffer's execution.
+        unsafe {
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+            device.cmd_set_viewport(cmd, 0, &[viewport]);
+            device.cmd_set_scissor(cmd, 0, &[scissor]);
+            #[cfg(feature = "research")]
+            self.meshes.bind(device, cmd, plan.config.geometry);
+            // One draw per chunk, in instance order (so depth ties resolve as in one draw).
+            let chunks: Vec<(u32, u32)> = self.chunking().chunks().collect();
+            for (k, ((first, count), set)) in chunks.into_iter().zip(sets).enumerate() {
+                device.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    layout,
+                    0,
+                    &[set],
+                    &[],
+                );
+                let push = push_constants(
+                    camera,
+                    &self.settings.material,
+                    self.scene.origin,
+                    self.scene.radius_unit,
+                    first,
+                );
+                device.cmd_push_constants(
+                    cmd,
+                    layout,
+                    DRAW_PUSH_STAGES,
+                    0,
+                    bytemuck::bytes_of(&push),
+                );
+                match plan.config.geometry {
+                    Geometry::Impostor if plan.prepass => {
+                        let offset = k as u64 * SLICE_ALIGN;
+                        device.cmd_draw_indirect(cmd, indirect, offset, 1, 16)
+                    }
+                    Geometry::Impostor => {
+                        device.cmd_draw(cmd, plan.config.footprint.vertices(), count, 0, 0)
+                    }
+                    #[cfg(feature = "research")]
+                    Geometry::BoxProxy => device.cmd_draw(cmd, 36, count, 0, 0),
+                    #[cfg(feature = "research")]
+                    Geometry::Mesh(level) => {
+                        device.cmd_draw_indexed(cmd, self.meshes.index_count(level), count, 0, 0, 0)
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,360 @@
+//! `EllipsoidRenderer`: the pipelines, the scene's buffers and the recorded draw, embeddable
+//! in a host's frame. It records into command buffers it is given; it never submits, never
+//! waits, and never destroys what the host owns.
+//!
+//! # Barriers and layouts
+//!
+//! Everything is recorded for one queue (the `HostDevice::queue_family_index`), in the order
+//! the host records the calls:
+//! - [`EllipsoidRenderer::upload`] and [`EllipsoidRenderer::update`] (outside a pass): a barrier
+//!   from earlier vertex/compute reads of the instance buffer to the transfer write, the copy
+//!   from a staging buffer, and a barrier from the transfer write to vertex and compute shader
+//!   reads.
+//! - [`EllipsoidRenderer::record_prepass`] (outside a pass): a barrier from the previous draw's
+//!   indirect, vertex, fragment and compute reads to its transfer and compute writes, its
+//!   dispatches with compute-to-compute barriers between them, and a barrier from its compute
+//!   writes to indirect-command, vertex and fragment shader reads.
+//! - [`EllipsoidRenderer::record`] (inside the host's pass): binds its pipeline, descriptor set
+//!   and push constants, sets viewport and scissor to the camera's image, and draws. It
+//!   records no barrier and leaves the host's dynamic state other than viewport and scissor
+//!   as it was; the host rebinds its own pipeline afterwards.
+//!
+//! The renderer never touches the host's images: their layouts and the barriers around the
+//! pass (attachment writes before sampling, resolve, present) are the host's, as for any draw.
+//! It reads depth with the camera's compare op and writes depth and the colour attachments of
+//! its [`Target`] with no blending. Every barrier is listed as data in [`crate::barriers`].
+//!
+//! The parts, one file each: [`FramePlan`] (what a frame does, decided once), the scene's
+//! buffers (one table), chunking, descriptor sets, pipelines, upload, pre-pass and draw.
+
+mod buffers;
+mod chunks;
+mod descriptors;
+mod draw;
+mod pipelines;
+mod plan;
+mod prepass;
+mod push;
+#[cfg(feature = "research")]
+mod research;
+mod upload;
+mod uploaded;
+
+use ash::vk;
+use glam::DVec3;
+use gpu_allocator::vulkan::Allocator;
+
+use crate::camera::Camera;
+use crate::draw::DrawConfig;
+use crate::error::Result;
+use crate::frame_slots::{FrameSlots, Retired};
+use crate::settings::Settings;
+use crate::target::DeviceCaps;
+pub use crate::target::{HostDevice, Pass, RendererOptions, Target};
+
+use buffers::{Binding, SceneBuffers};
+use chunks::Chunking;
+use pipelines::Pipelines;
+use plan::PlanInputs;
+pub use plan::{FramePlan, MAX_SETUP_ONCE_INSTANCES, SETUP_ONCE_MAX_AREA_PX};
+use uploaded::UploadedScene;
+
+/// Pipeline, descriptor and instance data for drawing one scene into a host's frame.
+///
+/// One frame, recorded into the host's command buffer (`examples/minimal.rs` and
+/// `examples/embed` are whole programs):
+///
+/// ```no_run
+/// use ash::vk;
+/// use ellipsoid_splat::{Camera, EllipsoidRenderer, Scene};
+/// use glam::DMat4;
+///
+/// /// # Safety
+/// /// `cmd` is recording outside a pass; `slot`'s previous work has completed.
+/// unsafe fn frame(
+///     renderer: &mut EllipsoidRenderer,
+///     device: &ash::Device,
+///     allocator: &mut gpu_allocator::vulkan::Allocator,
+///     cmd: vk::CommandBuffer,
+///     slot: u32,
+///     scene: Option<&Scene>,
+///     (view, projection): (DMat4, DMat4),
+/// ) -> ellipsoid_splat::Result<()> {
+///     // The host's matrices (Vulkan clip space) and image size give the camera.
+///     let camera = Camera::from_view_projection(view, projection, 1920, 1080)?;
+///     unsafe {
+///         renderer.begin_frame(device, allocator, slot)?;
+///         if let Some(scene) = scene {
+///             renderer.upload(device, allocator, cmd, scene)?; // outside the pass
+///         }
+///         renderer.record_prepass(device, allocator, cmd, &camera)?; // outside the pass
+///         // ... the host begins its render pass (or dynamic rendering) and draws its meshes ...
+///         renderer.record(device, allocator, cmd, &camera)?; // inside the pass
+///         // ... the host ends its pass, submits, and waits for this slot before reusing it.
+///     }
+///     Ok(())
+/// }
+/// ```
+pub struct EllipsoidRenderer {
+    caps: DeviceCaps,
+    settings: Settings,
+    /// Every target drawn into so far; `target` indexes the current one.
+    targets: Vec<Target>,
+    target: usize,
+    slots: FrameSlots<Retired>,
+    pipelines: Pipelines,
+    buffers: SceneBuffers,
+    /// The per-chunk descriptor sets, and the pool holding them alone.
+    descriptor_pool: vk::DescriptorPool,
+    descriptor_sets: Vec<vk::DescriptorSet>,
+    scene: UploadedScene,
+    /// The plan and camera of the pre-pass recorded for the next `record`.
+    prepared: Option<(Camera, FramePlan)>,
+    /// How the glyphs are drawn: the shipped impostor unless the benchmark chose a baseline.
+    config: DrawConfig,
+    /// Fragment shaders count shaded pixels (the benchmark's measuring aid).
+    count_fragments: bool,
+    #[cfg(feature = "research")]
+    meshes: research::Meshes,
+}
+
+impl EllipsoidRenderer {
+    /// A renderer for the host's device, drawing into `options.target`. Creates the
+    /// descriptor-set and pipeline layouts and a few small buffers through `allocator`;
+    /// pipelines are built on first use of each variant, so a scene pays only for what it
+    /// draws. Errors name what the host's device or target lacks.
+    ///
+    /// # Safety
+    /// `host`'s handles are valid and belong together (the device was created from
+    /// `physical_device`, which comes from `instance`), the device has the features of
+    /// [`crate::features::required_device_features`] enabled, `allocator` allocates from
+    /// that device, and `options.target`'s render pass (if any) and `options.pipeline_cache`
+    /// outlive the renderer.
+    pub unsafe fn new(
+        host: &HostDevice,
+        allocator: &mut Allocator,
+        options: RendererOptions,
+    ) -> Result<Self> {
+        let caps = host.caps()?;
+        options.target.validate(&caps)?;
+        let device = host.device;
+        let mut renderer = Self {
+            caps,
+            settings: options.settings,
+            targets: vec![options.target],
+            target: 0,
+            slots: FrameSlots::new(options.frames_in_flight)?,
+            pipelines: Pipelines::new(options.pipeline_cache),
+            buffers: SceneBuffers::default(),
+            descriptor_pool: vk::DescriptorPool::null(),
+            descriptor_sets: Vec::new(),
+            scene: UploadedScene::default(),
+            prepared: None,
+            config: DrawConfig::default(),
+            count_fragments: false,
+            #[cfg(feature = "research")]
+            meshes: research::Meshes::default(),
+        };
+        // On failure, `destroy` releases whatever was created (null handles are skipped).
+        match renderer
+            .pipelines
+            .create_layouts(device)
+            .and_then(|_| renderer.size_buffers(device, allocator, 0, (1, 1)))
+        {
+            Ok(()) => Ok(renderer),
+            Err(e) => {
+                // SAFETY: nothing was recorded with the renderer's objects yet.
+                unsafe { renderer.destroy(device, allocator) };
+                Err(e)
+            }
+        }
+    }
+
+    /// What a frame with `camera` does: footprint, culling, set-up once, shader variants.
+    /// `record_prepass` and `record` decide with this same plan.
+    pub fn plan(&self, camera: &Camera) -> Result<FramePlan> {
+        camera.validate()?;
+        FramePlan::new(PlanInputs {
+            scene: &self.scene,
+            settings: &self.settings,
+            config: self.config,
+            count_fragments: self.count_fragments,
+            target: (self.target, &self.targets[self.target]),
+            camera,
+        })
+    }
+
+    /// The settings in force.
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// Changes the settings. The material costs nothing (push constants). Culling, set-up
+    /// once and the sphere and cap-free paths take effect at the next frame and build the
+    /// pipelines of the new variant on first use (milliseconds each on a GPU driver, up to
+    /// a few hundred on lavapipe). The instance format and the chunk size take effect at
+    /// the next `upload`.
+    pub fn set_settings(&mut self, settings: Settings) {
+        self.settings = settings;
+    }
+
+    /// Draws into `target` from the next `record` on (pipelines for earlier targets are
+    /// kept, so switching back costs nothing). Errors say what the device or the description
+    /// lacks.
+    pub fn set_target(&mut self, target: Target) -> Result<()> {
+        if let Some(k) = self.targets.iter().position(|t| *t == target) {
+            self.target = k;
+            return Ok(());
+        }
+        target.validate(&self.caps)?;
+        self.targets.push(target);
+        self.target = self.targets.len() - 1;
+        Ok(())
+    }
+
+    /// The target the next `record` draws into.
+    pub fn current_target(&self) -> &Target {
+        &self.targets[self.target]
+    }
+
+    /// Starts frame slot `slot` (in `0..frames_in_flight`): destroys the buffers and
+    /// descriptor sets replaced while frames that might still read them were recorded. Call
+    /// it once per frame, before recording anything else of the frame.
+    ///
+    /// # Safety
+    /// Every command buffer recorded with this renderer since `slot` last began has finished
+    /// executing (the host waited for that slot's fence).
+    pub unsafe fn begin_frame(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        slot: u32,
+    ) -> Result<()> {
+        for object in self.slots.begin(slot)? {
+            // SAFETY: the frame-slot rule and the caller's contract prove no pending work
+            // uses it.
+            unsafe { object.destroy(device, allocator) };
+        }
+        Ok(())
+    }
+
+    /// Bytes of GPU memory the scene's buffers take (instances, culling and set-up buffers,
+    /// occlusion tiles).
+    pub fn gpu_memory_bytes(&self) -> u64 {
+        self.buffers.memory_bytes()
+    }
+
+    /// Number of instances uploaded.
+    pub fn count(&self) -> u32 {
+        self.scene.count
+    }
+
+    /// The scene origin that instance positions are stored relative to.
+    pub fn origin(&self) -> DVec3 {
+        self.scene.origin
+    }
+
+    /// How the uploaded instances are split across descriptor sets.
+    fn chunking(&self) -> Chunking {
+        Chunking::new(
+            self.scene.count,
+            self.scene.format.bytes(),
+            self.caps.limits.max_storage_buffer_range,
+            self.settings.max_chunk_instances,
+        )
+    }
+
+    /// Makes every buffer but the instances' hold a scene of `count` instances in an image
+    /// of `tiles_extent` pixels (the occlusion tiles).
+    fn size_buffers(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        count: u32,
+        tiles_extent: (u32, u32),
+    ) -> Result<()> {
+        let chunking = Chunking {
+            count,
+            ..self.chunking()
+        };
+        // Set-up records only for scenes that can use them.
+        let records = if count <= MAX_SETUP_ONCE_INSTANCES {
+            count.max(1) as u64
+        } else {
+            1
+        };
+        let sizes = [
+            (Binding::FragmentCounter, 4),
+            (Binding::Visible, 4 * count.max(1) as u64),
+            (
+                Binding::IndirectDraw,
+                chunking.len() as u64 * chunks::SLICE_ALIGN,
+            ),
+            (
+                Binding::CullGroups,
+                chunking.len() as u64 * chunking.groups_slice(),
+            ),
+            (
+                Binding::OcclusionTiles,
+                crate::culling::tiles_bytes(tiles_extent.0, tiles_extent.1),
+            ),
+            (
+                Binding::ShadingRecords,
+                records * size_of::<crate::gpu_layout::ShadingRecord>() as u64,
+            ),
+            (
+                Binding::FootprintRecords,
+                records * size_of::<crate::gpu_layout::FootprintRecord>() as u64,
+            ),
+        ];
+        for (binding, bytes) in sizes {
+            self.buffers
+                .ensure(device, allocator, &mut self.slots, binding, bytes)?;
+        }
+        Ok(())
+    }
+
+    /// The descriptor sets, one per chunk: new ones (in a pool of their own) when a buffer
+    /// was replaced or the scene changed since the last were written; the old pool is
+    /// retired, since command buffers recorded earlier may still use it.
+    fn descriptor_sets(&mut self, device: &ash::Device) -> Result<Vec<vk::DescriptorSet>> {
+        if !self.buffers.replaced && !self.descriptor_sets.is_empty() {
+            return Ok(self.descriptor_sets.clone());
+        }
+        let sets = descriptors::create_chunk_sets(
+            device,
+            self.pipelines.set_layout(),
+            &self.buffers,
+            &self.chunking(),
+            self.scene.format.bytes() as u64,
+        )?;
+        if self.descriptor_pool != vk::DescriptorPool::null() {
+            self.slots
+                .retire(Retired::DescriptorPool(self.descriptor_pool));
+        }
+        self.descriptor_pool = sets.pool;
+        self.descriptor_sets = sets.sets;
+        self.buffers.replaced = false;
+        Ok(self.descriptor_sets.clone())
+    }
+
+    /// Destroys everything the renderer created (nothing of the host's).
+    ///
+    /// # Safety
+    /// No command buffer recorded with the renderer is pending or will be submitted again.
+    pub unsafe fn destroy(mut self, device: &ash::Device, allocator: &mut Allocator) {
+        for object in self.slots.drain() {
+            // SAFETY: the caller guarantees no pending work uses it.
+            unsafe { object.destroy(device, allocator) };
+        }
+        self.buffers.destroy(device, allocator);
+        #[cfg(feature = "research")]
+        self.meshes.destroy(device, allocator);
+        // SAFETY: all handles were created by `self` from `device` (or are null, which Vulkan
+        // ignores); the caller guarantees no pending work uses them.
+        unsafe {
+            self.pipelines.destroy(device);
+            device.destroy_descriptor_pool(self.descriptor_pool, None);
+        }
+    }
+}

@@ -1,0 +1,109 @@
+//! The renderer's layouts and its pipelines, each built on first use and kept.
+
+use ash::vk;
+
+use crate::error::{Result, VkCall};
+use crate::gpu_layout::PushConstants;
+use crate::pipeline::{create_cull_pipeline, create_pipeline, CullKey, PipelineKey};
+use crate::target::Target;
+
+use super::descriptors::create_set_layout;
+
+/// Graphics stages that read the push constants. The pre-pass has a layout of its own with a
+/// compute-only range: lavapipe 22.3.6 crashes dispatching with a range shared between
+/// graphics and compute stages.
+pub(crate) const DRAW_PUSH_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::VERTEX.as_raw() | vk::ShaderStageFlags::FRAGMENT.as_raw(),
+);
+
+/// Layouts and pipelines; the pipeline cache is the host's (borrowed, may be null).
+pub(crate) struct Pipelines {
+    cache: vk::PipelineCache,
+    set_layout: vk::DescriptorSetLayout,
+    /// The draw's layout.
+    pub draw_layout: vk::PipelineLayout,
+    /// The pre-pass's layout.
+    pub cull_layout: vk::PipelineLayout,
+    draw: Vec<(PipelineKey, vk::Pipeline)>,
+    cull: Vec<(CullKey, vk::Pipeline)>,
+}
+
+impl Pipelines {
+    /// No objects yet; `create_layouts` makes the layouts.
+    pub fn new(cache: vk::PipelineCache) -> Self {
+        Self {
+            cache,
+            set_layout: vk::DescriptorSetLayout::null(),
+            draw_layout: vk::PipelineLayout::null(),
+            cull_layout: vk::PipelineLayout::null(),
+            draw: Vec::new(),
+            cull: Vec::new(),
+        }
+    }
+
+    /// Creates the descriptor-set layout and the two pipeline layouts.
+    pub fn create_layouts(&mut self, device: &ash::Device) -> Result<()> {
+        self.set_layout = create_set_layout(device)?;
+        let layouts = [self.set_layout];
+        let pipeline_layout = |stages: vk::ShaderStageFlags| {
+            let ranges = [vk::PushConstantRange::default()
+                .stage_flags(stages)
+                .size(size_of::<PushConstants>() as u32)];
+            let info = vk::PipelineLayoutCreateInfo::default()
+                .set_layouts(&layouts)
+                .push_constant_ranges(&ranges);
+            // SAFETY: valid create info; owned by `self`, destroyed in `destroy`.
+            unsafe { device.create_pipeline_layout(&info, None) }.call("vkCreatePipelineLayout")
+        };
+        self.draw_layout = pipeline_layout(DRAW_PUSH_STAGES)?;
+        self.cull_layout = pipeline_layout(vk::ShaderStageFlags::COMPUTE)?;
+        Ok(())
+    }
+
+    /// The descriptor-set layout.
+    pub fn set_layout(&self) -> vk::DescriptorSetLayout {
+        self.set_layout
+    }
+
+    /// The draw pipeline for `key` into `target`, built now if this is its first use.
+    pub fn draw(
+        &mut self,
+        device: &ash::Device,
+        key: PipelineKey,
+        target: &Target,
+    ) -> Result<vk::Pipeline> {
+        if let Some((_, p)) = self.draw.iter().find(|(k, _)| *k == key) {
+            return Ok(*p);
+        }
+        let pipeline = create_pipeline(device, self.cache, self.draw_layout, target, key)?;
+        self.draw.push((key, pipeline));
+        Ok(pipeline)
+    }
+
+    /// The pre-pass pipeline for `key`, built now if this is its first use.
+    pub fn cull(&mut self, device: &ash::Device, key: CullKey) -> Result<vk::Pipeline> {
+        if let Some((_, p)) = self.cull.iter().find(|(k, _)| *k == key) {
+            return Ok(*p);
+        }
+        let pipeline = create_cull_pipeline(device, self.cache, self.cull_layout, key)?;
+        self.cull.push((key, pipeline));
+        Ok(pipeline)
+    }
+
+    /// Destroys every object.
+    ///
+    /// # Safety
+    /// No pending work uses them.
+    pub unsafe fn destroy(&mut self, device: &ash::Device) {
+        // SAFETY: created from `device` (or null, which Vulkan ignores); caller contract.
+        unsafe {
+            let draw = self.draw.drain(..).map(|(_, p)| p);
+            for pipeline in draw.chain(self.cull.drain(..).map(|(_, p)| p)) {
+                device.destroy_pipeline(pipeline, None);
+            }
+            device.destroy_pipeline_layout(self.draw_layout, None);
+            device.destroy_pipeline_layout(self.cull_layout, None);
+            device.destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}

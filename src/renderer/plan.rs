@@ -1,0 +1,133 @@
+//! The frame plan: every decision a frame needs (footprint, culling steps, set-up once,
+//! shader variants), made once from the scene, the settings, the target and the camera, and
+//! then only read.
+
+use ash::vk;
+
+use crate::camera::Camera;
+use crate::culling::Culling;
+use crate::draw::{DrawConfig, Footprint, Geometry, Intersection, Shading};
+use crate::error::{Error, Result};
+use crate::gpu_layout::ShadingRecord;
+use crate::instances::InstanceFormat;
+use crate::settings::Settings;
+use crate::target::Target;
+
+use super::uploaded::UploadedScene;
+
+/// The largest mean projected glyph area (square pixels) for which the pre-pass sets up the
+/// impostors once. On lavapipe the fragment stage's record loads cost more than the flat
+/// varyings they replace once glyphs cover more than a few pixels (README, `bench --skip`).
+pub const SETUP_ONCE_MAX_AREA_PX: f64 = 12.0;
+
+/// The most instances whose set-up records fit the 128 MiB storage-buffer range every Vulkan
+/// device supports; larger scenes set up in the vertex stage.
+pub const MAX_SETUP_ONCE_INSTANCES: u32 = (1 << 27) / size_of::<ShadingRecord>() as u32;
+
+/// What one frame does, decided once (see [`crate::EllipsoidRenderer::plan`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct FramePlan {
+    /// How the glyphs are drawn, with the footprint resolved from their size on screen.
+    pub config: DrawConfig,
+    /// Mean projected area of the sampled glyphs on screen (square pixels), if any is.
+    pub mean_area_px: Option<f64>,
+    /// The culling the pre-pass does.
+    pub culling: Culling,
+    /// The pre-pass runs (to cull, to set up, or both); the draw is then indirect.
+    pub prepass: bool,
+    /// The pre-pass computes each impostor's set-up once for the draw.
+    pub setup_once: bool,
+    /// The shaders take the sphere path.
+    pub spheres: bool,
+    /// The fragment stage leaves out the near-plane cap code.
+    pub no_caps: bool,
+    /// The instances are compact records.
+    pub compact: bool,
+    /// The camera is orthographic.
+    pub orthographic: bool,
+    /// Depth is reversed Z.
+    pub reversed_z: bool,
+    /// Index of the renderer's target drawn into.
+    pub(crate) target: usize,
+    /// Fragment shaders count shaded pixels.
+    pub(crate) count_fragments: bool,
+}
+
+/// What a plan is made from.
+pub(crate) struct PlanInputs<'a> {
+    pub scene: &'a UploadedScene,
+    pub settings: &'a Settings,
+    pub config: DrawConfig,
+    pub count_fragments: bool,
+    pub target: (usize, &'a Target),
+    pub camera: &'a Camera,
+}
+
+impl FramePlan {
+    /// Decides everything a frame with `inputs` does. Errors when the configuration cannot
+    /// draw with this camera.
+    pub(crate) fn new(inputs: PlanInputs) -> Result<Self> {
+        let PlanInputs {
+            scene,
+            settings,
+            mut config,
+            count_fragments,
+            target: (target_index, target),
+            camera,
+        } = inputs;
+        let orthographic = camera.is_orthographic();
+        if orthographic && config.geometry != Geometry::Impostor {
+            return Err(Error::invalid(
+                "draw configuration",
+                format!("{:?} supports perspective cameras only", config.geometry),
+            ));
+        }
+        let mean_area_px = scene.mean_projected_area(camera);
+        if config.footprint == Footprint::Auto {
+            config.footprint = match Footprint::for_area(mean_area_px.unwrap_or(0.0)) {
+                Footprint::Triangle if !settings.small_glyph_triangles => Footprint::OrientedRect,
+                chosen => chosen,
+            };
+        }
+        // Only the exact impostor goes through the pre-pass: the culling proofs assume its
+        // coverage and depth.
+        let exact_impostor = config.geometry == Geometry::Impostor
+            && config.intersection == Intersection::Stable
+            && matches!(config.shading, Shading::Exact | Shading::FastNormal);
+        let setup_once = settings.setup_once
+            && exact_impostor
+            && config.footprint != Footprint::WorldQuad
+            && mean_area_px.is_some_and(|area| area <= SETUP_ONCE_MAX_AREA_PX)
+            && (1..=MAX_SETUP_ONCE_INSTANCES).contains(&scene.count);
+        // Pixel-centre and occlusion culling reason about pixel centres, so multisampled
+        // targets (whose samples lie elsewhere) keep frustum culling only; occlusion needs
+        // float32 depth (its 1e-4 depth gap must survive the depth buffer's rounding).
+        let single = !target.multisampled();
+        let culling = Culling {
+            occlusion: settings.culling.occlusion
+                && single
+                && target.depth_format() == vk::Format::D32_SFLOAT,
+            pixel_centres: settings.culling.pixel_centres && single,
+            ..settings.culling
+        };
+        let draws_through_prepass = config.geometry == Geometry::Impostor
+            && config.intersection == Intersection::Stable
+            && config.shading != Shading::FlatFill;
+        let prepass = draws_through_prepass && scene.count > 0 && (culling.any() || setup_once);
+        Ok(Self {
+            config,
+            mean_area_px,
+            culling,
+            prepass,
+            setup_once,
+            spheres: settings.sphere_path && scene.all_spheres,
+            no_caps: settings.cap_free_path && scene.beyond_near_plane(camera),
+            compact: scene.format == InstanceFormat::Compact,
+            orthographic,
+            reversed_z: camera.depth.reversed,
+            target: target_index,
+            count_fragments,
+        })
+    }
+}

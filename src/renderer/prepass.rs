@@ -1,0 +1,96 @@
+//! Recording the culling pre-pass of a frame: one per chunk, sharing the occlusion tiles.
+
+use ash::vk;
+use gpu_allocator::vulkan::Allocator;
+
+use crate::camera::Camera;
+use crate::culling::{self, Prepass, PrepassBuffers};
+use crate::error::Result;
+use crate::gpu_layout::IndirectDraw;
+use crate::pipeline::CullKey;
+
+use super::buffers::Binding;
+use super::chunks::SLICE_ALIGN;
+use super::push::push_constants;
+use super::EllipsoidRenderer;
+
+impl EllipsoidRenderer {
+    /// Records the pre-pass of a frame with `camera` (when its plan has one) into `cmd`,
+    /// outside any rendering pass, with the barriers that order it after the previous frame's
+    /// draw and before this draw's indirect and vertex reads. Call it before the pass that
+    /// `record` draws into.
+    ///
+    /// It writes the indirect command with `vkCmdUpdateBuffer`, clears the occlusion tiles
+    /// with `vkCmdFillBuffer`, then runs the steps of `glsl/cull.comp`, each after a
+    /// compute-to-compute barrier. When the image grew since the last frame the tiles buffer
+    /// is replaced (the old one retired).
+    ///
+    /// # Safety
+    /// `device` is the renderer's device, `cmd` a command buffer of it in the recording state
+    /// outside any pass, for the queue family the renderer was made for, and submitted before
+    /// the slot that is current (`begin_frame`) begins again.
+    pub unsafe fn record_prepass(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        cmd: vk::CommandBuffer,
+        camera: &Camera,
+    ) -> Result<()> {
+        let plan = self.plan(camera)?;
+        self.prepared = None;
+        if !plan.prepass {
+            return Ok(());
+        }
+        self.prepare(device, allocator, &plan)?;
+        if plan.culling.occlusion {
+            self.size_buffers(
+                device,
+                allocator,
+                self.scene.count,
+                (camera.width, camera.height),
+            )?;
+        }
+        let steps = culling::steps(plan.culling)
+            .into_iter()
+            .map(|step| Ok((step, self.pipelines.cull(device, CullKey::of(&plan, step))?)))
+            .collect::<Result<Vec<_>>>()?;
+        let buffers = PrepassBuffers {
+            indirect: self.buffers.handle(Binding::IndirectDraw)?,
+            tiles: self.buffers.handle(Binding::OcclusionTiles)?,
+        };
+        let sets = self.descriptor_sets(device)?;
+        // Each chunk culls its own instances into its own indirect command; the occlusion
+        // tiles are cleared once and shared, so later chunks also see earlier occluders.
+        let chunks: Vec<(u32, u32)> = self.chunking().chunks().collect();
+        for (k, ((first, count), set)) in chunks.into_iter().zip(sets).enumerate() {
+            let prepass = Prepass {
+                layout: self.pipelines.cull_layout,
+                descriptor_set: set,
+                push: push_constants(
+                    camera,
+                    &self.settings.material,
+                    self.scene.origin,
+                    self.scene.radius_unit,
+                    first,
+                ),
+                command: IndirectDraw {
+                    vertex_count: plan.config.footprint.vertices(),
+                    instance_count: 0,
+                    first_vertex: 0,
+                    first_instance: 0,
+                    total: count,
+                },
+                indirect_offset: k as u64 * SLICE_ALIGN,
+                steps: steps.clone(),
+                groups: culling::dispatch_grid(culling::group_count(count)),
+                clear_tiles: plan.culling.occlusion && k == 0,
+                buffers: PrepassBuffers { ..buffers },
+            };
+            // SAFETY: `cmd` is recording outside a pass (caller contract); every handle is
+            // owned by `self` and lives until the submission completes.
+            unsafe { prepass.record(device, cmd) };
+        }
+        self.prepared = Some((*camera, plan));
+        Ok(())
+    }
+}

@@ -1,0 +1,122 @@
+//! What the renderer keeps of the uploaded scene on the CPU: the facts that choose shader
+//! variants and footprints each frame.
+
+use glam::DVec3;
+
+use crate::camera::{Camera, Projection};
+use crate::instances::{InstanceFormat, PackedInstances};
+use crate::scene::Scene;
+
+/// How many instances the footprint and set-up choice looks at.
+const SIZE_SAMPLE: usize = 4096;
+
+/// The uploaded scene, as far as per-frame decisions need it.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct UploadedScene {
+    /// Instances on the GPU.
+    pub count: u32,
+    /// The point instance positions are relative to.
+    pub origin: DVec3,
+    /// How the instances are stored.
+    pub format: InstanceFormat,
+    /// The compact format's unit of semi-axes.
+    pub radius_unit: f32,
+    /// Every instance is a sphere.
+    pub all_spheres: bool,
+    /// A box holding every ellipsoid whole, in world coordinates.
+    pub extent: Option<(DVec3, DVec3)>,
+    /// Up to `SIZE_SAMPLE` instances: centre, largest semi-axis, and `pi r1 r2` of the two
+    /// largest.
+    pub size_sample: Vec<(DVec3, f64, f64)>,
+}
+
+impl UploadedScene {
+    /// The facts of `scene`, packed as `packed`.
+    pub fn new(scene: &Scene, packed: &PackedInstances) -> Self {
+        let step = scene.len().div_ceil(SIZE_SAMPLE).max(1);
+        let size_sample = scene
+            .ellipsoids
+            .iter()
+            .step_by(step)
+            .map(|e| {
+                let mut r = e.radii.to_array();
+                r.sort_by(|a, b| b.total_cmp(a));
+                (e.center, r[0], std::f64::consts::PI * r[0] * r[1])
+            })
+            .collect();
+        Self {
+            count: packed.len() as u32,
+            origin: packed.origin,
+            format: packed.format(),
+            radius_unit: packed.radius_scale,
+            all_spheres: packed.all_spheres,
+            extent: packed.extent,
+            size_sample,
+        }
+    }
+
+    /// Takes in instances replaced by `update` (the size sample stays as uploaded).
+    pub fn merge_update(&mut self, packed: &PackedInstances) {
+        self.all_spheres &= packed.all_spheres;
+        if let (Some((lo, hi)), Some((new_lo, new_hi))) = (self.extent, packed.extent) {
+            self.extent = Some((lo.min(new_lo), hi.max(new_hi)));
+        }
+    }
+
+    /// Mean projected area in square pixels of the sampled glyphs on screen beyond the near
+    /// plane; `None` when no sampled glyph is on screen.
+    pub fn mean_projected_area(&self, camera: &Camera) -> Option<f64> {
+        let (sx, sy) = camera.ndc_scale();
+        let pixels_per_unit = camera.height as f64 / (2.0 * sy);
+        let screen = camera.width as f64 * camera.height as f64;
+        let basis = camera.basis();
+        let (mut sum, mut n) = (0.0, 0usize);
+        for &(center, radius, area) in &self.size_sample {
+            let depth = camera.view_depth(center);
+            if depth <= camera.near {
+                continue;
+            }
+            // Only glyphs that reach the screen (bounding sphere against the view rectangle,
+            // widened by the radius), each counted for at most the whole screen.
+            let offset = center - camera.eye;
+            let (x, y) = (offset.dot(basis.right), offset.dot(basis.up));
+            let (scale, half_x, half_y) = match camera.projection {
+                Projection::Perspective { .. } => (pixels_per_unit / depth, sx * depth, sy * depth),
+                Projection::Orthographic { .. } => (pixels_per_unit, sx, sy),
+            };
+            if x.abs() > half_x + radius * 1.5 || y.abs() > half_y + radius * 1.5 {
+                continue;
+            }
+            sum += (area * scale * scale).min(screen);
+            n += 1;
+        }
+        (n > 0).then(|| sum / n as f64)
+    }
+
+    /// Whether the box holding every ellipsoid lies wholly beyond the near plane of `camera`
+    /// (view depth is linear, so its nearest point is a corner): then no cap can show.
+    pub fn beyond_near_plane(&self, camera: &Camera) -> bool {
+        let Some((lo, hi)) = self.extent else {
+            return false;
+        };
+        let corners: Vec<DVec3> = (0..8)
+            .map(|k| {
+                DVec3::new(
+                    if k & 1 == 0 { lo.x } else { hi.x },
+                    if k & 2 == 0 { lo.y } else { hi.y },
+                    if k & 4 == 0 { lo.z } else { hi.z },
+                )
+            })
+            .collect();
+        // The shaders decide "reaches the near plane" in float32 from positions relative to
+        // the scene origin: keep clear of the plane by many times that rounding.
+        let reach = corners
+            .iter()
+            .map(|c| (*c - camera.eye).length())
+            .fold(0.0, f64::max);
+        let margin = 1e-5 * (reach + (camera.eye - self.origin).length() + camera.near);
+        corners
+            .iter()
+            .all(|&c| camera.view_depth(c) > camera.near + margin)
+    }
+}

@@ -1,0 +1,78 @@
+//! What a host may tune: the material and the exact work-skipping the renderer does. Each
+//! setting is safe to leave at its default; none changes a pixel except the material.
+
+use crate::culling::Culling;
+use crate::instances::InstanceFormat;
+
+/// Blinn-Phong material after Gumhold 2003: ambient, diffuse, specular, shininess, specular
+/// colour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// Ambient weight.
+    pub ambient: f32,
+    /// Diffuse weight.
+    pub diffuse: f32,
+    /// Specular weight.
+    pub specular: f32,
+    /// Phong exponent.
+    pub shininess: f32,
+    /// Colour of highlights.
+    pub specular_color: [f32; 3],
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            ambient: 0.15,
+            diffuse: 0.75,
+            specular: 0.4,
+            shininess: 40.0,
+            specular_color: [1.0, 1.0, 1.0],
+        }
+    }
+}
+
+/// How the renderer draws: the material and which exact shortcuts it may take. Given at
+/// creation ([`crate::RendererOptions::settings`]) or later through
+/// [`crate::EllipsoidRenderer::set_settings`], which says what each change costs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// Shading parameters.
+    pub material: Material,
+    /// Culling done by the pre-pass (all kinds by default; each is exact).
+    pub culling: Culling,
+    /// For glyphs of a few pixels, compute each impostor's set-up once in the pre-pass
+    /// instead of in each of its vertices (on by default).
+    pub setup_once: bool,
+    /// Take the sphere path when every instance uploaded is a sphere (on by default).
+    pub sphere_path: bool,
+    /// Leave out the near-plane cap code when no ellipsoid reaches in front of the near
+    /// plane (on by default).
+    pub cap_free_path: bool,
+    /// Draw glyphs of a few pixels as one triangle instead of the oriented rectangle. Off by
+    /// default: fewer vertices and primitives, but 1.65 shaded fragments per covered pixel
+    /// instead of 1.27.
+    pub small_glyph_triangles: bool,
+    /// How `upload` stores instances: full float32 (default) or the compact 32-byte records,
+    /// a third less memory at a measured accuracy cost.
+    pub instance_format: InstanceFormat,
+    /// The most instances drawn with one descriptor set; the device's
+    /// `maxStorageBufferRange` caps it anyway. Larger scenes are drawn in chunks, each with
+    /// its own pre-pass and draw. Rounded down to a multiple of 256.
+    pub max_chunk_instances: u32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            material: Material::default(),
+            culling: Culling::default(),
+            setup_once: true,
+            sphere_path: true,
+            cap_free_path: true,
+            small_glyph_triangles: false,
+            instance_format: InstanceFormat::Full,
+            max_chunk_instances: u32::MAX,
+        }
+    }
+}

@@ -1,0 +1,659 @@
+//! Golden-output regression test: a fixed list of scenes, each rendered under validation with
+//! one combination of renderer settings, and every read-back output (colour, view depth,
+//! normal, instance ID) reduced to a 64-bit hash. The expected hashes are in
+//! `tests/golden/hashes.txt`, one `scene output hash` line each; any differing, missing or
+//! unexpected line fails the test, and every mismatch is reported at once.
+//!
+//! `GOLDEN_PRINT=1 cargo test --release --test golden -- --nocapture` prints the computed
+//! lines (they are also printed when the file is missing, and the test then fails).
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use ellipsoid_splat::draw::{DrawConfig, Method};
+use ellipsoid_splat::instances::InstanceFormat;
+use ellipsoid_splat::offscreen::OffscreenRenderer;
+use ellipsoid_splat::Culling;
+use ellipsoid_splat::{
+    Camera, DepthConvention, Ellipsoid, Frame, Outputs, Projection, Scene, Settings, NO_INSTANCE,
+};
+use ellipsoid_splat_loaders::{random_cloud, tensor_field};
+use ellipsoid_splat_reference::testing::{finish_validated, validated_renderer};
+use glam::{DMat3, DQuat, DVec3};
+
+// ---------------------------------------------------------------------------------------------
+// Hashing
+
+/// FNV-1a, 64 bits.
+struct Fnv1a(u64);
+
+impl Fnv1a {
+    fn new() -> Self {
+        Fnv1a(0xcbf2_9ce4_8422_2325)
+    }
+
+    fn bytes(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= b as u64;
+            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+
+    fn u32(&mut self, v: u32) {
+        self.bytes(&v.to_le_bytes());
+    }
+}
+
+/// A hash of one output: the frame's width and height, then the values, all little-endian.
+fn hash_output(frame: &Frame, values: impl FnOnce(&mut Fnv1a)) -> u64 {
+    let mut h = Fnv1a::new();
+    h.u32(frame.width);
+    h.u32(frame.height);
+    values(&mut h);
+    h.0
+}
+
+/// The four outputs of a frame and their hashes, in a fixed order.
+fn hash_frame(frame: &Frame) -> [(&'static str, u64); 4] {
+    let color = hash_output(frame, |h| frame.color.iter().for_each(|c| h.bytes(c)));
+    let depth = hash_output(frame, |h| {
+        frame.depth.iter().for_each(|d| h.u32(d.to_bits()))
+    });
+    let normal = hash_output(frame, |h| {
+        frame
+            .normal
+            .iter()
+            .flatten()
+            .for_each(|n| h.u32(n.to_bits()))
+    });
+    let id = hash_output(frame, |h| frame.id.iter().for_each(|&i| h.u32(i)));
+    [
+        ("color", color),
+        ("depth", depth),
+        ("normal", normal),
+        ("id", id),
+    ]
+}
+
+// ---------------------------------------------------------------------------------------------
+// Cameras
+
+fn perspective(eye: DVec3, target: DVec3, fov_y_deg: f64, near: f64, w: u32, h: u32) -> Camera {
+    Camera::new(
+        eye,
+        target,
+        DVec3::Y,
+        Projection::Perspective { fov_y_deg },
+        near,
+        w,
+        h,
+    )
+    .expect("camera")
+}
+
+fn orthographic(eye: DVec3, target: DVec3, height: f64, near: f64, w: u32, h: u32) -> Camera {
+    Camera::new(
+        eye,
+        target,
+        DVec3::Y,
+        Projection::Orthographic { height },
+        near,
+        w,
+        h,
+    )
+    .expect("camera")
+}
+
+/// Standard Z (0 at the near plane), infinite far plane.
+fn standard_infinite(camera: Camera) -> Camera {
+    camera
+        .with_depth(DepthConvention::STANDARD_INFINITE)
+        .expect("depth convention")
+}
+
+/// Standard Z with a finite far plane at view depth 60 (beyond every scene).
+fn standard_far(camera: Camera) -> Camera {
+    camera
+        .with_depth(DepthConvention {
+            reversed: false,
+            far: Some(60.0),
+        })
+        .expect("depth convention")
+}
+
+/// Reversed Z (1 at the near plane) with a finite far plane at view depth 60.
+fn reversed_far(camera: Camera) -> Camera {
+    camera
+        .with_depth(DepthConvention {
+            reversed: true,
+            far: Some(60.0),
+        })
+        .expect("depth convention")
+}
+
+/// The camera looking from inside a cloud, shared by the near-plane scenes.
+fn inside_camera() -> Camera {
+    perspective(
+        DVec3::new(0.5, 0.2, 1.0),
+        DVec3::new(-4.0, -3.0, -6.0),
+        70.0,
+        0.3,
+        320,
+        240,
+    )
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scenes (deterministic: fixed sizes and seeds)
+
+/// The 6^3 tensor-field demo lattice, framed from the oblique default view at 320x200.
+fn tensor_field_6() -> (Scene, Camera) {
+    let camera = Camera::framing(DVec3::ZERO, 5.5, 320, 200).expect("camera");
+    (tensor_field(6), camera)
+}
+
+/// 300 overlapping random ellipsoids (seed 7) in perspective at 320x240.
+fn cloud_300() -> (Scene, Camera) {
+    let camera = perspective(DVec3::new(4.0, 3.0, 9.0), DVec3::ZERO, 50.0, 0.5, 320, 240);
+    (random_cloud(300, 7, 3.0, 0.8), camera)
+}
+
+/// 200 random ellipsoids (seed 11) seen orthographically at 300x200.
+fn ortho_200() -> (Scene, Camera) {
+    let camera = orthographic(DVec3::new(-5.0, 4.0, 8.0), DVec3::ZERO, 9.0, 0.5, 300, 200);
+    (random_cloud(200, 11, 3.0, 0.8), camera)
+}
+
+/// The eye inside a 1,500-ellipsoid cloud (seed 42), the near plane cutting glyphs, plus one
+/// glyph holding the eye whose cap covers about the right half of the 320x240 image.
+fn inside_cloud() -> (Scene, Camera) {
+    let camera = inside_camera();
+    let mut scene = random_cloud(1_500, 42, 6.0, 0.6);
+    let b = camera.basis();
+    let aligned = DQuat::from_mat3(&DMat3::from_cols(b.right, b.up, -b.forward));
+    let tilt = DQuat::from_axis_angle(DVec3::new(0.3, 1.0, 0.2).normalize(), 0.15);
+    let holder = Ellipsoid::new(
+        camera.eye + b.right * 0.45,
+        DVec3::new(0.5, 0.9, 1.2),
+        aligned * tilt,
+        Some([0.85, 0.55, 0.25]),
+    )
+    .expect("eye-holding glyph");
+    scene.ellipsoids.push(holder);
+    (scene, camera)
+}
+
+/// 20,000 glyphs (seed 21) of one or two pixels each, in perspective at 320x240: small enough
+/// for the pre-pass to set them up.
+fn tiny_glyphs() -> (Scene, Camera) {
+    let camera = perspective(DVec3::new(2.0, 3.0, 25.0), DVec3::ZERO, 45.0, 1.0, 320, 240);
+    (random_cloud(20_000, 21, 10.0, 0.06), camera)
+}
+
+/// The 20,000 tiny glyphs seen orthographically at 320x240.
+fn tiny_glyphs_ortho() -> (Scene, Camera) {
+    let (scene, perspective) = tiny_glyphs();
+    let camera = Camera {
+        projection: Projection::Orthographic { height: 22.0 },
+        ..perspective
+    };
+    (scene, camera)
+}
+
+/// 600 randomly rotated spheres (seed 41), all clear of the near plane, in perspective at
+/// 320x240.
+fn spheres() -> (Scene, Camera) {
+    let camera = perspective(DVec3::new(3.0, 4.0, 14.0), DVec3::ZERO, 45.0, 1.0, 320, 240);
+    (sphere_cloud(600, 41, 4.0, 0.7), camera)
+}
+
+/// The 600 spheres seen orthographically at 320x240.
+fn spheres_ortho() -> (Scene, Camera) {
+    let camera = orthographic(DVec3::new(3.0, 4.0, 14.0), DVec3::ZERO, 11.0, 1.0, 320, 240);
+    (sphere_cloud(600, 41, 4.0, 0.7), camera)
+}
+
+/// The eye inside 1,500 spheres (seed 43), the near plane cutting some, at 320x240.
+fn spheres_inside() -> (Scene, Camera) {
+    (sphere_cloud(1_500, 43, 6.0, 0.6), inside_camera())
+}
+
+/// 3,000 random glyphs (seed 11), several chunks' worth at 256 instances per chunk, 320x240.
+fn chunk_cloud() -> (Scene, Camera) {
+    let camera = perspective(DVec3::new(4.0, 5.0, 22.0), DVec3::ZERO, 45.0, 1.0, 320, 240);
+    (random_cloud(3_000, 11, 8.0, 0.5), camera)
+}
+
+/// 3,000 small glyphs (seed 12) the pre-pass sets up, for chunking, at 320x240.
+fn chunk_cloud_small() -> (Scene, Camera) {
+    let camera = perspective(DVec3::new(4.0, 5.0, 40.0), DVec3::ZERO, 45.0, 1.0, 320, 240);
+    (random_cloud(3_000, 12, 8.0, 0.12), camera)
+}
+
+/// A random cloud with every glyph made a sphere of its first semi-axis; each keeps its random
+/// rotation, which the sphere path must ignore.
+fn sphere_cloud(count: usize, seed: u64, extent: f64, radius: f64) -> Scene {
+    let mut scene = random_cloud(count, seed, extent, radius);
+    for e in &mut scene.ellipsoids {
+        e.radii = DVec3::splat(e.radii.x);
+    }
+    scene
+}
+
+// ---------------------------------------------------------------------------------------------
+// Renderer settings
+
+/// Every renderer setting a case may change, applied in full before each case so that no case
+/// depends on the one before.
+#[derive(Clone, Copy)]
+struct CaseSettings {
+    config: DrawConfig,
+    format: InstanceFormat,
+    culling: Culling,
+    setup_in_prepass: bool,
+    small_glyph_triangles: bool,
+    sphere_path: bool,
+    cap_free_path: bool,
+    max_chunk_instances: u32,
+}
+
+impl CaseSettings {
+    /// The renderer as shipped.
+    fn shipped() -> CaseSettings {
+        CaseSettings {
+            config: DrawConfig::default(),
+            format: InstanceFormat::Full,
+            culling: Culling::ON,
+            setup_in_prepass: true,
+            small_glyph_triangles: false,
+            sphere_path: true,
+            cap_free_path: true,
+            max_chunk_instances: u32::MAX,
+        }
+    }
+
+    /// Sets everything on `renderer`; the scene must be uploaded afterwards (the instance
+    /// format and the chunk size take effect at the upload).
+    fn apply(&self, renderer: &mut OffscreenRenderer) {
+        renderer.set_draw_config(self.config);
+        renderer.set_settings(Settings {
+            instance_format: self.format,
+            culling: self.culling,
+            setup_once: self.setup_in_prepass,
+            small_glyph_triangles: self.small_glyph_triangles,
+            sphere_path: self.sphere_path,
+            cap_free_path: self.cap_free_path,
+            max_chunk_instances: self.max_chunk_instances,
+            ..Settings::default()
+        });
+    }
+}
+
+/// What a case asserts about the draw, so that it cannot silently stop covering its path.
+#[derive(Clone, Copy, Default)]
+struct Expect {
+    /// `sets_up_in_prepass` after the upload.
+    presets: Option<bool>,
+    /// `shader_variants`: (sphere path, cap-free).
+    variants: Option<(bool, bool)>,
+}
+
+/// Builds a scene and the camera it is seen with.
+type SceneFn = fn() -> (Scene, Camera);
+/// Changes a scene's camera (here: its depth convention).
+type CameraFn = fn(Camera) -> Camera;
+
+/// One rendered case: a name (no spaces), a scene with its camera, and the settings.
+struct Case {
+    name: String,
+    scene: SceneFn,
+    camera: CameraFn,
+    settings: CaseSettings,
+    expect: Expect,
+}
+
+fn case(name: &str, scene: SceneFn, settings: CaseSettings, expect: Expect) -> Case {
+    Case {
+        name: name.to_string(),
+        scene,
+        camera: |c| c,
+        settings,
+        expect,
+    }
+}
+
+fn presets(on: bool) -> Expect {
+    Expect {
+        presets: Some(on),
+        ..Expect::default()
+    }
+}
+
+fn variants(sphere: bool, cap_free: bool) -> Expect {
+    Expect {
+        variants: Some((sphere, cap_free)),
+        ..Expect::default()
+    }
+}
+
+/// The whole list, in a fixed order.
+fn cases() -> Vec<Case> {
+    let shipped = CaseSettings::shipped();
+    let none = Expect::default();
+    let mut list = vec![
+        // Scenes with the shipped renderer.
+        case(
+            "tensor-field-6",
+            tensor_field_6,
+            shipped,
+            variants(false, true),
+        ),
+        case("cloud-300", cloud_300, shipped, variants(false, true)),
+        case("ortho-200", ortho_200, shipped, variants(false, true)),
+        case(
+            "inside-cloud",
+            inside_cloud,
+            shipped,
+            variants(false, false),
+        ),
+        case("tiny-glyphs", tiny_glyphs, shipped, presets(true)),
+        case(
+            "tiny-glyphs-ortho",
+            tiny_glyphs_ortho,
+            shipped,
+            presets(true),
+        ),
+        case("spheres", spheres, shipped, variants(true, true)),
+        case(
+            "spheres-ortho",
+            spheres_ortho,
+            shipped,
+            variants(true, true),
+        ),
+        case(
+            "spheres-inside",
+            spheres_inside,
+            shipped,
+            variants(true, false),
+        ),
+        // Shader variants switched off: the general shaders on spheres.
+        case(
+            "spheres-general",
+            spheres,
+            CaseSettings {
+                sphere_path: false,
+                cap_free_path: false,
+                ..shipped
+            },
+            variants(false, false),
+        ),
+        // Compact instances.
+        case(
+            "cloud-300-compact",
+            cloud_300,
+            CaseSettings {
+                format: InstanceFormat::Compact,
+                ..shipped
+            },
+            none,
+        ),
+        case(
+            "tiny-glyphs-compact",
+            tiny_glyphs,
+            CaseSettings {
+                format: InstanceFormat::Compact,
+                ..shipped
+            },
+            presets(true),
+        ),
+        // Chunks of 256 instances.
+        case(
+            "chunks",
+            chunk_cloud,
+            CaseSettings {
+                max_chunk_instances: 256,
+                ..shipped
+            },
+            presets(false),
+        ),
+        case(
+            "chunks-small",
+            chunk_cloud_small,
+            CaseSettings {
+                max_chunk_instances: 256,
+                ..shipped
+            },
+            presets(true),
+        ),
+        // Culling switched off, wholly or in part.
+        case(
+            "cloud-300-cull-off",
+            cloud_300,
+            CaseSettings {
+                culling: Culling::OFF,
+                ..shipped
+            },
+            none,
+        ),
+        case(
+            "cloud-300-cull-frustum",
+            cloud_300,
+            CaseSettings {
+                culling: Culling {
+                    frustum: true,
+                    pixel_centres: false,
+                    occlusion: false,
+                },
+                ..shipped
+            },
+            none,
+        ),
+        case(
+            "cloud-300-cull-no-occlusion",
+            cloud_300,
+            CaseSettings {
+                culling: Culling {
+                    frustum: true,
+                    pixel_centres: true,
+                    occlusion: false,
+                },
+                ..shipped
+            },
+            none,
+        ),
+        case(
+            "tiny-glyphs-cull-off",
+            tiny_glyphs,
+            CaseSettings {
+                culling: Culling::OFF,
+                ..shipped
+            },
+            presets(true),
+        ),
+        // The set-up in the pre-pass switched off.
+        case(
+            "tiny-glyphs-no-setup",
+            tiny_glyphs,
+            CaseSettings {
+                setup_in_prepass: false,
+                ..shipped
+            },
+            presets(false),
+        ),
+        // Small glyphs drawn as one triangle.
+        case(
+            "tiny-glyphs-triangles",
+            tiny_glyphs,
+            CaseSettings {
+                small_glyph_triangles: true,
+                ..shipped
+            },
+            none,
+        ),
+    ];
+    // Depth conventions other than the default (reversed, infinite far plane).
+    let conventions: [(&str, CameraFn); 3] = [
+        ("standard-infinite", standard_infinite),
+        ("standard-far", standard_far),
+        ("reversed-far", reversed_far),
+    ];
+    for (suffix, camera) in conventions {
+        for (base, scene) in [
+            ("cloud-300", cloud_300 as SceneFn),
+            ("ortho-200", ortho_200),
+            ("inside-cloud", inside_cloud),
+        ] {
+            let mut c = case(&format!("{base}-{suffix}"), scene, shipped, none);
+            c.camera = camera;
+            list.push(c);
+        }
+    }
+    // Every bench method on the 300-glyph cloud, with its own instance format.
+    for method in Method::ALL {
+        list.push(case(
+            &format!("cloud-300-method-{}", method.name()),
+            cloud_300,
+            CaseSettings {
+                config: method.config(),
+                format: method.instance_format(),
+                ..shipped
+            },
+            none,
+        ));
+    }
+    list
+}
+
+// ---------------------------------------------------------------------------------------------
+// Running and comparing
+
+/// Renders one case and checks what it expects; returns the frame.
+fn render_case(renderer: &mut OffscreenRenderer, case: &Case) -> Frame {
+    let (scene, camera) = (case.scene)();
+    let camera = (case.camera)(camera);
+    case.settings.apply(renderer);
+    renderer.upload(&scene).expect("upload");
+    if let Some(want) = case.expect.presets {
+        assert_eq!(
+            renderer.plan(&camera).expect("plan").setup_once,
+            want,
+            "{}: set-up in the pre-pass",
+            case.name
+        );
+    }
+    if let Some(want) = case.expect.variants {
+        assert_eq!(
+            {
+                let plan = renderer.plan(&camera).expect("plan");
+                (plan.spheres, plan.no_caps)
+            },
+            want,
+            "{}: shader variants (sphere path, cap-free)",
+            case.name
+        );
+    }
+    let (frame, _) = renderer
+        .render_uploaded(&camera, Outputs::ALL)
+        .expect("render");
+    assert_eq!((frame.width, frame.height), (camera.width, camera.height));
+    let shown = frame.id.iter().filter(|&&id| id != NO_INSTANCE).count();
+    assert!(
+        shown >= frame.len() / 50,
+        "{}: only {shown} of {} pixels show a glyph",
+        case.name,
+        frame.len()
+    );
+    frame
+}
+
+fn hashes_path() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden/hashes.txt")
+}
+
+/// `scene output` -> hash, from the file's lines (blank lines and `#` comments skipped).
+fn parse_expected(text: &str) -> BTreeMap<(String, String), String> {
+    let mut expected = BTreeMap::new();
+    for (k, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        match fields[..] {
+            [scene, output, hash]
+                if hash.len() == 16 && hash.chars().all(|c| c.is_ascii_hexdigit()) =>
+            {
+                let key = (scene.to_string(), output.to_string());
+                let previous = expected.insert(key, hash.to_ascii_lowercase());
+                assert!(
+                    previous.is_none(),
+                    "hashes.txt line {}: `{scene} {output}` listed twice",
+                    k + 1
+                );
+            }
+            _ => panic!(
+                "hashes.txt line {}: expected `scene output hash` (16 hex digits), got `{line}`",
+                k + 1
+            ),
+        }
+    }
+    expected
+}
+
+#[test]
+fn outputs_match_the_golden_hashes() {
+    let mut renderer = validated_renderer();
+    let mut computed: Vec<(String, &'static str, String)> = Vec::new();
+    for case in cases() {
+        let frame = render_case(&mut renderer, &case);
+        for (output, hash) in hash_frame(&frame) {
+            computed.push((case.name.clone(), output, format!("{hash:016x}")));
+        }
+    }
+    finish_validated(renderer);
+
+    let mut lines = String::new();
+    for (scene, output, hash) in &computed {
+        writeln!(lines, "{scene} {output} {hash}").unwrap();
+    }
+    let path = hashes_path();
+    let text = std::fs::read_to_string(&path);
+    if text.is_err() || std::env::var("GOLDEN_PRINT").is_ok_and(|v| v == "1") {
+        println!(
+            "---- computed hashes ({} lines) ----\n{lines}----",
+            computed.len()
+        );
+    }
+    let text = match text {
+        Ok(text) => text,
+        Err(e) => panic!(
+            "{}: {e}; paste the computed lines printed above into it",
+            path.display()
+        ),
+    };
+    let mut expected = parse_expected(&text);
+    let mut problems = Vec::new();
+    for (scene, output, hash) in &computed {
+        match expected.remove(&(scene.clone(), output.to_string())) {
+            Some(want) if want == *hash => {}
+            Some(want) => problems.push(format!("{scene} {output}: expected {want}, got {hash}")),
+            None => problems.push(format!(
+                "{scene} {output}: no line in hashes.txt (computed {hash})"
+            )),
+        }
+    }
+    for ((scene, output), want) in expected {
+        problems.push(format!(
+            "{scene} {output}: in hashes.txt ({want}) but not rendered"
+        ));
+    }
+    assert!(
+        problems.is_empty(),
+        "{} of {} outputs differ from {}:\n{}",
+        problems.len(),
+        computed.len(),
+        path.display(),
+        problems.join("\n")
+    );
+}
