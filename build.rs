@@ -13,8 +13,12 @@ fn main() {
     println!("cargo:rerun-if-env-changed=GLSLANG_VALIDATOR");
     println!("cargo:rerun-if-changed=glsl");
 
+    // The benchmark's baselines (glsl/research/) and the counting builds are compiled only
+    // with the `research` feature: hosts never draw them.
+    let research = std::env::var_os("CARGO_FEATURE_RESEARCH").is_some();
     let mut sources = Vec::new();
     collect(&glsl, &mut sources);
+    sources.retain(|src| research || !src.starts_with(glsl.join("research")));
     sources.sort();
     let mut failures = Vec::new();
     for src in &sources {
@@ -24,18 +28,20 @@ fn main() {
             continue; // includes are tracked above, compiled through their users
         }
         let name = src.file_name().expect("file has a name").to_string_lossy();
-        // Fragment shaders are built four ways: with AUX_OUTPUTS they declare and write the
-        // normal and ID attachments (a pass without them must not see those outputs), with
-        // COUNT_FRAGMENTS they count shaded pixels with an atomic (`bench`; it needs
-        // fragmentStoresAndAtomics).
+        // Fragment shaders are built with and without AUX_OUTPUTS (they then declare and write
+        // the normal and ID attachments: a pass without them must not see those outputs), and
+        // for research also with COUNT_FRAGMENTS (they count shaded pixels with an atomic for
+        // `bench`; it needs fragmentStoresAndAtomics).
         let mut builds: Vec<(String, Vec<&str>)> = vec![(format!("{name}.spv"), vec![])];
         if ext == "frag" {
-            builds.push((format!("{name}.counted.spv"), vec!["-DCOUNT_FRAGMENTS"]));
             builds.push((format!("{name}.aux.spv"), vec!["-DAUX_OUTPUTS"]));
-            builds.push((
-                format!("{name}.aux.counted.spv"),
-                vec!["-DAUX_OUTPUTS", "-DCOUNT_FRAGMENTS"],
-            ));
+            if research {
+                builds.push((format!("{name}.counted.spv"), vec!["-DCOUNT_FRAGMENTS"]));
+                builds.push((
+                    format!("{name}.aux.counted.spv"),
+                    vec!["-DAUX_OUTPUTS", "-DCOUNT_FRAGMENTS"],
+                ));
+            }
         }
         for (spv, defines) in builds {
             let mut command = Command::new(&tool);

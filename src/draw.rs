@@ -1,7 +1,8 @@
 //! What a draw does: which geometry stands in for each ellipsoid, which screen polygon bounds
 //! an impostor, how the ray is intersected and what the fragment stage computes. The shipped
-//! renderer is `DrawConfig::default()`; the other settings are the measured alternatives of
-//! `ellipsoid-splat bench` (see [`Method`]).
+//! renderer is `DrawConfig::default()` with the footprint chosen per frame; the other
+//! settings are the measured alternatives of `ellipsoid-splat bench` (`Method`), drawable only
+//! with the `research` feature (its shaders are compiled only then).
 
 /// How the fragment shader intersects the pixel's ray with the ellipsoid.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -130,6 +131,7 @@ pub struct DrawConfig {
 
 /// The drawing methods compared by `ellipsoid-splat bench`; their names are the `method`
 /// column of `results.csv`.
+#[cfg(feature = "research")]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Method {
     /// The renderer as shipped.
@@ -161,6 +163,7 @@ pub enum Method {
     FlatFill,
 }
 
+#[cfg(feature = "research")]
 impl Method {
     /// Every method, in the order of the tables.
     pub const ALL: [Method; 17] = [

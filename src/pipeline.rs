@@ -115,26 +115,39 @@ impl CullKey {
 }
 
 /// The SPIR-V of the two stages for `key`, the fragment stage writing the normal and ID
-/// attachments when `aux_outputs`.
-fn stage_code(key: &PipelineKey, aux_outputs: bool) -> (&'static [u8], &'static [u8]) {
+/// attachments when `aux_outputs`. The benchmark's baselines exist only with the `research`
+/// feature.
+fn stage_code(key: &PipelineKey, aux_outputs: bool) -> Result<(&'static [u8], &'static [u8])> {
     let config = &key.config;
-    let (vertex, fragment) = match config.geometry {
-        Geometry::Mesh(_) => (shaders::MESH_VERT, shaders::MESH_FRAG),
-        Geometry::BoxProxy => (shaders::BOX_VERT, shaders::ELLIPSOID_FRAG),
-        Geometry::Impostor if key.setup_once => (
+    let (vertex, fragment) = match (config.geometry, config.shading) {
+        (Geometry::Impostor, Shading::Exact | Shading::FastNormal) if key.setup_once => (
             shaders::ELLIPSOID_SETUP_ONCE_VERT,
             shaders::ELLIPSOID_SETUP_ONCE_FRAG,
         ),
-        Geometry::Impostor => (
-            shaders::ELLIPSOID_VERT,
-            match config.shading {
-                Shading::FlatDepth => shaders::ELLIPSOID_FLAT_DEPTH_FRAG,
-                Shading::FlatFill => shaders::FLAT_FILL_FRAG,
-                Shading::Exact | Shading::FastNormal => shaders::ELLIPSOID_FRAG,
-            },
-        ),
+        (Geometry::Impostor, Shading::Exact | Shading::FastNormal) => {
+            (shaders::ELLIPSOID_VERT, shaders::ELLIPSOID_FRAG)
+        }
+        #[cfg(feature = "research")]
+        (Geometry::Impostor, Shading::FlatDepth) => {
+            (shaders::ELLIPSOID_VERT, shaders::ELLIPSOID_FLAT_DEPTH_FRAG)
+        }
+        #[cfg(feature = "research")]
+        (Geometry::Impostor, Shading::FlatFill) => {
+            (shaders::ELLIPSOID_VERT, shaders::FLAT_FILL_FRAG)
+        }
+        #[cfg(feature = "research")]
+        (Geometry::Mesh(_), _) => (shaders::MESH_VERT, shaders::MESH_FRAG),
+        #[cfg(feature = "research")]
+        (Geometry::BoxProxy, _) => (shaders::BOX_VERT, shaders::ELLIPSOID_FRAG),
+        #[cfg(not(feature = "research"))]
+        _ => {
+            return Err(Error::invalid(
+                "draw configuration",
+                format!("{config:?} is a benchmark baseline: build with the `research` feature"),
+            ))
+        }
     };
-    (vertex, fragment.pick(aux_outputs, key.count_fragments))
+    Ok((vertex, fragment.pick(aux_outputs, key.count_fragments)))
 }
 
 /// Creates the pipeline for `key`, drawing into `target`; the caller owns it.
@@ -145,7 +158,7 @@ pub(crate) fn create_pipeline(
     target: &Target,
     key: PipelineKey,
 ) -> Result<vk::Pipeline> {
-    let (vert_code, frag_code) = stage_code(&key, target.aux_outputs);
+    let (vert_code, frag_code) = stage_code(&key, target.aux_outputs)?;
     let vert = shaders::create_module(device, vert_code)?;
     // The fragment shaders declare `depth_less` (reversed Z); standard Z needs the mirror.
     let frag = match shaders::create_fragment_module(device, frag_code, key.reversed_z) {

@@ -58,7 +58,7 @@ fn assert_culling_exact(
     let mut vertices = Vec::new();
     for culling in VARIANTS {
         renderer.set_settings(Settings {
-            culling: culling,
+            culling,
             ..*renderer.settings()
         });
         let (culled, timing) = renderer
@@ -190,7 +190,7 @@ fn setup_in_the_prepass_changes_no_pixel() {
     for camera in [perspective, orthographic] {
         for culling in [Culling::ON, Culling::OFF] {
             renderer.set_settings(Settings {
-                culling: culling,
+                culling,
                 ..*renderer.settings()
             });
             renderer.set_settings(Settings {

@@ -77,6 +77,7 @@ impl GpuBuffer {
     }
 
     /// The mapped bytes, for host-visible buffers.
+    #[cfg(feature = "offscreen")]
     pub fn mapped(&self) -> Option<&[u8]> {
         self.allocation.as_ref()?.mapped_slice()
     }

@@ -4,28 +4,34 @@ use ash::vk;
 
 use crate::error::{Error, Result, VkCall};
 
-/// One fragment shader built four ways (`build.rs`): with or without the normal and ID
-/// outputs (`AUX_OUTPUTS`), with or without the shaded-pixel counter (`COUNT_FRAGMENTS`).
+/// One fragment shader's builds (`build.rs`): with or without the normal and ID outputs
+/// (`AUX_OUTPUTS`), and with the `research` feature also with the shaded-pixel counter
+/// (`COUNT_FRAGMENTS`).
 #[derive(Clone, Copy, Debug)]
 pub struct FragmentShader {
     /// Colour only.
     pub plain: &'static [u8],
-    /// Colour only, counting shaded pixels.
-    pub counted: &'static [u8],
     /// Colour, normal and ID.
     pub aux: &'static [u8],
+    /// Colour only, counting shaded pixels.
+    #[cfg(feature = "research")]
+    pub counted: &'static [u8],
     /// Colour, normal and ID, counting shaded pixels.
+    #[cfg(feature = "research")]
     pub aux_counted: &'static [u8],
 }
 
 impl FragmentShader {
-    /// The build with (`aux`) the normal and ID outputs and (`counted`) the pixel counter.
+    /// The build with (`aux`) the normal and ID outputs and (`counted`) the pixel counter
+    /// (ignored without the `research` feature, which alone builds it).
     pub fn pick(&self, aux: bool, counted: bool) -> &'static [u8] {
         match (aux, counted) {
-            (false, false) => self.plain,
+            #[cfg(feature = "research")]
             (false, true) => self.counted,
-            (true, false) => self.aux,
+            #[cfg(feature = "research")]
             (true, true) => self.aux_counted,
+            (false, _) => self.plain,
+            (true, _) => self.aux,
         }
     }
 }
@@ -40,8 +46,10 @@ macro_rules! fragment_shader {
     ($name:literal) => {
         FragmentShader {
             plain: include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".spv")),
-            counted: include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".counted.spv")),
             aux: include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".aux.spv")),
+            #[cfg(feature = "research")]
+            counted: include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".counted.spv")),
+            #[cfg(feature = "research")]
             aux_counted: include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".aux.counted.spv")),
         }
     };
@@ -56,14 +64,19 @@ pub const ELLIPSOID_SETUP_ONCE_VERT: &[u8] = spirv!("ellipsoid_setup_once.vert.s
 /// `ELLIPSOID_FRAG` reading the set-up the pre-pass computed once (`SETUP_ONCE`).
 pub const ELLIPSOID_SETUP_ONCE_FRAG: FragmentShader = fragment_shader!("ellipsoid_setup_once.frag");
 /// The `impostor-flat-depth` fragment shader (no depth write).
+#[cfg(feature = "research")]
 pub const ELLIPSOID_FLAT_DEPTH_FRAG: FragmentShader = fragment_shader!("ellipsoid_flat_depth.frag");
 /// The `flat-fill` fragment shader.
+#[cfg(feature = "research")]
 pub const FLAT_FILL_FRAG: FragmentShader = fragment_shader!("flat_fill.frag");
 /// Icosphere vertex shader (`mesh-L*`).
+#[cfg(feature = "research")]
 pub const MESH_VERT: &[u8] = spirv!("mesh.vert.spv");
 /// Icosphere fragment shader (`mesh-L*`).
+#[cfg(feature = "research")]
 pub const MESH_FRAG: FragmentShader = fragment_shader!("mesh.frag");
 /// Oriented-box proxy vertex shader (`box-proxy`).
+#[cfg(feature = "research")]
 pub const BOX_VERT: &[u8] = spirv!("box.vert.spv");
 /// The culling pre-pass compute shader.
 pub const CULL_COMP: &[u8] = spirv!("cull.comp.spv");
@@ -125,7 +138,10 @@ mod tests {
 
     #[test]
     fn every_depth_writing_fragment_shader_declares_depth_less_once() {
-        let builds = |f: FragmentShader| [f.plain, f.counted, f.aux, f.aux_counted];
+        #[cfg(feature = "research")]
+        let builds = |f: FragmentShader| [f.plain, f.aux, f.counted, f.aux_counted];
+        #[cfg(not(feature = "research"))]
+        let builds = |f: FragmentShader| [f.plain, f.aux];
         for spirv in builds(ELLIPSOID_FRAG)
             .into_iter()
             .chain(builds(ELLIPSOID_SETUP_ONCE_FRAG))

@@ -104,25 +104,30 @@ pub(crate) struct SceneBuffers {
 
 impl SceneBuffers {
     /// The buffer of `binding`, if it exists.
+    #[cfg(feature = "research")]
     pub fn get(&self, binding: Binding) -> Option<&GpuBuffer> {
         self.buffers[binding as usize].as_ref()
     }
 
     /// The handle of `binding`'s buffer, or an error naming it.
     pub fn handle(&self, binding: Binding) -> Result<vk::Buffer> {
-        self.get(binding).map(GpuBuffer::handle).ok_or_else(|| {
-            Error::invalid(
-                "descriptor set",
-                format!(
-                    "binding {} ({}) has no buffer",
-                    binding as u32,
-                    binding.name()
-                ),
-            )
-        })
+        self.buffers[binding as usize]
+            .as_ref()
+            .map(GpuBuffer::handle)
+            .ok_or_else(|| {
+                Error::invalid(
+                    "descriptor set",
+                    format!(
+                        "binding {} ({}) has no buffer",
+                        binding as u32,
+                        binding.name()
+                    ),
+                )
+            })
     }
 
     /// The buffer of `binding`, mutably (the host-visible counter).
+    #[cfg(feature = "research")]
     pub fn get_mut(&mut self, binding: Binding) -> Option<&mut GpuBuffer> {
         self.buffers[binding as usize].as_mut()
     }

@@ -155,6 +155,10 @@ impl EllipsoidRenderer {
                     Geometry::Mesh(level) => {
                         device.cmd_draw_indexed(cmd, self.meshes.index_count(level), count, 0, 0, 0)
                     }
+                    // Unreachable: without `research` the baselines have no pipeline, and
+                    // `prepare` refused them above.
+                    #[cfg(not(feature = "research"))]
+                    Geometry::BoxProxy | Geometry::Mesh(_) => {}
                 }
             }
         }
