@@ -29,7 +29,8 @@ impl Retired {
     /// returns).
     pub unsafe fn destroy(self, device: &ash::Device, allocator: &mut Allocator) {
         match self {
-            Retired::Buffer(buffer) => buffer.destroy(device, allocator),
+            // SAFETY: caller contract.
+            Retired::Buffer(buffer) => unsafe { buffer.destroy(device, allocator) },
             // SAFETY: created by the renderer from `device`; caller contract.
             Retired::DescriptorPool(pool) => unsafe { device.destroy_descriptor_pool(pool, None) },
         }

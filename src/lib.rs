@@ -12,6 +12,13 @@
 //! - `research`: the benchmark's baselines ([`draw::Method`]: textbook intersection, box proxy,
 //!   icosphere meshes, flat fill, fixed footprints) and fragment counting. Hosts never need it.
 //!
+//! Diagnostics go through the `log` crate. [`EllipsoidRenderer`] reads no environment
+//! variable; the `offscreen` context reads `ELLIPSOID_SPLAT_DEVICE` (which device, when
+//! [`gpu::ContextOptions::device`] is `None`) and, in [`gpu::ContextOptions::validated`],
+//! `ELLIPSOID_SPLAT_EXTRA_VALIDATION` (`gpu-assisted` or `best-practices`).
+//!
+//! The design, the numerics of the exact hit and every contract are in `docs/design.md`.
+//!
 //! ```
 //! # #[cfg(feature = "offscreen")]
 //! # fn main() -> ellipsoid_splat::Result<()> {

@@ -55,7 +55,9 @@ impl GpuBuffer {
         if let Err(result) = bound {
             // SAFETY: nothing uses the buffer yet.
             unsafe { device.destroy_buffer(buffer, None) };
-            let _ = allocator.free(allocation);
+            if let Err(e) = allocator.free(allocation) {
+                log::error!("freeing {name}: {e}");
+            }
             return Err(Error::vulkan("vkBindBufferMemory", result));
         }
         Ok(Self {
@@ -104,12 +106,18 @@ impl GpuBuffer {
         Ok(())
     }
 
-    /// Destroys the buffer and frees its memory. The GPU must be done with it.
-    pub fn destroy(mut self, device: &ash::Device, allocator: &mut Allocator) {
+    /// Destroys the buffer and frees its memory (a failure to free is logged: the buffer is
+    /// gone either way).
+    ///
+    /// # Safety
+    /// `device` and `allocator` made the buffer, and no pending GPU work uses it.
+    pub unsafe fn destroy(mut self, device: &ash::Device, allocator: &mut Allocator) {
         if let Some(allocation) = self.allocation.take() {
-            // SAFETY: the caller guarantees no pending GPU work uses the buffer; it is owned here.
+            // SAFETY: caller contract; the buffer is owned here.
             unsafe { device.destroy_buffer(self.buffer, None) };
-            let _ = allocator.free(allocation);
+            if let Err(e) = allocator.free(allocation) {
+                log::error!("freeing {}: {e}", self.name);
+            }
         }
     }
 }
@@ -117,10 +125,7 @@ impl GpuBuffer {
 impl Drop for GpuBuffer {
     fn drop(&mut self) {
         if self.allocation.is_some() {
-            eprintln!(
-                "ellipsoid-splat: buffer '{}' dropped without destroy(): leaked",
-                self.name
-            );
+            log::error!("buffer '{}' dropped without destroy(): leaked", self.name);
         }
     }
 }

@@ -298,7 +298,9 @@ impl Drop for Context {
         // SAFETY: the context owns every handle below; all work is finished after the idle
         // wait, and the allocator (which frees its memory blocks) goes before the device.
         unsafe {
-            let _ = self.device.device_wait_idle();
+            if let Err(e) = self.device.device_wait_idle() {
+                log::error!("vkDeviceWaitIdle before destroying the device: {e}");
+            }
             ManuallyDrop::drop(&mut self.allocator);
             self.device.destroy_device(None);
             if let Some((utils, messenger)) = self.messenger.take() {

@@ -62,7 +62,9 @@ impl GpuImage {
         let cleanup = |device: &ash::Device, allocator: &mut Allocator, allocation| {
             // SAFETY: nothing uses the image yet.
             unsafe { device.destroy_image(image, None) };
-            let _ = allocator.free(allocation);
+            if let Err(e) = allocator.free(allocation) {
+                log::error!("freeing {name}: {e}");
+            }
         };
         // SAFETY: memory and offset come from an allocation made for these requirements.
         if let Err(result) =
@@ -108,15 +110,20 @@ impl GpuImage {
         self.extent
     }
 
-    /// Destroys view and image and frees the memory. The GPU must be done with them.
-    pub fn destroy(mut self, device: &ash::Device, allocator: &mut Allocator) {
+    /// Destroys view and image and frees the memory (a failure to free is logged).
+    ///
+    /// # Safety
+    /// `device` and `allocator` made the image, and no pending GPU work uses it.
+    pub unsafe fn destroy(mut self, device: &ash::Device, allocator: &mut Allocator) {
         if let Some(allocation) = self.allocation.take() {
-            // SAFETY: the caller guarantees no pending GPU work uses the image; it is owned here.
+            // SAFETY: caller contract; the image and view are owned here.
             unsafe {
                 device.destroy_image_view(self.view, None);
                 device.destroy_image(self.image, None);
             }
-            let _ = allocator.free(allocation);
+            if let Err(e) = allocator.free(allocation) {
+                log::error!("freeing {}: {e}", self.name);
+            }
         }
     }
 }
@@ -124,10 +131,7 @@ impl GpuImage {
 impl Drop for GpuImage {
     fn drop(&mut self) {
         if self.allocation.is_some() {
-            eprintln!(
-                "ellipsoid-splat: image '{}' dropped without destroy(): leaked",
-                self.name
-            );
+            log::error!("image '{}' dropped without destroy(): leaked", self.name);
         }
     }
 }

@@ -145,9 +145,13 @@ impl FrameQueries {
         })
     }
 
-    /// Destroys the pools. The GPU must be done with them.
-    pub fn destroy(&mut self, device: &ash::Device) {
-        // SAFETY: owned handles (null after the first call, which Vulkan ignores).
+    /// Destroys the pools.
+    ///
+    /// # Safety
+    /// No pending work uses them.
+    pub unsafe fn destroy(&mut self, device: &ash::Device) {
+        // SAFETY: owned handles (null after the first call, which Vulkan ignores); caller
+        // contract.
         unsafe {
             device.destroy_query_pool(self.timestamps, None);
             if let Some(pool) = self.statistics.take() {

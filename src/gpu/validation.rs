@@ -91,8 +91,12 @@ unsafe extern "system" fn on_message(
         id_name: text(data.p_message_id_name),
         text: text(data.p_message),
     };
-    if std::env::var_os("ELLIPSOID_SPLAT_PRINT_VALIDATION").is_some() {
-        eprintln!("{message}");
+    // Every message is also logged as it arrives (`scripts/validation-modes.sh` prints them
+    // through the test support's logger).
+    match message.severity {
+        s if s.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) => log::error!("{message}"),
+        s if s.contains(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING) => log::warn!("{message}"),
+        _ => log::info!("{message}"),
     }
     if let Ok(mut log) = log.lock() {
         log.push(message);

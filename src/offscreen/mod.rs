@@ -360,11 +360,14 @@ impl OffscreenRenderer {
 
     /// Destroys everything but the context (idempotent).
     fn release(&mut self) {
-        let _ = self.context.wait_idle();
+        if let Err(e) = self.context.wait_idle() {
+            log::error!("waiting for the device before tearing down: {e}");
+        }
         let renderer = self.renderer.take();
         let targets = self.targets.take();
         if let Some(mut q) = self.queries.take() {
-            q.destroy(self.context.device());
+            // SAFETY: the device is idle (waited above).
+            unsafe { q.destroy(self.context.device()) };
         }
         let (pool, fence) = (self.command_pool, self.fence);
         let (device, allocator) = self.context.device_and_allocator();
@@ -373,7 +376,8 @@ impl OffscreenRenderer {
             unsafe { r.destroy(device, allocator) };
         }
         if let Some(t) = targets {
-            t.destroy(device, allocator);
+            // SAFETY: the device is idle (waited above).
+            unsafe { t.destroy(device, allocator) };
         }
         // SAFETY: the device is idle; pool (with its command buffer) and fence are owned here
         // (null after the first release, which Vulkan ignores).

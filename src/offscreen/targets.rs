@@ -72,7 +72,10 @@ impl Targets {
         // Build one at a time so a failure frees the ones already made.
         let mut made: Vec<GpuImage> = Vec::new();
         let free = |made: Vec<GpuImage>, allocator: &mut Allocator| {
-            made.into_iter().for_each(|i| i.destroy(device, allocator))
+            for image in made {
+                // SAFETY: just made, never used.
+                unsafe { image.destroy(device, allocator) };
+            }
         };
         for (name, format, usage, aspect) in specs {
             match GpuImage::new(device, allocator, name, format, extent, usage, aspect) {
@@ -111,15 +114,21 @@ impl Targets {
         })
     }
 
-    /// Destroys every image and the buffer; nothing may use them.
-    pub fn destroy(self, device: &ash::Device, allocator: &mut Allocator) {
-        self.color.destroy(device, allocator);
-        self.depth.destroy(device, allocator);
-        if let Some((normal, id)) = self.aux {
-            normal.destroy(device, allocator);
-            id.destroy(device, allocator);
+    /// Destroys every image and the buffer.
+    ///
+    /// # Safety
+    /// No pending work uses them.
+    pub unsafe fn destroy(self, device: &ash::Device, allocator: &mut Allocator) {
+        // SAFETY: caller contract.
+        unsafe {
+            self.color.destroy(device, allocator);
+            self.depth.destroy(device, allocator);
+            if let Some((normal, id)) = self.aux {
+                normal.destroy(device, allocator);
+                id.destroy(device, allocator);
+            }
+            self.readback.destroy(device, allocator);
         }
-        self.readback.destroy(device, allocator);
     }
 }
 
@@ -136,8 +145,8 @@ impl OffscreenRenderer {
         }
         let (device, allocator) = self.context.device_and_allocator();
         if let Some(old) = self.targets.take() {
-            // Every submission is waited for before returning, so nothing uses them.
-            old.destroy(device, allocator);
+            // SAFETY: every submission is waited for before returning, so nothing uses them.
+            unsafe { old.destroy(device, allocator) };
         }
         self.targets = Some(Targets::new(device, allocator, extent, outputs)?);
         Ok(())

@@ -168,9 +168,13 @@ impl SceneBuffers {
     }
 
     /// Destroys every buffer.
-    pub fn destroy(&mut self, device: &ash::Device, allocator: &mut Allocator) {
+    ///
+    /// # Safety
+    /// No pending work uses them.
+    pub unsafe fn destroy(&mut self, device: &ash::Device, allocator: &mut Allocator) {
         for buffer in self.buffers.iter_mut().filter_map(Option::take) {
-            buffer.destroy(device, allocator);
+            // SAFETY: caller contract.
+            unsafe { buffer.destroy(device, allocator) };
         }
     }
 }

@@ -347,12 +347,12 @@ impl EllipsoidRenderer {
             // SAFETY: the caller guarantees no pending work uses it.
             unsafe { object.destroy(device, allocator) };
         }
-        self.buffers.destroy(device, allocator);
-        #[cfg(feature = "research")]
-        self.meshes.destroy(device, allocator);
-        // SAFETY: all handles were created by `self` from `device` (or are null, which Vulkan
-        // ignores); the caller guarantees no pending work uses them.
+        // SAFETY: all objects were created by `self` from `device` (null handles are ignored);
+        // the caller guarantees no pending work uses them.
         unsafe {
+            self.buffers.destroy(device, allocator);
+            #[cfg(feature = "research")]
+            self.meshes.destroy(device, allocator);
             self.pipelines.destroy(device);
             device.destroy_descriptor_pool(self.descriptor_pool, None);
         }

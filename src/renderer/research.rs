@@ -103,7 +103,8 @@ impl Meshes {
                 MemoryLocation::CpuToGpu,
             )?;
             if let Err(e) = buffer.write(bytes) {
-                buffer.destroy(device, allocator);
+                // SAFETY: just made, never used.
+                unsafe { buffer.destroy(device, allocator) };
                 return Err(e);
             }
             Ok(buffer)
@@ -122,7 +123,8 @@ impl Meshes {
         ) {
             Ok(b) => b,
             Err(e) => {
-                vertices.destroy(device, allocator);
+                // SAFETY: just made, never used.
+                unsafe { vertices.destroy(device, allocator) };
                 return Err(e);
             }
         };
@@ -161,10 +163,16 @@ impl Meshes {
     }
 
     /// Destroys every mesh.
-    pub fn destroy(&mut self, device: &ash::Device, allocator: &mut Allocator) {
+    ///
+    /// # Safety
+    /// No pending work uses them.
+    pub unsafe fn destroy(&mut self, device: &ash::Device, allocator: &mut Allocator) {
         for mesh in self.levels.drain(..) {
-            mesh.vertices.destroy(device, allocator);
-            mesh.indices.destroy(device, allocator);
+            // SAFETY: caller contract.
+            unsafe {
+                mesh.vertices.destroy(device, allocator);
+                mesh.indices.destroy(device, allocator);
+            }
         }
     }
 }

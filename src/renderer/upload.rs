@@ -128,7 +128,8 @@ impl EllipsoidRenderer {
             MemoryLocation::CpuToGpu,
         )?;
         if let Err(e) = staging.write(bytes) {
-            staging.destroy(device, allocator);
+            // SAFETY: just made, never used.
+            unsafe { staging.destroy(device, allocator) };
             return Err(e);
         }
         let region = vk::BufferCopy {

@@ -7,8 +7,37 @@ use crate::reference::render_reference;
 use ellipsoid_splat::gpu::ContextOptions;
 use ellipsoid_splat::{Camera, Frame, OffscreenRenderer, Outputs, Scene};
 
+/// Prints the library's log on stderr, for runs that want each validation message as it
+/// arrives (`scripts/validation-modes.sh` sets `ELLIPSOID_SPLAT_PRINT_VALIDATION`).
+struct StderrLog;
+
+impl log::Log for StderrLog {
+    fn enabled(&self, _: &log::Metadata) -> bool {
+        true
+    }
+
+    fn log(&self, record: &log::Record) {
+        eprintln!("{}", record.args());
+    }
+
+    fn flush(&self) {}
+}
+
+/// Installs [`StderrLog`] once when `ELLIPSOID_SPLAT_PRINT_VALIDATION` is set.
+fn print_log_if_asked() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        if std::env::var_os("ELLIPSOID_SPLAT_PRINT_VALIDATION").is_some()
+            && log::set_logger(&StderrLog).is_ok()
+        {
+            log::set_max_level(log::LevelFilter::Info);
+        }
+    });
+}
+
 /// A renderer on a device with validation and synchronization validation on.
 pub fn validated_renderer() -> OffscreenRenderer {
+    print_log_if_asked();
     OffscreenRenderer::new(&ContextOptions::validated())
         .expect("validated Vulkan device (lavapipe)")
 }
