@@ -180,22 +180,21 @@ fn parse(
     };
     let mut ticker = Ticker::new(progress, vertex.count);
     let trailing = match header.encoding {
-        Encoding::BinaryLittleEndian => read_binary::<false>(
-            body,
-            &header.elements,
-            vertex_index,
-            &layout,
-            &mut splats,
-            &mut ticker,
-        )?,
-        Encoding::BinaryBigEndian => read_binary::<true>(
-            body,
-            &header.elements,
-            vertex_index,
-            &layout,
-            &mut splats,
-            &mut ticker,
-        )?,
+        Encoding::BinaryLittleEndian | Encoding::BinaryBigEndian => {
+            let read = if matches!(header.encoding, Encoding::BinaryBigEndian) {
+                read_binary::<true>
+            } else {
+                read_binary::<false>
+            };
+            read(
+                body,
+                &header.elements,
+                vertex_index,
+                &layout,
+                &mut splats,
+                &mut ticker,
+            )?
+        }
         Encoding::Ascii => {
             read_ascii(
                 body,
