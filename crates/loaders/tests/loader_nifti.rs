@@ -294,6 +294,16 @@ fn same_glyphs(a: &Loaded, b: &Loaded, tol: f64) -> bool {
             })
 }
 
+/// The longest semi-axis of all glyphs.
+fn largest_semi_axis(loaded: &Loaded) -> f64 {
+    loaded
+        .scene
+        .ellipsoids
+        .iter()
+        .map(|e| e.radii.max_element())
+        .fold(0.0, f64::max)
+}
+
 /// The unit direction of a glyph's longest axis.
 fn long_axis(e: &Ellipsoid) -> DVec3 {
     let n = (0..3)
@@ -617,12 +627,7 @@ fn tensor_orders_agree_when_the_data_matches() {
     assert_eq!(a.scene.len(), 12);
     assert!(same_glyphs(&a, &b, 1e-9), "same tensors, same glyphs");
     // The glyphs are the tensors (scaled): the first voxel's tensor comes back.
-    let largest = a
-        .scene
-        .ellipsoids
-        .iter()
-        .map(|e| e.radii.max_element())
-        .fold(0.0, f64::max);
+    let largest = largest_semi_axis(&a);
     assert!((largest - 0.5).abs() < 1e-9, "largest semi-axis {largest}");
     let t0 = glyph_tensor(&a.scene.ellipsoids[0]);
     let v0 = varied(0, 0, 0);
@@ -913,12 +918,7 @@ fn sample_volume_loads() {
     // Centred near the origin, 2 mm apart, at most one voxel across.
     let (centre, radius) = loaded.scene.bounding_sphere().unwrap();
     assert!(centre.length() < 4.0 && radius < 40.0, "{centre} {radius}");
-    let largest = loaded
-        .scene
-        .ellipsoids
-        .iter()
-        .map(|e| e.radii.max_element())
-        .fold(0.0, f64::max);
+    let largest = largest_semi_axis(&loaded);
     assert!((largest - 1.0).abs() < 1e-3, "{largest}");
     assert!(loaded.notes[0].contains("24x24x8 grid placed by the sform"));
     // The FA threshold keeps the tracts: mostly linear (red) glyphs.

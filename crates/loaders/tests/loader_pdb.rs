@@ -91,6 +91,15 @@ fn three_atoms() -> String {
     .concat()
 }
 
+/// [`three_atoms`] with line `index` (0-based) cut to its first `len` columns.
+fn three_atoms_cut(index: usize, len: usize) -> String {
+    three_atoms()
+        .lines()
+        .enumerate()
+        .map(|(i, l)| if i == index { &l[..len] } else { l }.to_string() + "\n")
+        .collect()
+}
+
 /// `M M^T` of an ellipsoid: `c^2 U` for a thermal ellipsoid.
 fn shape(e: &Ellipsoid) -> DMat3 {
     let m = e.to_world();
@@ -412,11 +421,7 @@ fn anisou_with_a_non_numeric_field() {
     // A decimal is not the PDB format either; a short line names the missing field.
     let text = three_atoms().replace("   1892", "  0.189");
     assert_err(&text, "ala.pdb", 2, "U22 (columns 36-42)", &["\"0.189\""]);
-    let short: String = three_atoms()
-        .lines()
-        .enumerate()
-        .map(|(i, l)| if i == 3 { l[..60].to_string() } else { l.to_string() } + "\n")
-        .collect();
+    let short = three_atoms_cut(3, 60);
     assert_err(
         &short,
         "ala.pdb",
@@ -529,11 +534,7 @@ fn non_finite_coordinates() {
         &["atom 1 N1 (GSH A 1)", "is not finite: \"Infinity\""],
     );
     // A line too short for the coordinates.
-    let text = three_atoms()
-        .lines()
-        .enumerate()
-        .map(|(i, l)| if i == 4 { l[..50].to_string() } else { l.to_string() } + "\n")
-        .collect::<String>();
+    let text = three_atoms_cut(4, 50);
     assert_err(
         &text,
         "ala.pdb",

@@ -694,6 +694,15 @@ fn header_with_line(at: usize, line: &str) -> Vec<u8> {
     body.into_bytes()
 }
 
+/// Each `(at, line, column, words)`: the minimal ASCII file with header line `at` replaced by
+/// `line` fails on that line at `column`, the reason holding every one of `words`, with and
+/// without `skip_invalid` ([`assert_structural`]).
+fn assert_bad_header_lines(cases: &[(usize, &str, &str, &[&str])]) {
+    for &(at, line, column, words) in cases {
+        assert_structural(&header_with_line(at, line), at, column, words);
+    }
+}
+
 #[test]
 fn unknown_format() {
     let m = assert_structural(
@@ -710,18 +719,15 @@ fn unknown_format() {
         "scene.ply:2:format: unknown format \"binary_middle_endian\": expected ascii, \
          binary_little_endian or binary_big_endian"
     );
-    assert_structural(
-        &header_with_line(2, "format ascii one"),
-        2,
-        "format",
-        &["bad version \"one\""],
-    );
-    assert_structural(
-        &header_with_line(2, "format ascii 2.0"),
-        2,
-        "format",
-        &["unsupported PLY version 2.0"],
-    );
+    assert_bad_header_lines(&[
+        (2, "format ascii one", "format", &["bad version \"one\""]),
+        (
+            2,
+            "format ascii 2.0",
+            "format",
+            &["unsupported PLY version 2.0"],
+        ),
+    ]);
     assert_structural(
         &header_with_line(2, "comment no format line"),
         0,
@@ -746,37 +752,39 @@ fn unknown_property_type() {
         m.starts_with("scene.ply:4:x: unknown property type \"float16\""),
         "{m}"
     );
-    assert_structural(
-        &header_with_line(4, "property list uchar half x"),
-        4,
-        "x",
-        &["unknown property type \"half\""],
-    );
-    assert_structural(
-        &header_with_line(4, "property list float int x"),
-        4,
-        "x",
-        &["length type must be an integer type"],
-    );
-    assert_structural(
-        &header_with_line(4, "property float"),
-        4,
-        "property",
-        &["malformed header line", "`property <type> <name>`"],
-    );
-    assert_structural(
-        &header_with_line(5, "property float x"),
-        5,
-        "x",
-        &["duplicate property \"x\" in element \"vertex\""],
-    );
-    assert_structural(
-        &header_with_line(4, "propety float x"),
-        4,
-        "header",
-        &["unknown header keyword \"propety\""],
-    );
-    assert_structural(&header_with_line(4, ""), 4, "header", &["blank line"]);
+    assert_bad_header_lines(&[
+        (
+            4,
+            "property list uchar half x",
+            "x",
+            &["unknown property type \"half\""],
+        ),
+        (
+            4,
+            "property list float int x",
+            "x",
+            &["length type must be an integer type"],
+        ),
+        (
+            4,
+            "property float",
+            "property",
+            &["malformed header line", "`property <type> <name>`"],
+        ),
+        (
+            5,
+            "property float x",
+            "x",
+            &["duplicate property \"x\" in element \"vertex\""],
+        ),
+        (
+            4,
+            "propety float x",
+            "header",
+            &["unknown header keyword \"propety\""],
+        ),
+        (4, "", "header", &["blank line"]),
+    ]);
 }
 
 #[test]
@@ -792,24 +800,21 @@ fn element_count_not_a_number() {
         "scene.ply:3:element vertex: element \"vertex\": count \"many\" is not a non-negative \
          integer"
     );
-    assert_structural(
-        &header_with_line(3, "element vertex -5"),
-        3,
-        "element vertex",
-        &["count \"-5\""],
-    );
-    assert_structural(
-        &header_with_line(3, "element vertex 99999999999999999999999"),
-        3,
-        "element vertex",
-        &["too large"],
-    );
-    assert_structural(
-        &header_with_line(3, "element vertex"),
-        3,
-        "element",
-        &["`element <name> <count>`"],
-    );
+    assert_bad_header_lines(&[
+        (3, "element vertex -5", "element vertex", &["count \"-5\""]),
+        (
+            3,
+            "element vertex 99999999999999999999999",
+            "element vertex",
+            &["too large"],
+        ),
+        (
+            3,
+            "element vertex",
+            "element",
+            &["`element <name> <count>`"],
+        ),
+    ]);
     // A property before any element.
     let text = "ply\nformat ascii 1.0\nproperty float x\nelement vertex 0\nend_header\n";
     assert_structural(text.as_bytes(), 3, "x", &["before any `element` line"]);
