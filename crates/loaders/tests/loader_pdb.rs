@@ -441,6 +441,20 @@ fn anisou_with_a_non_numeric_field() {
     println!("{message}");
 }
 
+/// With `skip_invalid`, `text` loads `ellipsoids` thermal ellipsoids, one record skipped, and the
+/// last note names the error `message` that record gives without the option.
+fn assert_skipped_one(text: &str, file: &str, ellipsoids: usize, message: &str) -> Loaded {
+    let loaded = parse_with(text, file, &skipping()).unwrap();
+    assert_eq!((loaded.scene.len(), loaded.skipped), (ellipsoids, 1));
+    assert_eq!(
+        loaded.notes.last(),
+        Some(&format!(
+            "skipped 1 invalid record(s); the first: {message}"
+        ))
+    );
+    loaded
+}
+
 #[test]
 fn anisou_without_a_matching_atom() {
     let text = three_atoms() + &anisou(7, " CB ", "ALA", 1, [100, 100, 100, 0, 0, 0], "C");
@@ -457,14 +471,7 @@ fn anisou_without_a_matching_atom() {
          ATOM/HETATM record (no atom with serial 7)"
     );
     // With skip_invalid the stray record is counted, named in the notes, and the atoms load.
-    let loaded = parse_with(&text, "ala.pdb", &skipping()).unwrap();
-    assert_eq!((loaded.scene.len(), loaded.skipped), (3, 1));
-    assert_eq!(
-        loaded.notes.last(),
-        Some(&format!(
-            "skipped 1 invalid record(s); the first: {message}"
-        ))
-    );
+    assert_skipped_one(&text, "ala.pdb", 3, &message);
     // mmCIF: an _atom_site_anisotrop row whose id is not an _atom_site.id.
     let text = sample_text("thermal.cif").replacen("\n37 ", "\n99 ", 1);
     let message = assert_err(
@@ -475,14 +482,7 @@ fn anisou_without_a_matching_atom() {
         &["id \"99\" has no matching _atom_site row"],
     );
     // Skipped, the row goes and its atom (water 37) has no anisotropic parameters left.
-    let loaded = parse_with(&text, "thermal.cif", &skipping()).unwrap();
-    assert_eq!((loaded.scene.len(), loaded.skipped), (21, 1));
-    assert_eq!(
-        loaded.notes.last(),
-        Some(&format!(
-            "skipped 1 invalid record(s); the first: {message}"
-        ))
-    );
+    let loaded = assert_skipped_one(&text, "thermal.cif", 21, &message);
     assert_note(&loaded.notes, "left out 17 atom(s)");
     // A second ANISOU for the same atom.
     let text = three_atoms() + &anisou(3, " O  ", "ALA", 1, [100, 100, 100, 0, 0, 0], "O");
