@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""Writes the seed corpus of the fuzz targets: the sample files in data/samples/ (large ones cut
-down) plus small hand-made edge cases per format. Standard library only.
+"""Writes the seed corpus of the fuzz targets: the sample files in data/samples/ at the
+repository root (large ones cut down) plus small hand-made edge cases per format. Standard
+library only; the paths do not depend on the working directory.
 
-    python3 fuzz/make_seeds.py            # from the repository root
+    python3 crates/loaders/fuzz/make_seeds.py
 
 Seeds are named `seed-*`, so re-running replaces them and leaves the files that `cargo fuzz`
 added (named by their SHA-1) alone. `cargo fuzz cmin` may later drop seeds that add no coverage.
@@ -14,9 +15,10 @@ import pathlib
 import re
 import struct
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
-SAMPLES = ROOT / "data" / "samples"
-CORPUS = ROOT / "fuzz" / "corpus"
+FUZZ = pathlib.Path(__file__).resolve().parent
+# crates/loaders/fuzz -> the repository root.
+SAMPLES = FUZZ.parent.parent.parent / "data" / "samples"
+CORPUS = FUZZ / "corpus"
 # Sample files larger than this are cut down (PLY: fewer vertices) or skipped.
 MAX_SEED = 64 * 1024
 

@@ -1,15 +1,27 @@
-//! The Ellipsoid CSV loader (DESIGN.md section 4, "Ellipsoid CSV").
+//! Reads Ellipsoid CSV: one ellipsoid per row, given by semi-axes and a rotation or by a
+//! tensor.
 //!
-//! UTF-8 text, `#` comment lines, one header row, columns by name in any order: centre `x,y,z`,
-//! exactly one shape form (`rx,ry,rz,qw,qx,qy,qz` or `txx,txy,txz,tyy,tyz,tzz`) and an optional
-//! `r,g,b` colour. Every rejection is an [`Error::Parse`] naming file, physical line, column and
-//! reason, so a user can go straight to the bad field.
+//! UTF-8 text (a leading byte-order mark is skipped), `#` comment lines and blank lines anywhere,
+//! one header row, then one row per ellipsoid. Columns are named in the header, in any order
+//! (names are case-sensitive):
+//!
+//! - `x,y,z`: the centre (required);
+//! - exactly one shape form: either `rx,ry,rz,qw,qx,qy,qz`, the semi-axes (all > 0) and the
+//!   quaternion rotating local axes into world (non-zero; normalised on load), or
+//!   `txx,txy,txz,tyy,tyz,tzz`, the upper triangle of the symmetric positive-definite `T` of
+//!   `E = {c + T p : |p| = 1}`;
+//! - optionally `r,g,b`, all three, each in [0, 1]: the display (sRGB) colour; without them
+//!   glyphs are coloured by shape ([`ellipsoid_splat::ellipsoid::shape_color`]).
+//!
+//! Every rejection is an [`Error::Parse`] naming file, physical line, column and reason
+//! (`scene.csv:7:rx: non-positive radius: -0.5 ...`), so a user can go straight to the bad
+//! field.
 
 use std::path::Path;
 
 use glam::{DMat3, DQuat, DVec3};
 
-use crate::load::{LoadOptions, Loaded};
+use crate::load::{line_at, parse_error, read_file, LoadOptions, Loaded};
 use ellipsoid_splat::ellipsoid::Ellipsoid;
 use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::scene::Scene;
@@ -42,16 +54,12 @@ pub fn load_csv(path: &Path) -> Result<Scene> {
 /// Reads and parses an Ellipsoid CSV file; with `skip_invalid`, bad data rows are dropped and
 /// counted instead of failing (a bad header still fails).
 pub fn load_csv_with(path: &Path, options: &LoadOptions) -> Result<Loaded> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let bytes = read_file(path)?;
     let text = std::str::from_utf8(&bytes).map_err(|e| {
         let at = e.valid_up_to();
-        let line = 1 + bytes[..at].iter().filter(|&&b| b == b'\n').count();
         parse_error(
             path,
-            line,
+            line_at(&bytes, at),
             "text",
             format!("invalid UTF-8 at byte offset {at}"),
         )
@@ -179,20 +187,6 @@ impl<'a> LineCounter<'a> {
             .count();
         self.offset = start;
         self.newlines + 1
-    }
-}
-
-fn parse_error(
-    file: &Path,
-    line: usize,
-    column: impl Into<String>,
-    reason: impl Into<String>,
-) -> Error {
-    Error::Parse {
-        file: file.to_path_buf(),
-        line,
-        column: column.into(),
-        reason: reason.into(),
     }
 }
 

@@ -1,5 +1,6 @@
-//! Generated scenes: the tensor-field demo (after Gumhold 2003's test scene) and a random cloud
-//! of overlapping ellipsoids for tests and benches. Both are deterministic.
+//! Generated scenes, read from no file: the tensor-field demo (after Gumhold 2003's test
+//! scene), a random cloud of overlapping ellipsoids and a densely packed block, for tests,
+//! benches and demos. All are deterministic.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 

@@ -1,13 +1,28 @@
 //! Scene files and generated scenes for `ellipsoid-splat`: each loader turns a file into a
-//! [`Scene`](ellipsoid_splat::Scene) and names the file, line, field and reason of every bad
-//! record.
+//! [`Scene`](ellipsoid_splat::Scene) of ellipsoids and names the file, line, field and reason of
+//! every bad record, never panicking on any input.
 //!
-//! - [`csv`]: ellipsoid CSV (centres, semi-axes and rotations, or tensors; optional colours);
-//! - [`ply`]: 3D Gaussian Splatting PLY;
-//! - [`nifti`]: diffusion tensor volumes (NIfTI-1, optionally gzipped);
-//! - [`pdb`]: thermal ellipsoids from PDB and mmCIF;
-//! - [`load()`]: any of them, by extension or content;
-//! - [`generate`]: the tensor-field demo, random clouds and packed blocks.
+//! Formats read:
+//!
+//! - [`csv`]: Ellipsoid CSV (`.csv`): centres with semi-axes and quaternions, or with tensors;
+//!   optional colours;
+//! - [`ply`]: 3D Gaussian Splatting PLY (`.ply`, binary either endian or ASCII);
+//! - [`nifti`]: diffusion tensor volumes, NIfTI-1 (`.nii`, `.nii.gz`), as tensor glyphs;
+//! - [`pdb`]: crystallographic thermal ellipsoids from PDB (`.pdb`, `.ent`) and mmCIF (`.cif`,
+//!   `.mmcif`);
+//! - [`load()`]: any of them, by extension, else by the first bytes of the file.
+//!
+//! Also [`generate`] (the tensor-field demo, random clouds and packed blocks, for tests, benches
+//! and demos) and [`Progress`], the progress bar large files and long sweeps show on a terminal.
+//!
+//! # Diagnostics
+//!
+//! What the user should read about a load (parameters in effect, records filtered out or
+//! skipped, parts of the file ignored) is returned in [`Loaded::notes`]; the caller decides how
+//! to show it. Nothing is printed: the only other output is through the [`log`] crate, at debug
+//! level (the format chosen, how long a load took), for hosts that install a logger. No
+//! environment variable is read. The progress bar is drawn only when asked for
+//! ([`LoadOptions::progress`]) and only on a terminal.
 
 pub mod csv;
 pub mod generate;

@@ -1,5 +1,7 @@
-//! Loading a scene from a file: the format is chosen by extension, or by content when the
-//! extension says nothing, and every loader shares the options and the report of what it did.
+//! Reads a scene file of any supported format: the format is chosen by extension, or by
+//! content when the extension says nothing. Also the options every loader shares, the report of
+//! what it did, and the small helpers the loaders have in common (reading a file, building a
+//! parse error).
 
 use std::path::{Path, PathBuf};
 
@@ -104,14 +106,8 @@ pub fn detect_format(path: &Path) -> Result<Format> {
     let mut head = vec![0u8; 352];
     let read = {
         use std::io::Read;
-        let mut file = std::fs::File::open(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        file.read(&mut head).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?
+        let mut file = std::fs::File::open(path).map_err(io_error(path))?;
+        file.read(&mut head).map_err(io_error(path))?
     };
     let head = &head[..read];
     let text = String::from_utf8_lossy(head);
@@ -142,15 +138,62 @@ pub fn detect_format(path: &Path) -> Result<Format> {
     } else {
         Format::Csv
     };
+    log::debug!(
+        "{}: no known extension, read as {format:?} by its first {read} bytes",
+        path.display()
+    );
     Ok(format)
 }
 
 /// Loads the scene in `path`, in the format `detect_format` finds.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
-    match detect_format(path)? {
+    let format = detect_format(path)?;
+    let started = std::time::Instant::now();
+    let loaded = match format {
         Format::Csv => crate::csv::load_csv_with(path, options),
         Format::GaussianPly => crate::ply::load_ply(path, options),
         Format::Nifti => crate::nifti::load_nifti(path, options),
         Format::Pdb | Format::MmCif => crate::pdb::load_structure(path, options),
+    }?;
+    log::debug!(
+        "{}: {} ellipsoids from {format:?} in {:.1} ms ({} skipped as invalid)",
+        path.display(),
+        loaded.scene.len(),
+        started.elapsed().as_secs_f64() * 1e3,
+        loaded.skipped
+    );
+    Ok(loaded)
+}
+
+/// Maps an I/O error on `path` to [`Error::Io`].
+pub(crate) fn io_error(path: &Path) -> impl Fn(std::io::Error) -> Error + Copy + '_ {
+    move |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
     }
+}
+
+/// The whole content of `path`, or an [`Error::Io`] naming it.
+pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>> {
+    std::fs::read(path).map_err(io_error(path))
+}
+
+/// An [`Error::Parse`]: `line` is 1-based, 0 when the problem is not tied to a line.
+pub(crate) fn parse_error(
+    file: &Path,
+    line: usize,
+    column: impl Into<String>,
+    reason: impl Into<String>,
+) -> Error {
+    Error::Parse {
+        file: file.to_path_buf(),
+        line,
+        column: column.into(),
+        reason: reason.into(),
+    }
+}
+
+/// The 1-based line of byte `offset` in `bytes`.
+pub(crate) fn line_at(bytes: &[u8], offset: usize) -> usize {
+    1 + bytes[..offset].iter().filter(|&&b| b == b'\n').count()
 }

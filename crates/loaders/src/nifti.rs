@@ -1,4 +1,4 @@
-//! Diffusion tensor volumes in NIfTI-1 (`.nii`, `.nii.gz`) as fields of ellipsoid glyphs.
+//! Reads diffusion tensor volumes in NIfTI-1 (`.nii`, `.nii.gz`) as fields of ellipsoid glyphs.
 //!
 //! # What is read
 //! A single-file NIfTI-1 volume (magic `n+1`, either byte order, plain or gzipped) holding one
@@ -20,12 +20,13 @@
 //! offset. World units are the file's (normally millimetres).
 //!
 //! The tensors are taken to be in the voxel axes (the frame of the `i, j, k` indices, in which
-//! FSL and DIPY fit them from FSL-style b-vectors), so each is rotated into world axes as `T_world = R T R^T`, with `R` the
-//! rotation part of `A`: the orthogonal factor of its polar decomposition `A = R S`
-//! (`R = A (A^T A)^(-1/2)`). For an affine made of a rotation (possibly with a reflection) and
-//! voxel sizes, that is `A` with unit columns; voxel sizes and shears do not distort the glyphs.
-//! (FSL's own convention flips the x axis of vectors in images whose affine has a positive
-//! determinant; such tensors would need `xy` and `xz` negated first, which is not done here.)
+//! FSL and DIPY fit them from FSL-style b-vectors), so each is rotated into world axes as
+//! `T_world = R T R^T`, with `R` the rotation part of `A`: the orthogonal factor of its polar
+//! decomposition `A = R S` (`R = A (A^T A)^(-1/2)`). For an affine made of a rotation (possibly
+//! with a reflection) and voxel sizes, that is `A` with unit columns; voxel sizes and shears do
+//! not distort the glyphs. (FSL's own convention flips the x axis of vectors in images whose
+//! affine has a positive determinant; such tensors would need `xy` and `xz` negated first, which
+//! is not done here.)
 //!
 //! # Which voxels become glyphs, and how big
 //! Each voxel is tested in this order: left out where the mask is 0; left out as background
@@ -39,15 +40,15 @@
 //! largest eigenvalue of any kept voxel becomes [`LoadOptions::glyph_scale`] times the smallest
 //! voxel edge (the shortest column of `A`): with the default 0.5 the largest glyph is exactly
 //! one voxel across, so glyphs do not overlap. Glyphs are coloured by shape
-//! ([`ellipsoid_splat::ellipsoid::shape_color`]). The notes of [`Loaded`] give the factor in effect and
-//! how many voxels were kept, background, below the FA threshold, masked and skipped.
+//! ([`ellipsoid_splat::ellipsoid::shape_color`]). The notes of [`Loaded`] give the factor in
+//! effect and how many voxels were kept, background, below the FA threshold, masked and skipped.
 //!
 //! # Hostile input
 //! [`parse_nifti`] never panics and never loops without consuming input. Every header field the
 //! volume depends on (sizes, dimensions, datatype, `vox_offset`, transforms) is checked before
 //! any voxel data is touched; the declared data must lie inside the bytes given, and at most
-//! [`MAX_DATA_BYTES`] of it. Gzipped input is inflated with `flate2` (RFC 1951/1952, with CRC-32 and
-//! length checks) and never past what the header declares, so a small file cannot make the
+//! [`MAX_DATA_BYTES`] of it. Gzipped input is inflated with `flate2` (RFC 1951/1952, with CRC-32
+//! and length checks) and never past what the header declares, so a small file cannot make the
 //! loader allocate much more than the volume it claims to be.
 
 use std::borrow::Cow;
@@ -56,7 +57,7 @@ use std::path::Path;
 use glam::{DMat3, DVec3};
 use nifti::{Endianness, InMemNiftiVolume, IntoNdArray, NiftiHeader, NiftiType};
 
-use crate::load::{LoadOptions, Loaded, TensorOrder};
+use crate::load::{read_file, LoadOptions, Loaded, TensorOrder};
 use ellipsoid_splat::ellipsoid::{symmetric_eigen, Ellipsoid};
 use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::scene::Scene;
@@ -80,11 +81,7 @@ const PROGRESS_MIN_VOXELS: usize = 1 << 20;
 /// Reads the tensor volume `path` (and the mask file named in `options`, if any) and turns it
 /// into glyphs; see the [module documentation](self) for the conventions.
 pub fn load_nifti(path: &Path, options: &LoadOptions) -> Result<Loaded> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    parse_nifti(&bytes, path, options)
+    parse_nifti(&read_file(path)?, path, options)
 }
 
 /// Turns the bytes of a tensor volume (plain or gzipped NIfTI-1) into glyphs; `file` only names
@@ -97,11 +94,7 @@ pub fn parse_nifti(bytes: &[u8], file: &Path, options: &LoadOptions) -> Result<L
     let tensors = read_volume(bytes, file, Role::Tensor)?;
     let mask = match &options.mask {
         Some(path) => {
-            let mask_bytes = std::fs::read(path).map_err(|source| Error::Io {
-                path: path.to_path_buf(),
-                source,
-            })?;
-            let mask = read_volume(&mask_bytes, path, Role::Mask)?;
+            let mask = read_volume(&read_file(path)?, path, Role::Mask)?;
             check_same_grid(&mask, &tensors, path, file)?;
             Some(mask)
         }
@@ -124,13 +117,9 @@ fn check_options(options: &LoadOptions) -> Result<()> {
     Ok(())
 }
 
+/// A parse error at a place that is not a line (a header field, a voxel).
 fn parse_error(file: &Path, column: impl Into<String>, reason: impl Into<String>) -> Error {
-    Error::Parse {
-        file: file.to_path_buf(),
-        line: 0,
-        column: column.into(),
-        reason: reason.into(),
-    }
+    crate::load::parse_error(file, 0, column, reason)
 }
 
 /// What a volume is read for: the shapes and datatypes accepted differ.

@@ -1,4 +1,4 @@
-//! Crystallographic thermal ellipsoids from PDB and mmCIF files.
+//! Reads crystallographic thermal ellipsoids from PDB and mmCIF files.
 //!
 //! # What is drawn
 //!
@@ -30,7 +30,9 @@
 //!   10^-4 Å² in columns 29-70). An `ANISOU` belongs to the `ATOM`/`HETATM` of the same model
 //!   with the same columns 7-27 (serial, name, alternate location, residue, chain, sequence
 //!   number, insertion code); a record whose serial matches but whose other identifiers differ
-//!   only in spacing is accepted too. Records may come in any order.
+//!   only in spacing is accepted too. Records may come in any order. An `ANISOU` that matches
+//!   no atom (of the first model) is an invalid record, reported on its line like any other
+//!   (see below).
 //! * **mmCIF**: the `_atom_site` category (`Cartn_x/y/z`, `type_symbol`, identifiers,
 //!   `pdbx_PDB_model_num`, and optionally `aniso_U[i][j]` or `aniso_B[i][j]` inline) and the
 //!   `_atom_site_anisotrop` category (`id` matching `_atom_site.id`, `U[i][j]` in Å² or
@@ -48,7 +50,9 @@
 //! * its PDB reader panics on a non-finite coordinate (`Atom::new(..).expect(..)`), on an
 //!   unknown `CRYST1` space group (`panic!("Invalid space group")`), and can panic by slicing a
 //!   non-ASCII line at a byte that is not a character boundary;
-//! * an `ANISOU` without a matching atom is dropped with an `eprintln!`, not reported;
+//! * an `ANISOU` without a matching atom is dropped with a message on stderr, and the caller
+//!   is not told (here it is an [`Error::Parse`] on the `ANISOU`'s line; with
+//!   [`LoadOptions::skip_invalid`] it is counted and named in the notes);
 //! * its mmCIF reader panics (`expect`) on a `?` in a required `_atom_site` column (element,
 //!   coordinates) and on a `nan` coordinate, and locates value errors by "row N" of a loop
 //!   rather than by line.
@@ -60,7 +64,8 @@
 //! Records this loader does not use (`HEADER`, `CRYST1`, `REMARK`, other mmCIF categories) are
 //! not validated, so real files with harmless quirks load; every record that is used is
 //! validated, and a bad one is an [`Error::Parse`] naming the file, line, field and atom.
-//! With [`LoadOptions::skip_invalid`] a bad record (and only that atom) is dropped and counted;
+//! With [`LoadOptions::skip_invalid`] a bad record (and only that atom, or that stray `ANISOU`
+//! or `_atom_site_anisotrop` row) is dropped and counted, and the notes name the first one;
 //! damage to the file's structure (binary data, a truncated loop, a missing coordinate column)
 //! is always an error.
 //!
@@ -73,7 +78,7 @@ use std::path::Path;
 
 use glam::{DMat3, DQuat, DVec3};
 
-use crate::load::{LoadOptions, Loaded};
+use crate::load::{line_at, parse_error, read_file, LoadOptions, Loaded};
 use ellipsoid_splat::ellipsoid::{symmetric_eigen, Ellipsoid};
 use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::scene::Scene;
@@ -92,11 +97,7 @@ const DEFINITE_TOLERANCE: f64 = 1e-12;
 /// The dialect is mmCIF for a `.cif` or `.mmcif` extension or text starting with `data_`,
 /// PDB otherwise (see [`parse_structure`]).
 pub fn load_structure(path: &Path, options: &LoadOptions) -> Result<Loaded> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    parse_structure(&bytes, path, options)
+    parse_structure(&read_file(path)?, path, options)
 }
 
 /// Parses PDB or mmCIF `bytes` into 50 % probability thermal ellipsoids (see the module
@@ -206,12 +207,7 @@ impl Issue {
     }
 
     fn into_error(self, file: &Path) -> Error {
-        Error::Parse {
-            file: file.to_path_buf(),
-            line: self.line,
-            column: self.column,
-            reason: self.reason,
-        }
+        parse_error(file, self.line, self.column, self.reason)
     }
 }
 
@@ -316,10 +312,9 @@ fn check_text(bytes: &[u8]) -> std::result::Result<(), Issue> {
             .iter()
             .rposition(|&b| b == b'\n')
             .map_or(0, |p| p + 1);
-        let line = 1 + bytes[..at].iter().filter(|&&b| b == b'\n').count();
         let column = 1 + at - line_start;
         return Err(Issue::new(
-            line,
+            line_at(bytes, at),
             format!("column {column}"),
             format!(
                 "binary data, not a text file: control byte 0x{:02x} at byte offset {at}",
@@ -526,8 +521,14 @@ const ANISOU_FIELDS: [(&str, usize, usize); 6] = [
     ("U23", 64, 70),
 ];
 
+/// Where the `U` fields are, for messages.
+const ANISOU_AT: &str = "U11..U23 are in columns 29-70";
+
 /// The coordinate fields of an `ATOM`/`HETATM` record.
 const COORDINATE_FIELDS: [(&str, usize, usize); 3] = [("x", 31, 38), ("y", 39, 46), ("z", 47, 54)];
+
+/// Where the coordinate fields are, for messages.
+const COORDINATES_AT: &str = "coordinates are in columns 31-54";
 
 /// Columns `first..=last` (1-based, inclusive, as the PDB format documents them) of an ASCII
 /// line; a short line gives what it has.
@@ -742,22 +743,35 @@ fn pdb_coordinates(
     for (value, (axis, first, last)) in xyz.iter_mut().zip(COORDINATE_FIELDS) {
         let column = format!("{axis} (columns {first}-{last})");
         let what = format!("{kind} record for {label}: {axis} coordinate");
-        if line.len() < last {
-            return Err(Issue::new(
-                number,
-                column,
-                format!(
-                    "{what} is missing: the line ends at column {} (coordinates are in columns \
-                     31-54)",
-                    line.len()
-                ),
-            ));
-        }
-        let text = cols(line, first, last).trim();
+        let text = fixed_field(line, number, (first, last), &column, &what, COORDINATES_AT)?;
         *value = parse_real(text)
             .map_err(|problem| Issue::new(number, column, format!("{what} {problem}")))?;
     }
     Ok(DVec3::from_array(xyz))
+}
+
+/// Columns `first..=last` of the fixed-column record `line` (line `number`), trimmed; an issue
+/// on `column` when the line ends before `last`. `what` names the field and `where_` says where
+/// its group of fields is, for the message.
+fn fixed_field<'a>(
+    line: &'a str,
+    number: usize,
+    (first, last): (usize, usize),
+    column: &str,
+    what: &str,
+    where_: &str,
+) -> std::result::Result<&'a str, Issue> {
+    if line.len() < last {
+        return Err(Issue::new(
+            number,
+            column,
+            format!(
+                "{what} is missing: the line ends at column {} ({where_})",
+                line.len()
+            ),
+        ));
+    }
+    Ok(cols(line, first, last).trim())
 }
 
 /// A finite real number, or why not.
@@ -785,18 +799,7 @@ fn pdb_anisou(line: &str, number: usize, label: &str) -> std::result::Result<[f6
     for (value, (name, first, last)) in u.iter_mut().zip(ANISOU_FIELDS) {
         let column = format!("{name} (columns {first}-{last})");
         let what = format!("ANISOU for {label}: {name}");
-        if line.len() < last {
-            return Err(Issue::new(
-                number,
-                column,
-                format!(
-                    "{what} is missing: the line ends at column {} (U11..U23 are in columns \
-                     29-70)",
-                    line.len()
-                ),
-            ));
-        }
-        let text = cols(line, first, last).trim();
+        let text = fixed_field(line, number, (first, last), &column, &what, ANISOU_AT)?;
         if text.is_empty() {
             return Err(Issue::new(
                 number,
@@ -1396,9 +1399,8 @@ fn row_u(
 fn read_mmcif(bytes: &[u8]) -> std::result::Result<Structure, Issue> {
     let text = std::str::from_utf8(bytes).map_err(|e| {
         let at = e.valid_up_to();
-        let line = 1 + bytes[..at].iter().filter(|&&b| b == b'\n').count();
         Issue::new(
-            line,
+            line_at(bytes, at),
             "text",
             format!("invalid UTF-8 at byte offset {at} (mmCIF is ASCII or UTF-8 text)"),
         )

@@ -1,5 +1,5 @@
-//! 3D Gaussian Splatting scenes: the `.ply` files written by the reference implementation of
-//! Kerbl et al. 2023, "3D Gaussian Splatting for Real-Time Radiance Field Rendering".
+//! Reads 3D Gaussian Splatting scenes: the `.ply` files written by the reference implementation
+//! of Kerbl et al. 2023, "3D Gaussian Splatting for Real-Time Radiance Field Rendering".
 //!
 //! Every record of the `vertex` element is one Gaussian:
 //!
@@ -48,7 +48,7 @@ use glam::{DQuat, DVec3};
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{DefaultElement, Encoding, PropertyType, ScalarType};
 
-use crate::load::{LoadOptions, Loaded};
+use crate::load::{io_error, parse_error, LoadOptions, Loaded};
 use crate::progress::Progress;
 use ellipsoid_splat::ellipsoid::Ellipsoid;
 use ellipsoid_splat::error::{Error, Result};
@@ -88,10 +88,7 @@ const ENCODINGS: [&str; 3] = ["ascii", "binary_little_endian", "binary_big_endia
 /// With `options.progress`, files of 64 MiB and more show a progress bar on stderr while they
 /// are read and parsed (only when stderr is a terminal). See [`parse_ply`] for the rest.
 pub fn load_ply(path: &Path, options: &LoadOptions) -> Result<Loaded> {
-    let io = |source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    };
+    let io = io_error(path);
     let mut file = std::fs::File::open(path).map_err(io)?;
     let size = file.metadata().map_err(io)?.len();
     let progress = (options.progress && size >= LARGE_FILE)
@@ -183,22 +180,21 @@ fn parse(
     };
     let mut ticker = Ticker::new(progress, vertex.count);
     let trailing = match header.encoding {
-        Encoding::BinaryLittleEndian => read_binary::<false>(
-            body,
-            &header.elements,
-            vertex_index,
-            &layout,
-            &mut splats,
-            &mut ticker,
-        )?,
-        Encoding::BinaryBigEndian => read_binary::<true>(
-            body,
-            &header.elements,
-            vertex_index,
-            &layout,
-            &mut splats,
-            &mut ticker,
-        )?,
+        Encoding::BinaryLittleEndian | Encoding::BinaryBigEndian => {
+            let read = if matches!(header.encoding, Encoding::BinaryBigEndian) {
+                read_binary::<true>
+            } else {
+                read_binary::<false>
+            };
+            read(
+                body,
+                &header.elements,
+                vertex_index,
+                &layout,
+                &mut splats,
+                &mut ticker,
+            )?
+        }
         Encoding::Ascii => {
             read_ascii(
                 body,
@@ -213,20 +209,6 @@ fn parse(
         }
     };
     splats.finish(vertex, trailing, &header.elements, vertex_index)
-}
-
-fn parse_error(
-    file: &Path,
-    line: usize,
-    column: impl Into<String>,
-    reason: impl Into<String>,
-) -> Error {
-    Error::Parse {
-        file: file.to_path_buf(),
-        line,
-        column: column.into(),
-        reason: reason.into(),
-    }
 }
 
 /// The first bytes of `bytes`, printable.
@@ -412,6 +394,21 @@ impl Element {
                 Kind::List(..) => None,
             })
             .sum()
+    }
+
+    /// The property a record cut `into` bytes from its start ends in (for lists, counting
+    /// only their length field).
+    fn property_at(&self, into: usize) -> &str {
+        let mut at = 0;
+        let mut property = "";
+        for p in &self.properties {
+            property = &p.name;
+            at += p.kind.min_size();
+            if at > into {
+                break;
+            }
+        }
+        property
     }
 }
 
@@ -1081,17 +1078,7 @@ fn read_binary<const BIG_ENDIAN: bool>(
         let available = body.len() - pos;
         let complete = available / stride;
         if complete < count {
-            // Which property the file ends in.
-            let into = available % stride;
-            let mut at = 0;
-            let mut property = "";
-            for p in &vertex.properties {
-                property = &p.name;
-                at += p.kind.min_size();
-                if at > into {
-                    break;
-                }
-            }
+            let property = vertex.property_at(available % stride);
             let needed = count as u128 * stride as u128;
             return Err(parse_error(
                 file,
@@ -1167,16 +1154,7 @@ fn skip_binary<const BIG_ENDIAN: bool>(
             Some(len) if len <= available => Ok(pos + len),
             _ => {
                 let record = available / size + 1;
-                let into = available % size;
-                let mut at = 0;
-                let mut property = "";
-                for p in &element.properties {
-                    property = &p.name;
-                    at += p.kind.min_size();
-                    if at > into {
-                        break;
-                    }
-                }
+                let property = element.property_at(available % size);
                 Err(cut_error(
                     file,
                     Cut::End,

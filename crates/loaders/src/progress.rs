@@ -1,4 +1,5 @@
-//! A progress bar for long sweeps (`stress`, `bench`) that never pollutes logs.
+//! A progress bar for long loads and sweeps (the tool's `stress` and `bench`) that never
+//! pollutes logs.
 //!
 //! The bar is drawn on stderr, and only when stderr is a terminal: under CI, with stderr
 //! redirected to a file or piped, it is hidden and costs nothing. Stdout is never touched, so

@@ -1,57 +1,34 @@
-//! The Ellipsoid CSV contract (DESIGN.md section 4): accepted forms round-trip numerically and
-//! every malformed input is rejected with its file, line, column and reason.
+//! The Ellipsoid CSV loader: accepted forms round-trip numerically and every malformed input
+//! is rejected with its file, line, column and reason.
 
-use std::path::{Path, PathBuf};
+mod support;
+
+use std::path::Path;
 
 use ellipsoid_splat::ellipsoid::shape_color;
-use ellipsoid_splat::{Ellipsoid, Error, Scene};
+use ellipsoid_splat::{Ellipsoid, Scene};
 use ellipsoid_splat_loaders::{load_csv, parse_csv};
 use glam::{DMat3, DQuat, DVec3};
+use support::{assert_close, assert_io_error, assert_mat_close, loaded, parse_error, ParseError};
 
 const FILE: &str = "scene.csv";
 
 fn parse(text: &str) -> Scene {
-    parse_csv(text, Path::new(FILE)).unwrap_or_else(|e| panic!("should parse: {e}\n{text}"))
+    loaded(parse_csv(text, Path::new(FILE)), text.as_bytes())
 }
 
-/// Parses `text`, expecting a parse error; returns `(line, column, reason)`.
-fn parse_err(text: &str) -> (usize, String, String) {
-    match parse_csv(text, Path::new(FILE)) {
-        Err(Error::Parse {
-            file,
-            line,
-            column,
-            reason,
-        }) => {
-            assert_eq!(file, PathBuf::from(FILE));
-            (line, column, reason)
-        }
-        other => panic!("expected a parse error, got {other:?}\n{text}"),
-    }
+/// Parses `text`, expecting a parse error naming [`FILE`].
+fn parse_err(text: &str) -> ParseError {
+    parse_error(
+        parse_csv(text, Path::new(FILE)),
+        Path::new(FILE),
+        text.as_bytes(),
+    )
 }
 
 /// Asserts the error's line, column and that the reason contains `word`.
 fn assert_err(text: &str, line: usize, column: &str, word: &str) {
-    let (got_line, got_column, reason) = parse_err(text);
-    assert_eq!(
-        (got_line, got_column.as_str()),
-        (line, column),
-        "reason: {reason}"
-    );
-    assert!(
-        reason.contains(word),
-        "reason {reason:?} lacks {word:?}\n{text}"
-    );
-}
-
-fn assert_close(a: DVec3, b: DVec3, tol: f64) {
-    assert!((a - b).abs().max_element() <= tol, "{a} vs {b}");
-}
-
-fn assert_mat_close(a: DMat3, b: DMat3, tol: f64) {
-    for (x, y) in a.to_cols_array().iter().zip(b.to_cols_array()) {
-        assert!((x - y).abs() <= tol, "{a} vs {b}");
-    }
+    parse_err(text).assert_at(line, column, &[word]);
 }
 
 const RQ_HEADER: &str = "x,y,z,rx,ry,rz,qw,qx,qy,qz";
@@ -179,34 +156,19 @@ fn no_trailing_newline_and_utf8_bom() {
 
 #[test]
 fn load_csv_reads_files_and_rejects_invalid_utf8() {
-    let dir = std::env::temp_dir().join(format!("ellipsoid-splat-csv-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-
-    let good = dir.join("good.csv");
-    std::fs::write(&good, format!("{RQ_HEADER}\n1,2,3,1,1,1,1,0,0,0\n")).unwrap();
+    let dir = support::TempDir::new("csv-files");
+    let good = dir.write("good.csv", format!("{RQ_HEADER}\n1,2,3,1,1,1,1,0,0,0\n"));
     assert_eq!(load_csv(&good).unwrap().len(), 1);
 
-    let bad = dir.join("bad.csv");
     let mut bytes = format!("{RQ_HEADER}\n1,2,3,1,1,1,1,0,0,0\n").into_bytes();
     bytes.extend_from_slice(b"4,5,\xff,1,1,1,1,0,0,0\n");
-    std::fs::write(&bad, bytes).unwrap();
-    match load_csv(&bad) {
-        Err(Error::Parse {
-            file, line, reason, ..
-        }) => {
-            assert_eq!(file, bad);
-            assert_eq!(line, 3);
-            assert!(reason.contains("UTF-8"), "{reason}");
-        }
-        other => panic!("expected a UTF-8 parse error, got {other:?}"),
-    }
+    let bad = dir.write("bad.csv", &bytes);
+    let e = parse_error(load_csv(&bad), &bad, &bytes);
+    assert_eq!(e.line, 3);
+    assert!(e.reason.contains("UTF-8"), "{}", e.reason);
 
-    let missing = dir.join("missing.csv");
-    match load_csv(&missing) {
-        Err(Error::Io { path, .. }) => assert_eq!(path, missing),
-        other => panic!("expected an I/O error, got {other:?}"),
-    }
-    std::fs::remove_dir_all(&dir).unwrap();
+    let missing = dir.path("missing.csv");
+    assert_io_error(load_csv(&missing), &missing);
 }
 
 #[test]
@@ -337,11 +299,10 @@ fn zero_data_rows() {
 #[test]
 fn wrong_number_of_fields() {
     let text = format!("{RQ_HEADER}\n1,2,3,1,1,1,1,0,0,0\n1,2,3,1,1,1,1,0,0\n");
-    assert_err(&text, 3, "row", "wrong number of fields");
-    let (_, _, reason) = parse_err(&text);
-    assert!(
-        reason.contains("expected 10") && reason.contains("found 9"),
-        "{reason}"
+    parse_err(&text).assert_at(
+        3,
+        "row",
+        &["wrong number of fields", "expected 10", "found 9"],
     );
     assert_err(
         &format!("{RQ_HEADER}\n1,2,3,1,1,1,1,0,0,0,5\n"),

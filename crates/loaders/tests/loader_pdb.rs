@@ -1,8 +1,10 @@
-//! Thermal ellipsoids from PDB and mmCIF (`src/scene/pdb.rs`): the 50 % probability ellipsoid
-//! of every anisotropic atom, the same from both dialects, and every malformed input rejected
-//! with its file, line, field and reason -- without panicking on arbitrary bytes.
+//! Thermal ellipsoids from PDB and mmCIF: the 50 % probability ellipsoid of every anisotropic
+//! atom, the same from both dialects, and every malformed input rejected with its file, line,
+//! field and reason -- without panicking on arbitrary bytes.
 
-use std::path::{Path, PathBuf};
+mod support;
+
+use std::path::Path;
 
 use ellipsoid_splat::{Ellipsoid, Error};
 use ellipsoid_splat_loaders::pdb::{
@@ -10,52 +12,29 @@ use ellipsoid_splat_loaders::pdb::{
 };
 use ellipsoid_splat_loaders::{LoadOptions, Loaded};
 use glam::{DMat3, DVec3};
-
-fn sample(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../data/samples")
-        .join(name)
-}
-
-fn skipping() -> LoadOptions {
-    LoadOptions {
-        skip_invalid: true,
-        ..LoadOptions::default()
-    }
-}
+use support::{
+    assert_contains, assert_mat_close, assert_note, loaded, parse_error, sample, sample_text,
+    skipping, ParseError, Rng,
+};
 
 fn parse_with(text: &str, file: &str, options: &LoadOptions) -> Result<Loaded, Error> {
     parse_structure(text.as_bytes(), Path::new(file), options)
 }
 
 fn parse(text: &str, file: &str) -> Loaded {
-    parse_with(text, file, &LoadOptions::default())
-        .unwrap_or_else(|e| panic!("should parse: {e}\n{text}"))
+    loaded(
+        parse_with(text, file, &LoadOptions::default()),
+        text.as_bytes(),
+    )
 }
 
-/// Parses `bytes`, expecting a parse error naming `file`; returns it with its message.
-fn parse_err_bytes(
-    bytes: &[u8],
-    file: &str,
-    options: &LoadOptions,
-) -> (usize, String, String, String) {
-    match parse_structure(bytes, Path::new(file), options) {
-        Err(e @ Error::Parse { .. }) => {
-            let message = e.to_string();
-            let Error::Parse {
-                file: f,
-                line,
-                column,
-                reason,
-            } = e
-            else {
-                unreachable!()
-            };
-            assert_eq!(f, PathBuf::from(file));
-            (line, column, reason, message)
-        }
-        other => panic!("expected a parse error, got {other:?}"),
-    }
+/// Parses `bytes`, expecting a parse error naming `file`.
+fn parse_err_bytes(bytes: &[u8], file: &str, options: &LoadOptions) -> ParseError {
+    parse_error(
+        parse_structure(bytes, Path::new(file), options),
+        Path::new(file),
+        bytes,
+    )
 }
 
 /// Asserts the error's line and field, that the reason contains every one of `words`, and
@@ -72,19 +51,7 @@ fn assert_err_with(
     column: &str,
     words: &[&str],
 ) -> String {
-    let (got_line, got_column, reason, message) = parse_err_bytes(text.as_bytes(), file, options);
-    assert_eq!(
-        (got_line, got_column.as_str()),
-        (line, column),
-        "message: {message}"
-    );
-    for word in words {
-        assert!(
-            reason.contains(word),
-            "reason {reason:?} lacks {word:?}\n{text}"
-        );
-    }
-    message
+    parse_err_bytes(text.as_bytes(), file, options).assert_at(line, column, words)
 }
 
 /// An `ATOM`/`HETATM` record; `name` is the 4-column atom name field (` CA `).
@@ -124,6 +91,15 @@ fn three_atoms() -> String {
     .concat()
 }
 
+/// [`three_atoms`] with line `index` (0-based) cut to its first `len` columns.
+fn three_atoms_cut(index: usize, len: usize) -> String {
+    three_atoms()
+        .lines()
+        .enumerate()
+        .map(|(i, l)| if i == index { &l[..len] } else { l }.to_string() + "\n")
+        .collect()
+}
+
 /// `M M^T` of an ellipsoid: `c^2 U` for a thermal ellipsoid.
 fn shape(e: &Ellipsoid) -> DMat3 {
     let m = e.to_world();
@@ -133,12 +109,6 @@ fn shape(e: &Ellipsoid) -> DMat3 {
 fn u_matrix(u: [f64; 6]) -> DMat3 {
     let [u11, u22, u33, u12, u13, u23] = u;
     DMat3::from_cols_array(&[u11, u12, u13, u12, u22, u23, u13, u23, u33])
-}
-
-fn assert_mat_close(a: DMat3, b: DMat3, tol: f64) {
-    for (x, y) in a.to_cols_array().iter().zip(b.to_cols_array()) {
-        assert!((x - y).abs() <= tol, "{a} vs {b}");
-    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -160,11 +130,7 @@ fn ellipsoid_is_the_50_percent_probability_surface_of_u() {
     assert_eq!(e.color, element_color("N"));
     assert_eq!(loaded.scene.ellipsoids[1].color, element_color("C"));
     assert_eq!(loaded.scene.ellipsoids[2].color, element_color("O"));
-    assert!(
-        loaded.notes[0].contains("50 % probability") && loaded.notes[0].contains("1.5382"),
-        "{:?}",
-        loaded.notes
-    );
+    assert_contains(&loaded.notes[0], &["50 % probability", "1.5382"]);
 }
 
 #[test]
@@ -194,14 +160,7 @@ fn samples_give_the_same_ellipsoids_from_pdb_and_mmcif() {
     assert_eq!(cif.scene.len(), 22);
     assert_eq!((pdb.skipped, cif.skipped), (0, 0));
     for loaded in [&pdb, &cif] {
-        assert!(
-            loaded
-                .notes
-                .iter()
-                .any(|n| n.contains("left out 16 atom(s)")),
-            "{:?}",
-            loaded.notes
-        );
+        assert_note(&loaded.notes, "left out 16 atom(s)");
     }
     for (a, b) in pdb.scene.ellipsoids.iter().zip(&cif.scene.ellipsoids) {
         assert_eq!(a.center, b.center);
@@ -279,11 +238,7 @@ fn pdb_records_in_any_order_with_crlf_and_only_the_first_model() {
     let models = format!("MODEL        1\n{first}ENDMDL\nMODEL        2\n{first}ENDMDL\nEND\n");
     let loaded = parse(&models, "models.pdb");
     assert_eq!(loaded.scene.len(), 3);
-    assert!(
-        loaded.notes.iter().any(|n| n.contains("2 models")),
-        "{:?}",
-        loaded.notes
-    );
+    assert_note(&loaded.notes, "2 models");
 }
 
 #[test]
@@ -357,11 +312,7 @@ _atom_site.bogus 1
     );
     assert_eq!(loaded.scene.ellipsoids[1].center, DVec3::new(4.0, 5.0, 6.0));
     assert_eq!(loaded.scene.ellipsoids[1].color, element_color("Fe"));
-    let notes = loaded.notes.join("\n");
-    assert!(
-        notes.contains("B[i][j]") && notes.contains("data_second"),
-        "{notes}"
-    );
+    assert_contains(&loaded.notes.join("\n"), &["B[i][j]", "data_second"]);
 
     // Single items and inline aniso_U in _atom_site; a `data_` first line picks mmCIF.
     let single = "data_one\n_atom_site.id 1\n_atom_site.type_symbol S\n_atom_site.Cartn_x 1\n\
@@ -409,9 +360,10 @@ _atom_site_anisotrop.U[2][3]
 ";
     let loaded = parse(text, "m.cif");
     assert_eq!(loaded.scene.len(), 1);
-    let notes = loaded.notes.join("\n");
-    assert!(notes.contains("first model (1)"), "{notes}");
-    assert!(notes.contains("left out 1 atom(s)"), "{notes}");
+    assert_contains(
+        &loaded.notes.join("\n"),
+        &["first model (1)", "left out 1 atom(s)"],
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -433,22 +385,19 @@ fn empty_file() {
 #[test]
 fn binary_garbage() {
     let png = b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR\0\0\0\x10";
-    let (line, column, reason, message) =
-        parse_err_bytes(png, "image.pdb", &LoadOptions::default());
-    assert_eq!((line, column.as_str()), (2, "column 1"), "{message}");
-    assert!(
-        reason.contains("binary data") && reason.contains("0x1a"),
-        "{reason}"
+    let message = parse_err_bytes(png, "image.pdb", &LoadOptions::default()).assert_at(
+        2,
+        "column 1",
+        &["binary data", "0x1a"],
     );
     println!("{message}");
     let gzip = b"\x1f\x8b\x08\x00\x00\x00\x00\x00";
-    let (_, _, reason, _) = parse_err_bytes(gzip, "x.cif", &LoadOptions::default());
+    let reason = parse_err_bytes(gzip, "x.cif", &LoadOptions::default()).reason;
     assert!(reason.contains("gzip"), "{reason}");
     // Invalid UTF-8 in an mmCIF file.
-    let (line, _, reason, _) =
-        parse_err_bytes(b"data_x\n_a.b \xff\xfe\n", "x.cif", &LoadOptions::default());
-    assert_eq!(line, 2);
-    assert!(reason.contains("invalid UTF-8"), "{reason}");
+    let e = parse_err_bytes(b"data_x\n_a.b \xff\xfe\n", "x.cif", &LoadOptions::default());
+    assert_eq!(e.line, 2);
+    assert!(e.reason.contains("invalid UTF-8"), "{}", e.reason);
     // Non-ASCII in a fixed-column PDB record.
     let text = atom("ATOM", 1, " N  ", "ALA", 1, [0.0, 0.0, 0.0], "N").replace("ALA", "ÄLA");
     assert_err(&text, "a.pdb", 1, "column 18", &["non-ASCII byte 0xc3"]);
@@ -472,11 +421,7 @@ fn anisou_with_a_non_numeric_field() {
     // A decimal is not the PDB format either; a short line names the missing field.
     let text = three_atoms().replace("   1892", "  0.189");
     assert_err(&text, "ala.pdb", 2, "U22 (columns 36-42)", &["\"0.189\""]);
-    let short: String = three_atoms()
-        .lines()
-        .enumerate()
-        .map(|(i, l)| if i == 3 { l[..60].to_string() } else { l.to_string() } + "\n")
-        .collect();
+    let short = three_atoms_cut(3, 60);
     assert_err(
         &short,
         "ala.pdb",
@@ -485,9 +430,7 @@ fn anisou_with_a_non_numeric_field() {
         &["atom 2 CA", "line ends at column 60"],
     );
     // In mmCIF: the tag names the field.
-    let text = std::fs::read_to_string(sample("thermal.cif"))
-        .unwrap()
-        .replacen(" 0.0479 ", " 0.04x9 ", 1);
+    let text = sample_text("thermal.cif").replacen(" 0.0479 ", " 0.04x9 ", 1);
     let message = assert_err(
         &text,
         "thermal.cif",
@@ -496,6 +439,20 @@ fn anisou_with_a_non_numeric_field() {
         &["atom 1 N1 (GSH A 1)", "is not a number: \"0.04x9\""],
     );
     println!("{message}");
+}
+
+/// With `skip_invalid`, `text` loads `ellipsoids` thermal ellipsoids, one record skipped, and the
+/// last note names the error `message` that record gives without the option.
+fn assert_skipped_one(text: &str, file: &str, ellipsoids: usize, message: &str) -> Loaded {
+    let loaded = parse_with(text, file, &skipping()).unwrap();
+    assert_eq!((loaded.scene.len(), loaded.skipped), (ellipsoids, 1));
+    assert_eq!(
+        loaded.notes.last(),
+        Some(&format!(
+            "skipped 1 invalid record(s); the first: {message}"
+        ))
+    );
+    loaded
 }
 
 #[test]
@@ -513,20 +470,20 @@ fn anisou_without_a_matching_atom() {
         "ala.pdb:7:serial (columns 7-11): ANISOU for atom 7 CB (ALA A 1) has no matching \
          ATOM/HETATM record (no atom with serial 7)"
     );
-    // With skip_invalid the stray record is counted and the atoms load.
-    let loaded = parse_with(&text, "ala.pdb", &skipping()).unwrap();
-    assert_eq!((loaded.scene.len(), loaded.skipped), (3, 1));
+    // With skip_invalid the stray record is counted, named in the notes, and the atoms load.
+    assert_skipped_one(&text, "ala.pdb", 3, &message);
     // mmCIF: an _atom_site_anisotrop row whose id is not an _atom_site.id.
-    let text = std::fs::read_to_string(sample("thermal.cif"))
-        .unwrap()
-        .replacen("\n37 ", "\n99 ", 1);
-    assert_err(
+    let text = sample_text("thermal.cif").replacen("\n37 ", "\n99 ", 1);
+    let message = assert_err(
         &text,
         "thermal.cif",
         112,
         "_atom_site_anisotrop.id",
         &["id \"99\" has no matching _atom_site row"],
     );
+    // Skipped, the row goes and its atom (water 37) has no anisotropic parameters left.
+    let loaded = assert_skipped_one(&text, "thermal.cif", 21, &message);
+    assert_note(&loaded.notes, "left out 17 atom(s)");
     // A second ANISOU for the same atom.
     let text = three_atoms() + &anisou(3, " O  ", "ALA", 1, [100, 100, 100, 0, 0, 0], "O");
     assert_err(
@@ -568,9 +525,7 @@ fn non_finite_coordinates() {
     let loaded = parse_with(&text, "ala.pdb", &skipping()).unwrap();
     assert_eq!((loaded.scene.len(), loaded.skipped), (2, 1));
     // mmCIF.
-    let text = std::fs::read_to_string(sample("thermal.cif"))
-        .unwrap()
-        .replacen("   8.155   10.140", "   8.155 Infinity", 1);
+    let text = sample_text("thermal.cif").replacen("   8.155   10.140", "   8.155 Infinity", 1);
     assert_err(
         &text,
         "thermal.cif",
@@ -579,11 +534,7 @@ fn non_finite_coordinates() {
         &["atom 1 N1 (GSH A 1)", "is not finite: \"Infinity\""],
     );
     // A line too short for the coordinates.
-    let text = three_atoms()
-        .lines()
-        .enumerate()
-        .map(|(i, l)| if i == 4 { l[..50].to_string() } else { l.to_string() } + "\n")
-        .collect::<String>();
+    let text = three_atoms_cut(4, 50);
     assert_err(
         &text,
         "ala.pdb",
@@ -665,9 +616,11 @@ fn non_positive_definite_u() {
     println!("{message}");
 
     // mmCIF: the row's line and the U columns.
-    let text = std::fs::read_to_string(sample("thermal.cif"))
-        .unwrap()
-        .replacen(" 0.0479  0.0457  0.0671 ", " 0.0479  0.0457 -0.0671 ", 1);
+    let text = sample_text("thermal.cif").replacen(
+        " 0.0479  0.0457  0.0671 ",
+        " 0.0479  0.0457 -0.0671 ",
+        1,
+    );
     assert_err(
         &text,
         "thermal.cif",
@@ -699,7 +652,7 @@ fn no_anisotropic_atoms() {
         &["no atoms"],
     );
     // mmCIF without the anisotropic category.
-    let cif = std::fs::read_to_string(sample("thermal.cif")).unwrap();
+    let cif = sample_text("thermal.cif");
     let cut = &cif[..cif.find("loop_\n_atom_site_anisotrop").unwrap()];
     assert_err(
         cut,
@@ -712,7 +665,7 @@ fn no_anisotropic_atoms() {
 
 #[test]
 fn truncated_mmcif_loop() {
-    let cif = std::fs::read_to_string(sample("thermal.cif")).unwrap();
+    let cif = sample_text("thermal.cif");
     // Cut the file in the middle of the 10th _atom_site row, after Cartn_x.
     let row = cif.find("\nHETATM 10 ").unwrap() + 1;
     let cut = row + cif[row..].find("  2.665 ").unwrap() + "  2.665 ".len();
@@ -826,22 +779,6 @@ fn mmcif_structure_problems() {
 // ---------------------------------------------------------------------------------------------
 // hostile input
 
-/// A small deterministic generator (xorshift64*), so failures reproduce.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-}
-
 /// Parses `bytes` as both dialects and with both skip settings; anything but a panic is fine,
 /// and an error must be a parse error.
 fn must_not_panic(bytes: &[u8]) {
@@ -868,7 +805,7 @@ fn every_truncation_of_the_samples_is_handled() {
 
 #[test]
 fn mutated_samples_and_random_bytes_do_not_panic() {
-    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15);
     let pieces: [&[u8]; 16] = [
         b"NaN",
         b"inf",
@@ -894,7 +831,7 @@ fn mutated_samples_and_random_bytes_do_not_panic() {
             for _ in 0..1 + rng.below(4) {
                 let at = rng.below(bytes.len());
                 match rng.below(4) {
-                    0 => bytes[at] = rng.next() as u8,
+                    0 => bytes[at] = rng.byte(),
                     1 => {
                         bytes.remove(at);
                     }
@@ -914,7 +851,7 @@ fn mutated_samples_and_random_bytes_do_not_panic() {
     }
     for _ in 0..500 {
         let len = rng.below(300);
-        let bytes: Vec<u8> = (0..len).map(|_| rng.next() as u8).collect();
+        let bytes = rng.bytes(len);
         must_not_panic(&bytes);
         // Printable garbage too, which passes the binary check.
         let text: Vec<u8> = (0..len)
@@ -926,7 +863,7 @@ fn mutated_samples_and_random_bytes_do_not_panic() {
 
 #[test]
 fn inputs_that_make_pdbtbx_panic_are_loaded_or_reported() {
-    // pdbtbx 0.12 panics on each of these (see the module documentation of `scene::pdb`).
+    // pdbtbx 0.12 panics on each of these (see the module documentation of `pdb`).
     let cryst = "CRYST1   10.000   10.000   10.000  90.00  90.00  90.00 Q 9 9 9       1\n";
     assert_eq!(
         parse(&(cryst.to_string() + &three_atoms()), "a.pdb")

@@ -2,13 +2,18 @@
 //! implementation (Kerbl et al. 2023), binary little- and big-endian and ASCII bodies, skipping of
 //! other properties and elements, and a precise error for every malformed input.
 
-use std::path::{Path, PathBuf};
+mod support;
+
+use std::path::Path;
 use std::time::Instant;
 
 use ellipsoid_splat::Error;
 use ellipsoid_splat_loaders::ply::{load_ply, parse_ply, SH_C0, SPLAT_PROPERTIES};
 use ellipsoid_splat_loaders::{load, LoadOptions, Loaded};
 use glam::{DQuat, DVec3};
+use support::{
+    assert_close, assert_io_error, loaded, options, parse_error, sample, skipping, ParseError, Rng,
+};
 
 const FILE: &str = "scene.ply";
 
@@ -195,68 +200,33 @@ fn ply(enc: Enc, properties: &[(String, String)], splats: &[Splat]) -> Vec<u8> {
 }
 
 fn parse_with(bytes: &[u8], options: &LoadOptions) -> Loaded {
-    parse_ply(bytes, Path::new(FILE), options).unwrap_or_else(|e| {
-        panic!(
-            "should parse: {e}\n{}",
-            String::from_utf8_lossy(&bytes[..bytes.len().min(2000)])
-        )
-    })
+    loaded(parse_ply(bytes, Path::new(FILE), options), bytes)
 }
 
 fn parse(bytes: &[u8]) -> Loaded {
     parse_with(bytes, &LoadOptions::default())
 }
 
-/// Parses `bytes`, expecting a parse error naming [`FILE`]; returns `(line, column, reason)`.
-fn parse_err_with(bytes: &[u8], options: &LoadOptions) -> (usize, String, String) {
-    match parse_ply(bytes, Path::new(FILE), options) {
-        Err(Error::Parse {
-            file,
-            line,
-            column,
-            reason,
-        }) => {
-            assert_eq!(file, PathBuf::from(FILE));
-            (line, column, reason)
-        }
-        Err(other) => panic!("expected a parse error, got {other}"),
-        Ok(loaded) => panic!(
-            "expected a parse error, got {} splats\n{}",
-            loaded.scene.len(),
-            String::from_utf8_lossy(&bytes[..bytes.len().min(2000)])
-        ),
-    }
+/// Parses `bytes`, expecting a parse error naming [`FILE`].
+fn parse_err_with(bytes: &[u8], options: &LoadOptions) -> ParseError {
+    parse_error(
+        parse_ply(bytes, Path::new(FILE), options),
+        Path::new(FILE),
+        bytes,
+    )
 }
 
-/// Asserts the error's line and column, and that the reason contains every one of `words`;
-/// the same with `skip_invalid` when `structural`. Returns the full message.
+/// Asserts the error's line and column, and that the reason contains every one of `words`.
+/// Returns the full message.
 fn assert_err(bytes: &[u8], line: usize, column: &str, words: &[&str]) -> String {
-    let (got_line, got_column, reason) = parse_err_with(bytes, &LoadOptions::default());
-    assert_eq!(
-        (got_line, got_column.as_str()),
-        (line, column),
-        "reason: {reason}"
-    );
-    for word in words {
-        assert!(reason.contains(word), "reason {reason:?} lacks {word:?}");
-    }
-    format!("{FILE}:{line}:{column}: {reason}")
+    parse_err_with(bytes, &LoadOptions::default()).assert_at(line, column, words)
 }
 
 /// As [`assert_err`], and the error stays with `skip_invalid` (structural errors).
 fn assert_structural(bytes: &[u8], line: usize, column: &str, words: &[&str]) -> String {
     let message = assert_err(bytes, line, column, words);
-    let skip = LoadOptions {
-        skip_invalid: true,
-        ..LoadOptions::default()
-    };
-    let (got_line, got_column, _) = parse_err_with(bytes, &skip);
-    assert_eq!((got_line, got_column.as_str()), (line, column));
+    parse_err_with(bytes, &skipping()).assert_at(line, column, &[]);
     message
-}
-
-fn assert_close(a: DVec3, b: DVec3, tol: f64) {
-    assert!((a - b).abs().max_element() <= tol, "{a} vs {b}");
 }
 
 fn same_rotation(a: DQuat, b: DQuat, tol: f64) -> bool {
@@ -288,13 +258,9 @@ fn assert_matches(loaded: &Loaded, splats: &[Splat], sigma: f64) {
 // ---------------------------------------------------------------------------------------------
 // Accepted files
 
-fn samples() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/samples")
-}
-
 #[test]
 fn sample_binary_file_loads() {
-    let path = samples().join("splats.ply");
+    let path = sample("splats.ply");
     let loaded = load_ply(&path, &LoadOptions::default()).unwrap();
     assert_eq!(loaded.scene.len(), 3032);
     assert_eq!(loaded.skipped, 0);
@@ -310,11 +276,10 @@ fn sample_binary_file_loads() {
     );
 
     // The faint floaters go with --min-opacity.
-    let options = LoadOptions {
-        min_opacity: 0.05,
-        progress: true,
-        ..LoadOptions::default()
-    };
+    let options = options(|o| {
+        o.min_opacity = 0.05;
+        o.progress = true;
+    });
     let loaded = load_ply(&path, &options).unwrap();
     assert_eq!(loaded.scene.len(), 2932);
     assert_eq!(
@@ -329,7 +294,7 @@ fn sample_binary_file_loads() {
 
 #[test]
 fn sample_ascii_file_loads() {
-    let path = samples().join("splats_ascii.ply");
+    let path = sample("splats_ascii.ply");
     let loaded = load(&path, &LoadOptions::default()).unwrap();
     let e = &loaded.scene.ellipsoids;
     assert_eq!(e.len(), 5);
@@ -340,10 +305,7 @@ fn sample_ascii_file_loads() {
     assert_close(e[2].axes().x_axis, DVec3::Y, 1e-6);
     assert_close(e[2].radii, DVec3::new(0.25, 0.05, 0.05), 1e-6);
     assert_close(e[3].axes().x_axis, DVec3::Z, 1e-6);
-    let options = LoadOptions {
-        min_opacity: 0.1,
-        ..LoadOptions::default()
-    };
+    let options = options(|o| o.min_opacity = 0.1);
     assert_eq!(load_ply(&path, &options).unwrap().scene.len(), 4);
 }
 
@@ -356,10 +318,7 @@ fn conventions_of_the_reference_implementation() {
     // Colours: mid grey, clamped to 1, clamped to 0.
     s.f_dc = [0.0, 10.0, -10.0];
     for sigma in [1.0, 2.0, 3.0] {
-        let options = LoadOptions {
-            sigma,
-            ..LoadOptions::default()
-        };
+        let options = options(|o| o.sigma = sigma);
         let loaded = parse_with(&ply(Enc::Le, &minimal_properties(), &[s]), &options);
         let e = loaded.scene.ellipsoids[0];
         assert_close(e.center, DVec3::new(1.0, 2.0, 3.0), 0.0);
@@ -394,10 +353,7 @@ fn opacity_threshold_uses_the_sigmoid() {
     let bytes = ply(Enc::Le, &reference_properties(), &list);
     assert_eq!(parse(&bytes).scene.len(), 4);
     for (threshold, kept) in [(0.0, 4), (0.01, 3), (0.2, 2), (0.5, 2), (0.6, 1)] {
-        let options = LoadOptions {
-            min_opacity: threshold,
-            ..LoadOptions::default()
-        };
+        let options = options(|o| o.min_opacity = threshold);
         let loaded = parse_with(&bytes, &options);
         assert_eq!(loaded.scene.len(), kept, "threshold {threshold}");
         if kept < 4 {
@@ -413,13 +369,8 @@ fn opacity_threshold_uses_the_sigmoid() {
         }
     }
     // Everything left out is an error, not an empty scene.
-    let options = LoadOptions {
-        min_opacity: 0.99,
-        ..LoadOptions::default()
-    };
-    let (line, column, reason) = parse_err_with(&bytes, &options);
-    assert_eq!((line, column.as_str()), (3, "vertex"));
-    assert!(reason.contains("no splats left: all 4"), "{reason}");
+    let options = options(|o| o.min_opacity = 0.99);
+    parse_err_with(&bytes, &options).assert_at(3, "vertex", &["no splats left: all 4"]);
 }
 
 #[test]
@@ -625,39 +576,24 @@ fn crlf_headers_and_trailing_data() {
 
 #[test]
 fn load_ply_reads_files_and_reports_io_errors() {
-    let dir = std::env::temp_dir().join(format!("ellipsoid-splat-ply-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("tiny.ply");
+    let dir = support::TempDir::new("ply-files");
     let list = splats(3);
-    std::fs::write(&path, ply(Enc::Le, &reference_properties(), &list)).unwrap();
-    let options = LoadOptions {
-        progress: true,
-        ..LoadOptions::default()
-    };
+    let path = dir.write("tiny.ply", ply(Enc::Le, &reference_properties(), &list));
+    let options = options(|o| o.progress = true);
     assert_matches(&load_ply(&path, &options).unwrap(), &list, 2.0);
     // Errors from a file name that file.
-    let bad = dir.join("bad.ply");
-    std::fs::write(&bad, b"ply\nformat ascii 1.0\n").unwrap();
-    match load_ply(&bad, &options) {
-        Err(Error::Parse { file, .. }) => assert_eq!(file, bad),
-        other => panic!("{other:?}"),
-    }
-    let missing = dir.join("missing.ply");
-    assert!(matches!(
-        load_ply(&missing, &options),
-        Err(Error::Io { .. })
-    ));
-    std::fs::remove_dir_all(&dir).unwrap();
+    let text = b"ply\nformat ascii 1.0\n";
+    let bad = dir.write("bad.ply", text);
+    parse_error(load_ply(&bad, &options), &bad, text);
+    let missing = dir.path("missing.ply");
+    assert_io_error(load_ply(&missing, &options), &missing);
 }
 
 #[test]
 fn bad_options_are_rejected() {
     let bytes = ply(Enc::Le, &minimal_properties(), &splats(1));
     for sigma in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-        let options = LoadOptions {
-            sigma,
-            ..LoadOptions::default()
-        };
+        let options = options(|o| o.sigma = sigma);
         let e = parse_ply(&bytes, Path::new(FILE), &options).unwrap_err();
         assert!(
             matches!(&e, Error::Invalid { what, .. } if what == "sigma"),
@@ -758,6 +694,15 @@ fn header_with_line(at: usize, line: &str) -> Vec<u8> {
     body.into_bytes()
 }
 
+/// Each `(at, line, column, words)`: the minimal ASCII file with header line `at` replaced by
+/// `line` fails on that line at `column`, the reason holding every one of `words`, with and
+/// without `skip_invalid` ([`assert_structural`]).
+fn assert_bad_header_lines(cases: &[(usize, &str, &str, &[&str])]) {
+    for &(at, line, column, words) in cases {
+        assert_structural(&header_with_line(at, line), at, column, words);
+    }
+}
+
 #[test]
 fn unknown_format() {
     let m = assert_structural(
@@ -774,18 +719,15 @@ fn unknown_format() {
         "scene.ply:2:format: unknown format \"binary_middle_endian\": expected ascii, \
          binary_little_endian or binary_big_endian"
     );
-    assert_structural(
-        &header_with_line(2, "format ascii one"),
-        2,
-        "format",
-        &["bad version \"one\""],
-    );
-    assert_structural(
-        &header_with_line(2, "format ascii 2.0"),
-        2,
-        "format",
-        &["unsupported PLY version 2.0"],
-    );
+    assert_bad_header_lines(&[
+        (2, "format ascii one", "format", &["bad version \"one\""]),
+        (
+            2,
+            "format ascii 2.0",
+            "format",
+            &["unsupported PLY version 2.0"],
+        ),
+    ]);
     assert_structural(
         &header_with_line(2, "comment no format line"),
         0,
@@ -810,37 +752,39 @@ fn unknown_property_type() {
         m.starts_with("scene.ply:4:x: unknown property type \"float16\""),
         "{m}"
     );
-    assert_structural(
-        &header_with_line(4, "property list uchar half x"),
-        4,
-        "x",
-        &["unknown property type \"half\""],
-    );
-    assert_structural(
-        &header_with_line(4, "property list float int x"),
-        4,
-        "x",
-        &["length type must be an integer type"],
-    );
-    assert_structural(
-        &header_with_line(4, "property float"),
-        4,
-        "property",
-        &["malformed header line", "`property <type> <name>`"],
-    );
-    assert_structural(
-        &header_with_line(5, "property float x"),
-        5,
-        "x",
-        &["duplicate property \"x\" in element \"vertex\""],
-    );
-    assert_structural(
-        &header_with_line(4, "propety float x"),
-        4,
-        "header",
-        &["unknown header keyword \"propety\""],
-    );
-    assert_structural(&header_with_line(4, ""), 4, "header", &["blank line"]);
+    assert_bad_header_lines(&[
+        (
+            4,
+            "property list uchar half x",
+            "x",
+            &["unknown property type \"half\""],
+        ),
+        (
+            4,
+            "property list float int x",
+            "x",
+            &["length type must be an integer type"],
+        ),
+        (
+            4,
+            "property float",
+            "property",
+            &["malformed header line", "`property <type> <name>`"],
+        ),
+        (
+            5,
+            "property float x",
+            "x",
+            &["duplicate property \"x\" in element \"vertex\""],
+        ),
+        (
+            4,
+            "propety float x",
+            "header",
+            &["unknown header keyword \"propety\""],
+        ),
+        (4, "", "header", &["blank line"]),
+    ]);
 }
 
 #[test]
@@ -856,24 +800,21 @@ fn element_count_not_a_number() {
         "scene.ply:3:element vertex: element \"vertex\": count \"many\" is not a non-negative \
          integer"
     );
-    assert_structural(
-        &header_with_line(3, "element vertex -5"),
-        3,
-        "element vertex",
-        &["count \"-5\""],
-    );
-    assert_structural(
-        &header_with_line(3, "element vertex 99999999999999999999999"),
-        3,
-        "element vertex",
-        &["too large"],
-    );
-    assert_structural(
-        &header_with_line(3, "element vertex"),
-        3,
-        "element",
-        &["`element <name> <count>`"],
-    );
+    assert_bad_header_lines(&[
+        (3, "element vertex -5", "element vertex", &["count \"-5\""]),
+        (
+            3,
+            "element vertex 99999999999999999999999",
+            "element vertex",
+            &["too large"],
+        ),
+        (
+            3,
+            "element vertex",
+            "element",
+            &["`element <name> <count>`"],
+        ),
+    ]);
     // A property before any element.
     let text = "ply\nformat ascii 1.0\nproperty float x\nelement vertex 0\nend_header\n";
     assert_structural(text.as_bytes(), 3, "x", &["before any `element` line"]);
@@ -1058,14 +999,12 @@ fn radii_that_overflow_or_underflow() {
     );
     // Overflow through a large sigma.
     list[0].log_scale[1] = 700.0;
-    let options = LoadOptions {
-        sigma: 1e10,
-        ..LoadOptions::default()
-    };
-    let (line, column, reason) =
-        parse_err_with(&ply(Enc::Le, &minimal_properties(), &list), &options);
-    assert_eq!((line, column.as_str()), (1, "scale_1"));
-    assert!(reason.contains("radius overflows"), "{reason}");
+    let options = options(|o| o.sigma = 1e10);
+    parse_err_with(&ply(Enc::Le, &minimal_properties(), &list), &options).assert_at(
+        1,
+        "scale_1",
+        &["radius overflows"],
+    );
 }
 
 /// The minimal ASCII file of `splats(3)` with line `at` (1-based, physical) replaced.
@@ -1140,14 +1079,9 @@ fn ascii_lines_with_bad_fields() {
         "ids",
         &["vertex 1: too few fields: list \"ids\" declares 3 item(s) but the line ends after 2"],
     );
-    let skip = LoadOptions {
-        skip_invalid: true,
-        ..LoadOptions::default()
-    };
-    let (line, column, reason) = parse_err_with(text.as_bytes(), &skip);
+    let skip = skipping();
     // The element's header line.
-    assert_eq!((line, column.as_str()), (3, "vertex"));
-    assert!(reason.contains("no valid splats (2 skipped"), "{reason}");
+    parse_err_with(text.as_bytes(), &skip).assert_at(3, "vertex", &["no valid splats (2 skipped"]);
     let text = text.replace(" 3 1 2\n", " 2 1 2\n");
     assert_err(
         text.as_bytes(),
@@ -1164,10 +1098,7 @@ fn skip_invalid_drops_bad_splats_and_counts_them() {
     list[4].rot = [0.0; 4];
     list[6].log_scale[0] = 1000.0;
     let good: Vec<Splat> = [0, 2, 3, 5, 7].map(|i| list[i]).to_vec();
-    let skip = LoadOptions {
-        skip_invalid: true,
-        ..LoadOptions::default()
-    };
+    let skip = skipping();
     for enc in [Enc::Le, Enc::Be, Enc::Ascii] {
         let bytes = ply(enc, &reference_properties(), &list);
         let loaded = parse_with(&bytes, &skip);
@@ -1184,9 +1115,8 @@ fn skip_invalid_drops_bad_splats_and_counts_them() {
             format!("skipped 3 invalid splat(s); the first: {first}")
         );
         // Without the option the first one fails.
-        let (line, column, _) = parse_err_with(&bytes, &LoadOptions::default());
-        assert_eq!(column, "y");
-        assert_eq!(line, if enc == Enc::Ascii { 68 } else { 2 });
+        let line = if enc == Enc::Ascii { 68 } else { 2 };
+        parse_err_with(&bytes, &LoadOptions::default()).assert_at(line, "y", &[]);
     }
     // ASCII lines with bad fields are skipped too.
     let bytes = ascii_with_line(20, "1 2 3 four");
@@ -1201,11 +1131,10 @@ fn skip_invalid_drops_bad_splats_and_counts_them() {
     let mut list = splats(4);
     list[0].opacity = -10.0;
     list[1].center[2] = f64::INFINITY;
-    let options = LoadOptions {
-        skip_invalid: true,
-        min_opacity: 0.01,
-        ..LoadOptions::default()
-    };
+    let options = options(|o| {
+        o.skip_invalid = true;
+        o.min_opacity = 0.01;
+    });
     let loaded = parse_with(&ply(Enc::Le, &minimal_properties(), &list), &options);
     assert_eq!((loaded.scene.len(), loaded.skipped), (2, 1));
     assert_eq!(
@@ -1217,11 +1146,13 @@ fn skip_invalid_drops_bad_splats_and_counts_them() {
     let mut list = splats(2);
     list[0].rot = [0.0; 4];
     list[1].rot = [0.0; 4];
-    let (line, column, reason) = parse_err_with(&ply(Enc::Le, &minimal_properties(), &list), &skip);
-    assert_eq!((line, column.as_str()), (3, "vertex"));
+    let e = parse_err_with(&ply(Enc::Le, &minimal_properties(), &list), &skip);
+    e.assert_at(3, "vertex", &[]);
     assert!(
-        reason.starts_with("no valid splats (2 skipped as invalid"),
-        "{reason}"
+        e.reason
+            .starts_with("no valid splats (2 skipped as invalid"),
+        "{}",
+        e.reason
     );
 }
 
@@ -1248,22 +1179,6 @@ fn structural_errors_fail_even_with_skip_invalid() {
 // ---------------------------------------------------------------------------------------------
 // Robustness: arbitrary bytes give an error or a scene, quickly.
 
-/// xorshift64*: a deterministic stream for mutations.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
-
 #[test]
 fn mutated_files_never_panic() {
     let seeds = [
@@ -1287,18 +1202,15 @@ fn mutated_files_never_panic() {
         b"-",
         b"\xff",
     ];
-    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15);
     let started = Instant::now();
-    let skip = LoadOptions {
-        skip_invalid: true,
-        ..LoadOptions::default()
-    };
+    let skip = skipping();
     for i in 0..6000 {
         let mut bytes = seeds[i % seeds.len()].clone();
         for _ in 0..1 + rng.below(4) {
             let at = rng.below(bytes.len());
             match rng.below(5) {
-                0 => bytes[at] = rng.next() as u8,
+                0 => bytes[at] = rng.byte(),
                 1 => bytes.truncate(at),
                 2 => {
                     let t = tokens[rng.below(tokens.len())];

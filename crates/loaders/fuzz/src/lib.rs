@@ -1,6 +1,6 @@
 //! What each fuzz target feeds its input to. Shared by the libFuzzer targets in
 //! `fuzz_targets/` (nightly, `cargo +nightly fuzz run <target>`) and by the stable replay test
-//! `tests/fuzz_corpus.rs` at the crate root, which includes this file with `#[path]`, so the
+//! `tests/fuzz_corpus.rs` of the loaders crate, which includes this file with `#[path]`, so the
 //! corpus is replayed through exactly the calls the fuzzers made.
 //!
 //! Every input goes through its parser twice, with `skip_invalid` off and on (the default
@@ -19,16 +19,16 @@ use ellipsoid_splat_loaders::ply::parse_ply;
 /// file name's extension, so two targets).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Target {
-    /// `scene::csv::parse_csv` (UTF-8 inputs only), and `scene::csv::load_csv_with` on a
+    /// `csv::parse_csv` (UTF-8 inputs only), and `csv::load_csv_with` on a
     /// temporary file for `skip_invalid` (there is no in-memory entry point taking options).
     Csv,
-    /// `scene::ply::parse_ply`.
+    /// `ply::parse_ply`.
     Ply,
-    /// `scene::nifti::parse_nifti` (plain or gzipped NIfTI-1).
+    /// `nifti::parse_nifti` (plain or gzipped NIfTI-1).
     Nifti,
-    /// `scene::pdb::parse_structure` with a `.pdb` file name.
+    /// `pdb::parse_structure` with a `.pdb` file name.
     Pdb,
-    /// `scene::pdb::parse_structure` with a `.cif` file name.
+    /// `pdb::parse_structure` with a `.cif` file name.
     Mmcif,
 }
 
