@@ -1,14 +1,17 @@
 //! Command-line arguments of the `ellipsoid-splat` binary and how they become a scene and a
 //! camera.
 
+use std::num::IntErrorKind;
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
 use glam::DVec3;
 
 use ellipsoid_splat::camera::{Camera, Projection};
+use ellipsoid_splat::ellipsoid::Ellipsoid;
 use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::Scene;
+use ellipsoid_splat::instances::{InstanceFormat, INSTANCE_BYTES};
+use ellipsoid_splat::{Scene, NO_INSTANCE};
 use ellipsoid_splat_loaders as scene;
 
 /// Exact ray-cast ellipsoid impostors on Vulkan.
@@ -173,7 +176,8 @@ pub struct RenderArgs {
     /// A scene file -- Ellipsoid CSV (`.csv`), 3D Gaussian Splatting (`.ply`), diffusion tensor
     /// NIfTI (`.nii`, `.nii.gz`), PDB (`.pdb`, `.ent`) or mmCIF (`.cif`) with anisotropic
     /// displacements; other names are recognised by content -- or `tensor-field[:N]` (N^3
-    /// glyphs, default 40) or `random:COUNT`.
+    /// glyphs, default 40) or `random:COUNT`. At most 4294967295 ellipsoids (u32 instance
+    /// indices), and no more than the machine's memory can hold.
     #[arg(long, default_value = "tensor-field")]
     pub scene: String,
     /// How scene files are read.
@@ -258,42 +262,171 @@ fn parse_vec3(text: &str) -> std::result::Result<DVec3, String> {
     Ok(DVec3::from_array(v))
 }
 
-/// Loads or generates the scene named by `--scene`, with what the loader reports.
-pub fn load_scene(spec: &str, options: &scene::LoadOptions) -> Result<scene::Loaded> {
-    let generated = |scene: Scene| scene::Loaded {
-        scene,
-        ..Default::default()
-    };
-    let count = |text: &str, what: &str| {
-        text.parse::<usize>().map_err(|_| {
-            Error::invalid(
-                "--scene",
-                format!("{what} count '{text}' is not a whole number"),
-            )
+/// The most ellipsoids a scene can have. Instance indices are u32, and 0xFFFFFFFF
+/// ([`NO_INSTANCE`]) marks background pixels in ID images, so indices run up to 0xFFFFFFFE.
+pub const MAX_ELLIPSOIDS: u64 = NO_INSTANCE as u64;
+
+/// The side of the largest `tensor-field:N` lattice: the largest N with N^3 <=
+/// [`MAX_ELLIPSOIDS`].
+pub const MAX_TENSOR_FIELD_SIDE: u64 = 1625;
+
+/// Host bytes each ellipsoid surely takes while a scene is uploaded: its record in the scene
+/// plus its packed instance. Real use is higher (a staging copy, the culling list, the
+/// driver), so a scene refused for this is certainly too large.
+pub fn host_bytes_per_ellipsoid(format: InstanceFormat) -> u64 {
+    (std::mem::size_of::<Ellipsoid>() + format.bytes()) as u64
+}
+
+/// This machine's memory plus swap in bytes (`/proc/meminfo`), a fixed figure rather than
+/// what happens to be free; `None` where it cannot be read.
+pub fn machine_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let kib = |key: &str| {
+        text.lines().find_map(|line| {
+            line.strip_prefix(key)?
+                .trim()
+                .strip_suffix("kB")?
+                .trim()
+                .parse::<u64>()
+                .ok()
         })
     };
-    if spec == "tensor-field" {
-        return Ok(generated(scene::tensor_field(40)));
+    Some((kib("MemTotal:")? + kib("SwapTotal:").unwrap_or(0)) * 1024)
+}
+
+/// Refuses `count` ellipsoids in `format` when even [`host_bytes_per_ellipsoid`] of them
+/// exceed `memory` bytes (the machine's memory and swap; no check when unknown).
+pub fn check_host_memory(
+    spec: &str,
+    count: u64,
+    format: InstanceFormat,
+    memory: Option<u64>,
+) -> Result<()> {
+    let Some(memory) = memory else {
+        return Ok(());
+    };
+    let per = host_bytes_per_ellipsoid(format);
+    let needed = count.saturating_mul(per);
+    if needed <= memory {
+        return Ok(());
     }
-    if let Some(n) = spec.strip_prefix("tensor-field:") {
-        let n = count(n, "tensor-field")?;
-        if n == 0 || n > 256 {
-            return Err(Error::invalid(
-                "--scene",
-                "tensor-field:N needs 1 <= N <= 256",
-            ));
+    Err(Error::invalid(
+        "--scene",
+        format!(
+            "{spec} needs at least {} of host memory for {count} ellipsoids ({} bytes each for \
+             the scene and {} for its packed instance), more than this machine's {} of memory \
+             and swap",
+            gib(needed),
+            std::mem::size_of::<Ellipsoid>(),
+            format.bytes(),
+            gib(memory)
+        ),
+    ))
+}
+
+fn gib(bytes: u64) -> String {
+    format!("{:.1} GiB", bytes as f64 / (1u64 << 30) as f64)
+}
+
+/// A scene as `--scene` names it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum SceneSpec {
+    /// `tensor-field[:N]`: the N x N x N glyph lattice.
+    TensorField(usize),
+    /// `random:COUNT`: a random cloud.
+    Random(usize),
+    /// A scene file.
+    File(PathBuf),
+}
+
+impl SceneSpec {
+    /// Reads `--scene`; generated scenes must stay within [`MAX_ELLIPSOIDS`]. Errors name
+    /// `--scene` and say why.
+    pub fn parse(spec: &str) -> Result<Self> {
+        let invalid = |reason: String| Error::invalid("--scene", reason);
+        let side = format!(
+            " (tensor-field:N has N^3 glyphs, so N can be at most {MAX_TENSOR_FIELD_SIDE})"
+        );
+        let too_many = |count: String, note: &str| {
+            invalid(format!(
+                "{spec} asks for {count} ellipsoids, more than the {MAX_ELLIPSOIDS} the renderer \
+                 can address{note}: instance indices are u32 (0xFFFFFFFF marks the background \
+                 in ID images), and instances are {INSTANCE_BYTES} bytes each on the GPU, so \
+                 even that many take {}",
+                gib(MAX_ELLIPSOIDS * INSTANCE_BYTES as u64)
+            ))
+        };
+        // `cube`: the count is the number cubed (`tensor-field:N`).
+        let count = |text: &str, what: &str, cube: bool| {
+            text.trim().parse::<u64>().map_err(|e| match e.kind() {
+                IntErrorKind::PosOverflow if cube => too_many(format!("{}^3", text.trim()), &side),
+                IntErrorKind::PosOverflow => too_many(text.trim().to_string(), ""),
+                _ => invalid(format!("{what} needs a whole number, got '{text}'")),
+            })
+        };
+        if spec == "tensor-field" {
+            return Ok(SceneSpec::TensorField(40));
         }
-        return Ok(generated(scene::tensor_field(n)));
-    }
-    if let Some(n) = spec.strip_prefix("random:") {
-        let n = count(n, "random")?;
-        if n == 0 {
-            return Err(Error::invalid("--scene", "random:COUNT needs COUNT >= 1"));
+        if let Some(text) = spec.strip_prefix("tensor-field:") {
+            let n = count(text, "tensor-field:N", true)?;
+            if n == 0 {
+                return Err(invalid("tensor-field:N needs N >= 1".to_string()));
+            }
+            if n > MAX_TENSOR_FIELD_SIDE {
+                let glyphs = u128::from(n)
+                    .checked_pow(3)
+                    .map_or(format!("{n}^3"), |c| format!("{n}^3 = {c}"));
+                return Err(too_many(glyphs, &side));
+            }
+            return Ok(SceneSpec::TensorField(n as usize));
         }
-        let extent = (n as f64).cbrt() * 2.0;
-        return Ok(generated(scene::random_cloud(n, 1, extent, 1.0)));
+        if let Some(text) = spec.strip_prefix("random:") {
+            let n = count(text, "random:COUNT", false)?;
+            if n == 0 {
+                return Err(invalid("random:COUNT needs COUNT >= 1".to_string()));
+            }
+            if n > MAX_ELLIPSOIDS {
+                return Err(too_many(n.to_string(), ""));
+            }
+            return Ok(SceneSpec::Random(n as usize));
+        }
+        Ok(SceneSpec::File(PathBuf::from(spec)))
     }
-    scene::load(std::path::Path::new(spec), options)
+
+    /// How many ellipsoids a generated scene has (`None` for a file).
+    pub fn generated_count(&self) -> Option<u64> {
+        match *self {
+            SceneSpec::TensorField(n) => Some((n as u64).pow(3)),
+            SceneSpec::Random(n) => Some(n as u64),
+            SceneSpec::File(_) => None,
+        }
+    }
+
+    /// Loads or generates the scene, with what the loader reports.
+    pub fn load(&self, options: &scene::LoadOptions) -> Result<scene::Loaded> {
+        let generated = |scene: Scene| scene::Loaded {
+            scene,
+            ..Default::default()
+        };
+        match self {
+            SceneSpec::TensorField(n) => Ok(generated(scene::tensor_field(*n))),
+            SceneSpec::Random(n) => {
+                let extent = (*n as f64).cbrt() * 2.0;
+                Ok(generated(scene::random_cloud(*n, 1, extent, 1.0)))
+            }
+            SceneSpec::File(path) => scene::load(path, options),
+        }
+    }
+}
+
+/// Loads or generates the scene named by `--scene` after checking its size (see
+/// [`SceneSpec::parse`] and [`check_host_memory`]), with what the loader reports.
+pub fn load_scene(spec: &str, options: &scene::LoadOptions) -> Result<scene::Loaded> {
+    let parsed = SceneSpec::parse(spec)?;
+    if let Some(count) = parsed.generated_count() {
+        check_host_memory(spec, count, InstanceFormat::Full, machine_memory())?;
+    }
+    parsed.load(options)
 }
 
 /// The camera of the render arguments, framing the scene where positions are not given.
@@ -333,4 +466,61 @@ pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
     };
     camera.validate()?;
     Ok(camera)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scene_counts_are_bounded_by_addressing() {
+        assert_eq!(
+            SceneSpec::parse("random:4294967295").unwrap(),
+            SceneSpec::Random(4294967295)
+        );
+        for spec in [
+            "random:4294967296",
+            "random:999999999999",
+            "random:99999999999999999999999999",
+            "tensor-field:1626",
+            "tensor-field:99999999999999999999999999",
+        ] {
+            let e = SceneSpec::parse(spec).unwrap_err().to_string();
+            assert!(
+                e.contains("--scene") && e.contains("4294967295") && e.contains("u32"),
+                "{spec}: {e}"
+            );
+        }
+        assert_eq!(
+            SceneSpec::parse("tensor-field:1625")
+                .unwrap()
+                .generated_count(),
+            Some(1625u64.pow(3))
+        );
+        assert!(1625u64.pow(3) <= MAX_ELLIPSOIDS && 1626u64.pow(3) > MAX_ELLIPSOIDS);
+        let e = SceneSpec::parse("random:12x").unwrap_err().to_string();
+        assert!(e.contains("needs a whole number, got '12x'"), "{e}");
+    }
+
+    #[test]
+    fn host_memory_estimate_refuses_what_cannot_fit() {
+        let per = host_bytes_per_ellipsoid(InstanceFormat::Full);
+        assert_eq!(per, 96 + 48);
+        let eight_gib = Some(8u64 << 30);
+        assert!(check_host_memory("random:1000", 1000, InstanceFormat::Full, eight_gib).is_ok());
+        let fits = (8u64 << 30) / per;
+        assert!(check_host_memory("x", fits, InstanceFormat::Full, eight_gib).is_ok());
+        let e = check_host_memory("random:N", fits + 1, InstanceFormat::Full, eight_gib)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("--scene") && e.contains("host memory") && e.contains("8.0 GiB"),
+            "{e}"
+        );
+        // Compact instances take less.
+        let compact = (8u64 << 30) / host_bytes_per_ellipsoid(InstanceFormat::Compact);
+        assert!(check_host_memory("x", compact, InstanceFormat::Compact, eight_gib).is_ok());
+        assert!(check_host_memory("x", u64::MAX, InstanceFormat::Full, None).is_ok());
+        assert!(machine_memory().is_none_or(|m| m > 0));
+    }
 }

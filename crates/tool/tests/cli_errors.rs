@@ -1,7 +1,9 @@
-//! Bad scene files through the command line: exit status 1 and one line naming the file, the
-//! place and the reason -- never a panic; `--skip-invalid` renders the rest and says how many
-//! records it dropped.
+//! Bad scene files and bad arguments through the command line: exit status 1 and one line
+//! naming the file or flag and the reason -- never a panic or an abort; `--skip-invalid`
+//! renders the rest and says how many records it dropped. Argument mistakes are found before
+//! the scene is built or the device is touched.
 
+use std::ffi::OsStr;
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
@@ -71,4 +73,71 @@ fn skip_invalid_renders_the_rest_and_counts() {
     assert!(output.status.success(), "{stderr}");
     assert!(stderr.contains("skipped 1 invalid row"), "{stderr}");
     assert!(stdout.contains("2 ellipsoids"), "{stdout}");
+}
+
+/// Runs the binary with `args`.
+fn run<S: AsRef<OsStr>>(args: &[S]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ellipsoid-splat"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+/// Runs `render` with `args` on a small scene, and a device that does not exist: an argument
+/// error must come first, before any device is looked for.
+fn render_args<S: AsRef<OsStr>>(args: &[S]) -> Output {
+    let mut all: Vec<&OsStr> = ["render", "--device", "no-such-device"]
+        .iter()
+        .map(OsStr::new)
+        .collect();
+    all.extend(args.iter().map(AsRef::as_ref));
+    run(&all)
+}
+
+/// The `error: ` line of a run that must fail with `status`, having checked that it did not
+/// panic or abort and wrote nothing to stdout.
+fn error_line(output: &Output, status: i32, what: &str) -> String {
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(status), "{what}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{what} panicked: {stderr}");
+    assert!(
+        output.stdout.is_empty(),
+        "{what}: stdout {:?}",
+        output.stdout
+    );
+    stderr
+        .lines()
+        .find(|l| l.starts_with("error: "))
+        .unwrap_or_else(|| panic!("{what}: no error line in {stderr}"))
+        .to_string()
+}
+
+fn assert_names(error: &str, expected: &[&str], what: &str) {
+    for e in expected {
+        assert!(error.contains(e), "{what}: expected {e:?} in {error:?}");
+    }
+}
+
+#[test]
+fn absurd_scene_counts_are_refused_before_allocating() {
+    for (scene, count) in [
+        ("random:999999999999", "999999999999"),
+        ("random:4294967296", "4294967296"),
+        ("random:99999999999999999999999", "99999999999999999999999"),
+        ("tensor-field:2000", "8000000000"),
+        (
+            "tensor-field:99999999999999999999999",
+            "99999999999999999999999^3",
+        ),
+    ] {
+        let output = render_args(&["--scene", scene]);
+        let error = error_line(&output, 1, scene);
+        assert_names(
+            &error,
+            &["--scene", scene, count, "4294967295", "u32", "48 bytes"],
+            scene,
+        );
+    }
+    let error = error_line(&render_args(&["--scene", "tensor-field:2000"]), 1, "N");
+    assert_names(&error, &["at most 1625"], "tensor-field side");
 }
