@@ -2,7 +2,7 @@
 //! camera.
 
 use std::num::IntErrorKind;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::{Args, Parser, Subcommand};
 use glam::DVec3;
@@ -13,6 +13,8 @@ use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::instances::{InstanceFormat, INSTANCE_BYTES};
 use ellipsoid_splat::{Scene, NO_INSTANCE};
 use ellipsoid_splat_loaders as scene;
+
+use crate::output::{self, Image, Outputs};
 
 /// Exact ray-cast ellipsoid impostors on Vulkan.
 #[derive(Debug, Parser)]
@@ -48,7 +50,7 @@ pub struct BenchArgs {
     #[arg(long)]
     pub quick: bool,
     /// Timed frames per method and scene (median reported).
-    #[arg(long, default_value_t = 15)]
+    #[arg(long, default_value_t = 15, allow_negative_numbers = true)]
     pub frames: usize,
     /// Comma-separated method names (default: all).
     #[arg(long, value_delimiter = ',')]
@@ -122,23 +124,23 @@ pub struct LoadArgs {
     #[arg(long)]
     pub skip_invalid: bool,
     /// Gaussian splats: radii are SIGMA standard deviations (`SIGMA * exp(scale)`).
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, value_parser = parse_number, allow_hyphen_values = true)]
     pub sigma: f64,
     /// Gaussian splats: leave out splats whose opacity (after the sigmoid) is below this.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = parse_number, allow_hyphen_values = true)]
     pub min_opacity: f64,
     /// Tensor volumes: component order of the six stored values.
     #[arg(long, value_enum, default_value_t = TensorOrderArg::Fsl)]
     pub tensor_order: TensorOrderArg,
     /// Tensor volumes: leave out voxels with fractional anisotropy below this.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = parse_number, allow_hyphen_values = true)]
     pub min_fa: f64,
     /// Tensor volumes: a mask NIfTI on the same grid; voxels where it is 0 are left out.
     #[arg(long)]
     pub mask: Option<PathBuf>,
     /// Tensor volumes: the largest eigenvalue in the volume becomes a semi-axis of this many
     /// voxels.
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = 0.5, value_parser = parse_number, allow_hyphen_values = true)]
     pub glyph_scale: f64,
 }
 
@@ -183,11 +185,11 @@ pub struct RenderArgs {
     /// How scene files are read.
     #[command(flatten)]
     pub load: LoadArgs,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = 1920)]
+    /// Image width in pixels, 1 to 16384.
+    #[arg(long, default_value_t = 1920, value_parser = parse_pixels, allow_negative_numbers = true)]
     pub width: u32,
-    /// Image height in pixels.
-    #[arg(long, default_value_t = 1080)]
+    /// Image height in pixels, 1 to 16384.
+    #[arg(long, default_value_t = 1080, value_parser = parse_pixels, allow_negative_numbers = true)]
     pub height: u32,
     /// Eye position `x,y,z` (default: frames the scene).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
@@ -199,21 +201,27 @@ pub struct RenderArgs {
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, default_value = "0,1,0")]
     pub up: DVec3,
     /// Vertical field of view in degrees (perspective).
-    #[arg(long, default_value_t = 45.0, conflicts_with = "ortho")]
+    #[arg(
+        long,
+        default_value_t = 45.0,
+        conflicts_with = "ortho",
+        value_parser = parse_number,
+        allow_hyphen_values = true
+    )]
     pub fov_y: f64,
     /// Orthographic projection with this view height.
-    #[arg(long)]
+    #[arg(long, value_parser = parse_number, allow_hyphen_values = true)]
     pub ortho: Option<f64>,
     /// Near-plane distance (default: half the distance to the scene's bounding sphere).
-    #[arg(long)]
+    #[arg(long, value_parser = parse_number, allow_hyphen_values = true)]
     pub near: Option<f64>,
-    /// Colour PNG.
+    /// Colour PNG (`.png`).
     #[arg(long, default_value = "ellipsoids.png")]
     pub output: PathBuf,
-    /// Float32 EXR of view depth (background +inf).
+    /// Float32 EXR of view depth (`.exr`; background +inf).
     #[arg(long)]
     pub depth: Option<PathBuf>,
-    /// Float32 EXR of world-space unit normals (background 0).
+    /// Float32 EXR of world-space unit normals (`.exr`; background 0).
     #[arg(long)]
     pub normal: Option<PathBuf>,
     /// Lossless 32-bit instance-ID image (`.exr`: uint channel; `.png`: RGBA8 little-endian).
@@ -243,6 +251,193 @@ impl Default for RenderArgs {
             })
             .expect("`render` with no flags parses")
     }
+}
+
+/// The largest image side `render` accepts, in pixels (the renderer's own limit, and the
+/// largest 2D image lavapipe and most GPUs allocate).
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+/// What `render` was asked for, checked before anything is loaded, allocated or drawn.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderPlan {
+    /// The scene to load or generate.
+    pub scene: SceneSpec,
+    /// The images to produce.
+    pub outputs: Outputs,
+}
+
+impl RenderArgs {
+    /// The file `image` goes to, if it is asked for.
+    pub fn file(&self, image: Image) -> Option<&Path> {
+        match image {
+            Image::Color => Some(&self.output),
+            Image::Depth => self.depth.as_deref(),
+            Image::Normal => self.normal.as_deref(),
+            Image::Id => self.id.as_deref(),
+        }
+    }
+
+    /// The images these arguments ask for: colour always, the others when their flag is
+    /// given.
+    pub fn outputs(&self) -> Outputs {
+        Outputs {
+            color: self.file(Image::Color).is_some(),
+            depth: self.file(Image::Depth).is_some(),
+            normal: self.file(Image::Normal).is_some(),
+            id: self.file(Image::Id).is_some(),
+        }
+    }
+
+    /// The instance format `--compact` selects.
+    pub fn instance_format(&self) -> InstanceFormat {
+        if self.compact {
+            InstanceFormat::Compact
+        } else {
+            InstanceFormat::Full
+        }
+    }
+
+    /// Checks every argument that can be checked without the scene -- numbers, the scene's
+    /// size, output names and whether the output files can be written -- so that a mistake
+    /// is reported before anything is loaded, allocated or drawn. Errors name the flag.
+    pub fn check(&self) -> Result<RenderPlan> {
+        self.check_numbers()?;
+        let scene = SceneSpec::parse(&self.scene)?;
+        if let Some(count) = scene.generated_count() {
+            check_host_memory(&self.scene, count, self.instance_format(), machine_memory())?;
+        }
+        let outputs = self.outputs();
+        let files: Vec<(Image, &Path)> = outputs
+            .images()
+            .filter_map(|image| Some((image, self.file(image)?)))
+            .collect();
+        for &(image, path) in &files {
+            output::check_extension(image, path)?;
+        }
+        for &(image, path) in &files {
+            output::check_writable(image.flag(), path)?;
+        }
+        let mut inputs: Vec<(&str, &Path)> = Vec::new();
+        if let SceneSpec::File(path) = &scene {
+            inputs.push(("--scene", path));
+        }
+        if let Some(mask) = &self.load.mask {
+            inputs.push(("--mask", mask));
+        }
+        for (k, &(image, path)) in files.iter().enumerate() {
+            let target = output::resolved(path);
+            if let Some((other, _)) = files[..k]
+                .iter()
+                .find(|(_, p)| output::resolved(p) == target)
+            {
+                return Err(Error::invalid(
+                    image.flag(),
+                    format!(
+                        "'{}' is also the {} file; each image needs a file of its own",
+                        path.display(),
+                        other.flag()
+                    ),
+                ));
+            }
+            if let Some((flag, _)) = inputs
+                .iter()
+                .find(|(_, input)| input.canonicalize().is_ok_and(|i| i == target))
+            {
+                return Err(Error::invalid(
+                    image.flag(),
+                    format!(
+                        "'{}' is the {flag} input file; writing it would overwrite it",
+                        path.display()
+                    ),
+                ));
+            }
+        }
+        Ok(RenderPlan { scene, outputs })
+    }
+
+    /// Every numeric and vector flag on its own.
+    fn check_numbers(&self) -> Result<()> {
+        for (flag, value) in [("--width", self.width), ("--height", self.height)] {
+            if !(1..=MAX_IMAGE_SIDE).contains(&value) {
+                return Err(Error::invalid(
+                    flag,
+                    format!(
+                        "{value} pixels is outside 1..={MAX_IMAGE_SIDE} (the largest image side \
+                         the renderer accepts)"
+                    ),
+                ));
+            }
+        }
+        let positive = |flag: &str, value: f64| {
+            if value.is_finite() && value > 0.0 {
+                Ok(())
+            } else {
+                Err(Error::invalid(
+                    flag,
+                    format!("must be positive (and finite), got {value}"),
+                ))
+            }
+        };
+        let number = |flag: &str, value: f64| {
+            if value.is_nan() {
+                Err(Error::invalid(flag, "must be a number, got NaN"))
+            } else {
+                Ok(())
+            }
+        };
+        if let Some(near) = self.near {
+            positive("--near", near)?;
+        }
+        match self.ortho {
+            Some(height) => positive("--ortho", height)?,
+            None => {
+                let fov = self.fov_y;
+                if !(fov.is_finite() && fov > 0.0 && fov < 180.0) {
+                    return Err(Error::invalid(
+                        "--fov-y",
+                        format!("must be between 0 and 180 degrees (exclusive), got {fov}"),
+                    ));
+                }
+            }
+        }
+        if self.up == DVec3::ZERO {
+            return Err(Error::invalid("--up", "must not be 0,0,0"));
+        }
+        if let (Some(eye), Some(target)) = (self.eye, self.target) {
+            if eye == target {
+                return Err(Error::invalid(
+                    "--target",
+                    format!(
+                        "{} is the same point as --eye; the camera needs a direction",
+                        xyz(target)
+                    ),
+                ));
+            }
+        }
+        positive("--sigma", self.load.sigma)?;
+        number("--min-opacity", self.load.min_opacity)?;
+        number("--min-fa", self.load.min_fa)?;
+        positive("--glyph-scale", self.load.glyph_scale)?;
+        Ok(())
+    }
+}
+
+/// A number flag's value. Such flags take values that start with `-`, so a flag given
+/// where the value should be is reported as the missing value it is.
+fn parse_number(text: &str) -> std::result::Result<f64, String> {
+    text.trim().parse::<f64>().map_err(|_| {
+        if text.starts_with("--") {
+            format!("'{text}' is a flag, not a number: the value is missing")
+        } else {
+            format!("'{text}' is not a number")
+        }
+    })
+}
+
+fn parse_pixels(text: &str) -> std::result::Result<u32, String> {
+    text.trim()
+        .parse::<u32>()
+        .map_err(|_| format!("'{text}' is not a whole number of pixels (1 to {MAX_IMAGE_SIDE})"))
 }
 
 fn parse_vec3(text: &str) -> std::result::Result<DVec3, String> {
@@ -468,9 +663,58 @@ pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
     Ok(camera)
 }
 
+/// `v` as the flags write it, `x,y,z`, each to four decimals without trailing zeros.
+fn xyz(v: DVec3) -> String {
+    v.to_array()
+        .map(|x| {
+            let text = format!("{x:.4}");
+            let text = text.trim_end_matches('0').trim_end_matches('.');
+            if text == "-0" {
+                "0".to_string()
+            } else {
+                text.to_string()
+            }
+        })
+        .join(",")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn render_args(extra: &[&str]) -> RenderArgs {
+        let args = ["ellipsoid-splat", "render"].iter().chain(extra);
+        match Cli::try_parse_from(args).expect("parses").command {
+            Some(Command::Render(r)) => *r,
+            _ => unreachable!(),
+        }
+    }
+
+    #[test]
+    fn outputs_follow_the_flags() {
+        let colour_only = render_args(&["--width", "16384", "--height", "16384"]).outputs();
+        assert_eq!(
+            colour_only,
+            Outputs {
+                color: true,
+                ..Outputs::default()
+            }
+        );
+        assert_eq!(colour_only.images().collect::<Vec<_>>(), vec![Image::Color]);
+        let all =
+            render_args(&["--depth", "d.exr", "--normal", "n.exr", "--id", "i.png"]).outputs();
+        assert_eq!(
+            all,
+            Outputs {
+                color: true,
+                depth: true,
+                normal: true,
+                id: true
+            }
+        );
+        let id = render_args(&["--id", "i.exr"]).outputs();
+        assert!(id.color && id.id && !id.depth && !id.normal);
+    }
 
     #[test]
     fn scene_counts_are_bounded_by_addressing() {

@@ -47,7 +47,9 @@ fn context_options(args: &DeviceArgs) -> ContextOptions {
 
 fn render(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
-    let loaded = cli::load_scene(&args.scene, &args.load.options())?;
+    // Every argument, the scene's size and the output files, before anything is allocated.
+    let plan = args.check()?;
+    let loaded = plan.scene.load(&args.load.options())?;
     for note in &loaded.notes {
         eprintln!("{}: {note}", args.scene);
     }
@@ -58,22 +60,16 @@ fn render(args: &RenderArgs) -> Result<()> {
     let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
     let setup = start.elapsed() - load_time;
     renderer.set_intersection(args.intersection.into());
-    if args.compact {
-        renderer.set_instance_format(ellipsoid_splat::instances::InstanceFormat::Compact);
-    }
+    renderer.set_instance_format(args.instance_format());
     renderer.upload(&scene)?;
+    let outputs = plan.outputs;
     let (frame, timing) = renderer.render_uploaded(&camera)?;
     renderer.context().check_validation()?;
 
-    output::write_color_png(&frame, &args.output)?;
-    if let Some(path) = &args.depth {
-        output::write_depth_exr(&frame, path)?;
-    }
-    if let Some(path) = &args.normal {
-        output::write_normal_exr(&frame, path)?;
-    }
-    if let Some(path) = &args.id {
-        output::write_id_image(&frame, path)?;
+    for image in outputs.images() {
+        if let Some(path) = args.file(image) {
+            output::write_image(&frame, image, path)?;
+        }
     }
     let device = renderer.context().info().name.clone();
     let memory = renderer.gpu_memory_bytes();
