@@ -625,10 +625,11 @@ pub fn load_scene(spec: &str, options: &scene::LoadOptions) -> Result<scene::Loa
 }
 
 /// The camera of the render arguments, framing the scene where positions are not given.
+/// Errors name the flag to change.
 pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
     let (center, radius) = scene
         .bounding_sphere()
-        .ok_or_else(|| Error::invalid("scene", "has no ellipsoids"))?;
+        .ok_or_else(|| Error::invalid("--scene", "has no ellipsoids"))?;
     let projection = match args.ortho {
         Some(height) => Projection::Orthographic { height },
         None => Projection::Perspective {
@@ -647,6 +648,35 @@ pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
             camera.target = center;
         }
     }
+    let view = camera.target - camera.eye;
+    if view.length() <= 1e-12 * camera.eye.length().max(1.0) {
+        let (flag, what) = if args.eye.is_some() && args.target.is_none() {
+            (
+                "--eye",
+                "is the scene's centre, which the camera looks at without --target",
+            )
+        } else {
+            ("--target", "is where the camera is (--eye)")
+        };
+        return Err(Error::invalid(
+            flag,
+            format!(
+                "{} {what}; give a --target away from --eye",
+                xyz(camera.target)
+            ),
+        ));
+    }
+    if view.normalize().cross(args.up.normalize()).length() < 1e-9 {
+        return Err(Error::invalid(
+            "--up",
+            format!(
+                "{} is parallel to the view direction (from {} to {}); give an --up across it",
+                xyz(args.up),
+                xyz(camera.eye),
+                xyz(camera.target)
+            ),
+        ));
+    }
     camera.near = match args.near {
         Some(near) => near,
         None => {
@@ -661,6 +691,61 @@ pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
     };
     camera.validate()?;
     Ok(camera)
+}
+
+/// Why `camera` certainly shows none of `scene`, if it does: the scene is behind the eye,
+/// outside the field of view, or nearer than the near plane. Such an image is empty but not
+/// an error (a camera path may pass by), so this is a warning to print.
+pub fn nothing_in_view(args: &RenderArgs, camera: &Camera, scene: &Scene) -> Option<String> {
+    let (center, radius) = scene.bounding_sphere()?;
+    let basis = camera.basis();
+    let offset = center - camera.eye;
+    let depth = offset.dot(basis.forward);
+    let lateral = (offset - depth * basis.forward).length();
+    let looking = format!(
+        "looking from {} towards {} (--eye, --target)",
+        xyz(camera.eye),
+        xyz(camera.target)
+    );
+    let sphere = format!("centre {}, radius {radius:.4}", xyz(center));
+    if depth + radius <= 0.0 {
+        return Some(format!(
+            "the image is empty: {looking}, the whole scene ({sphere}) is behind the camera"
+        ));
+    }
+    let (sx, sy) = camera.ndc_scale();
+    let half_diagonal = sx.hypot(sy);
+    let outside = match camera.projection {
+        // The frustum lies in the cone of half-angle atan(half_diagonal) around the view
+        // direction; the sphere is outside when its angular distance from the axis exceeds
+        // that half-angle plus its own angular radius.
+        Projection::Perspective { .. } => {
+            let distance = offset.length();
+            distance > radius && {
+                let angle = lateral.atan2(depth);
+                let angular_radius = (radius / distance).asin();
+                angle - angular_radius > half_diagonal.atan()
+            }
+        }
+        Projection::Orthographic { .. } => lateral - radius > half_diagonal,
+    };
+    if outside {
+        return Some(format!(
+            "the image is empty: {looking}, the scene ({sphere}) is outside the field of view"
+        ));
+    }
+    if depth + radius <= camera.near {
+        let near = match args.near {
+            Some(near) => format!("--near {near}"),
+            None => format!("the near plane at {:.4}", camera.near),
+        };
+        return Some(format!(
+            "the image is empty: {near} is beyond the farthest point of the scene (view depth \
+             {:.4})",
+            depth + radius
+        ));
+    }
+    None
 }
 
 /// `v` as the flags write it, `x,y,z`, each to four decimals without trailing zeros.
@@ -766,5 +851,25 @@ mod tests {
         assert!(check_host_memory("x", compact, InstanceFormat::Compact, eight_gib).is_ok());
         assert!(check_host_memory("x", u64::MAX, InstanceFormat::Full, None).is_ok());
         assert!(machine_memory().is_none_or(|m| m > 0));
+    }
+
+    #[test]
+    fn empty_views_are_reported() {
+        let scene = scene::random_cloud(10, 1, 4.0, 1.0);
+        let warn = |extra: &[&str]| {
+            let args = render_args(extra);
+            let camera = camera_for(&args, &scene).unwrap();
+            nothing_in_view(&args, &camera, &scene)
+        };
+        assert_eq!(warn(&[]), None);
+        let behind = warn(&["--eye", "0,0,100", "--target", "0,0,200"]).unwrap();
+        assert!(behind.contains("behind the camera"), "{behind}");
+        let near = warn(&["--near", "1e6"]).unwrap();
+        assert!(near.contains("--near"), "{near}");
+        let aside = warn(&["--eye", "0,0,100", "--target", "500,0,100"]).unwrap();
+        assert!(aside.contains("outside the field of view"), "{aside}");
+        let ortho_aside = warn(&["--eye", "0,0,100", "--target", "500,0,100", "--ortho", "2"]);
+        assert!(ortho_aside.is_some());
+        assert_eq!(warn(&["--ortho", "2"]), None);
     }
 }

@@ -55,6 +55,9 @@ fn render(args: &RenderArgs) -> Result<()> {
     }
     let scene = loaded.scene;
     let camera = cli::camera_for(args, &scene)?;
+    if let Some(warning) = cli::nothing_in_view(args, &camera, &scene) {
+        eprintln!("warning: {warning}");
+    }
     let load_time = start.elapsed();
 
     let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;

@@ -375,3 +375,60 @@ fn image_size_is_limited_with_a_named_error() {
         assert_names(&error, &[flag, value, "1..=16384"], &what);
     }
 }
+
+#[test]
+fn camera_flags_are_checked_with_named_errors() {
+    let cases: [(&[&str], &str, &str); 4] = [
+        (&["--up", "0,0,0"], "--up", "must not be 0,0,0"),
+        (
+            &["--eye", "1,2,3", "--target", "1,2,3"],
+            "--target",
+            "same point as --eye",
+        ),
+        (
+            &[
+                "--scene",
+                "random:10",
+                "--eye",
+                "0,100,0",
+                "--target",
+                "0,0,0",
+            ],
+            "--up",
+            "parallel to the view direction",
+        ),
+        (&["--fov-y", "180"], "--fov-y", "between 0 and 180"),
+    ];
+    for (args, flag, reason) in cases {
+        let what = args.join(" ");
+        let error = error_line(&render_args(args), 1, &what);
+        assert_names(&error, &[flag, reason], &what);
+    }
+    // A camera that sees nothing renders, but says so.
+    let dir = scratch_dir("empty-view");
+    let out = dir.join("c.png");
+    for args in [["--near", "1e6"], ["--target", "1e4,0,0"]] {
+        let output = run(&[
+            OsStr::new("render"),
+            OsStr::new("--scene"),
+            OsStr::new("random:20"),
+            OsStr::new("--width"),
+            OsStr::new("64"),
+            OsStr::new("--height"),
+            OsStr::new("48"),
+            OsStr::new("--eye"),
+            OsStr::new("0,0,50"),
+            OsStr::new(args[0]),
+            OsStr::new(args[1]),
+            OsStr::new("--output"),
+            out.as_os_str(),
+        ]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(output.status.success(), "{stderr}");
+        assert!(
+            stderr.contains("warning: the image is empty"),
+            "{args:?}: {stderr}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
