@@ -109,6 +109,7 @@ fn stress(args: &StressArgs) -> ExitCode {
 }
 
 fn run_stress(args: &StressArgs) -> Result<bool> {
+    output::check_output_dir("--out", &args.out, "stress.csv")?;
     let extent = if args.quick {
         Extent::Reduced
     } else {
@@ -177,7 +178,24 @@ fn bench(args: &BenchArgs) -> ExitCode {
 }
 
 fn run_bench(args: &BenchArgs) -> Result<bool> {
+    if args.frames == 0 {
+        return Err(ellipsoid_splat::Error::invalid(
+            "--frames",
+            "must be at least 1",
+        ));
+    }
     if args.skip {
+        if !args.methods.is_empty() || !args.scenes.is_empty() {
+            return Err(ellipsoid_splat::Error::invalid(
+                if args.methods.is_empty() {
+                    "--scenes"
+                } else {
+                    "--methods"
+                },
+                "does not apply to --skip, which measures its own methods and scenes",
+            ));
+        }
+        output::check_output_dir("--out", &args.out, "skip.csv")?;
         return run_skip(args);
     }
     let methods: Vec<Method> = if args.methods.is_empty() {
@@ -202,12 +220,6 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
             })
             .collect::<Result<_>>()?
     };
-    if args.frames == 0 {
-        return Err(ellipsoid_splat::Error::invalid(
-            "--frames",
-            "must be at least 1",
-        ));
-    }
     let wanted = |name: &str| {
         args.scenes.is_empty() || args.scenes.iter().any(|s| name.contains(s.as_str()))
     };
@@ -217,6 +229,24 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         .collect();
     let with_field = wanted("tensor-field");
     let scene_count = specs.len() + with_field as usize;
+    if scene_count == 0 {
+        let mut names = vec!["tensor-field".to_string()];
+        for (_, size) in bench::cloud_specs(args.quick) {
+            let name = format!("cloud-{size}px");
+            if !names.contains(&name) {
+                names.push(name);
+            }
+        }
+        return Err(ellipsoid_splat::Error::invalid(
+            "--scenes",
+            format!(
+                "'{}' matches no scene; the scenes are {}",
+                args.scenes.join(","),
+                names.join(", ")
+            ),
+        ));
+    }
+    output::check_output_dir("--out", &args.out, "results.csv")?;
     let mut scenes = with_field
         .then(bench::tensor_field_scene)
         .into_iter()

@@ -240,6 +240,24 @@ pub fn check_writable(flag: &str, path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// Creates the directory `dir` named by `flag` (as the reports would) and checks that `file`
+/// can be written in it, so that a bad directory fails before a long run rather than after.
+pub fn check_output_dir(flag: &str, dir: &Path, file: &str) -> Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(Error::invalid(
+            flag,
+            format!("'{}' is not a directory", dir.display()),
+        ));
+    }
+    std::fs::create_dir_all(dir).map_err(|e| {
+        Error::invalid(
+            flag,
+            format!("cannot create the directory '{}': {e}", dir.display()),
+        )
+    })?;
+    check_writable(flag, &dir.join(file))
+}
+
 /// The directory `path` is in (`.` for a bare file name).
 fn directory_of(path: &Path) -> &Path {
     match path.parent() {

@@ -432,3 +432,66 @@ fn camera_flags_are_checked_with_named_errors() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn bench_and_stress_check_arguments_before_running() {
+    let dir = scratch_dir("reports");
+    let plain = dir.join("plain-file");
+    std::fs::write(&plain, b"not a directory").unwrap();
+    let below_file = plain.join("out");
+    let cases: [(&[&OsStr], &str, &str); 5] = [
+        (
+            &[
+                OsStr::new("bench"),
+                OsStr::new("--scenes"),
+                OsStr::new("nosuch"),
+            ],
+            "--scenes",
+            "matches no scene",
+        ),
+        (
+            &[
+                OsStr::new("bench"),
+                OsStr::new("--skip"),
+                OsStr::new("--methods"),
+                OsStr::new("impostor"),
+            ],
+            "--methods",
+            "does not apply to --skip",
+        ),
+        (
+            &[OsStr::new("bench"), OsStr::new("--frames"), OsStr::new("0")],
+            "--frames",
+            "at least 1",
+        ),
+        (
+            &[
+                OsStr::new("bench"),
+                OsStr::new("--quick"),
+                OsStr::new("--out"),
+                below_file.as_os_str(),
+            ],
+            "--out",
+            "plain-file",
+        ),
+        (
+            &[
+                OsStr::new("stress"),
+                OsStr::new("--quick"),
+                OsStr::new("--out"),
+                plain.as_os_str(),
+            ],
+            "--out",
+            "is not a directory",
+        ),
+    ];
+    for (args, flag, reason) in cases {
+        let mut all = args.to_vec();
+        all.extend([OsStr::new("--device"), OsStr::new("no-such-device")]);
+        let what = format!("{args:?}");
+        // `bench` and `stress` exit 2 on an error (1 means a target or bound was missed).
+        let error = error_line(&run(&all), 2, &what);
+        assert_names(&error, &[flag, reason], &what);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
