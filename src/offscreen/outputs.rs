@@ -2,7 +2,8 @@
 //! those.
 
 /// The outputs of an offscreen frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+/// The default is none: a frame that only draws.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Outputs {
     /// sRGB colour.
     pub color: bool,

@@ -1,15 +1,21 @@
 //! Command-line arguments of the `ellipsoid-splat` binary and how they become a scene and a
 //! camera.
 
-use std::path::PathBuf;
+use std::num::IntErrorKind;
+use std::path::{Path, PathBuf};
 
 use clap::{Args, Parser, Subcommand};
 use glam::DVec3;
 
 use ellipsoid_splat::camera::{Camera, Projection};
+use ellipsoid_splat::ellipsoid::Ellipsoid;
 use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::Scene;
+use ellipsoid_splat::instances::InstanceFormat;
+use ellipsoid_splat::{Scene, NO_INSTANCE};
 use ellipsoid_splat_loaders as scene;
+
+use crate::output::{self, Image};
+use ellipsoid_splat::Outputs;
 
 /// Exact ray-cast ellipsoid impostors on Vulkan.
 #[derive(Debug, Parser)]
@@ -45,7 +51,7 @@ pub struct BenchArgs {
     #[arg(long)]
     pub quick: bool,
     /// Timed frames per method and scene (median reported).
-    #[arg(long, default_value_t = 15)]
+    #[arg(long, default_value_t = 15, allow_negative_numbers = true)]
     pub frames: usize,
     /// Comma-separated method names (default: all).
     #[arg(long, value_delimiter = ',')]
@@ -119,23 +125,23 @@ pub struct LoadArgs {
     #[arg(long)]
     pub skip_invalid: bool,
     /// Gaussian splats: radii are SIGMA standard deviations (`SIGMA * exp(scale)`).
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, value_parser = parse_number, allow_hyphen_values = true)]
     pub sigma: f64,
     /// Gaussian splats: leave out splats whose opacity (after the sigmoid) is below this.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = parse_number, allow_hyphen_values = true)]
     pub min_opacity: f64,
     /// Tensor volumes: component order of the six stored values.
     #[arg(long, value_enum, default_value_t = TensorOrderArg::Fsl)]
     pub tensor_order: TensorOrderArg,
     /// Tensor volumes: leave out voxels with fractional anisotropy below this.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = parse_number, allow_hyphen_values = true)]
     pub min_fa: f64,
     /// Tensor volumes: a mask NIfTI on the same grid; voxels where it is 0 are left out.
     #[arg(long)]
     pub mask: Option<PathBuf>,
     /// Tensor volumes: the largest eigenvalue in the volume becomes a semi-axis of this many
     /// voxels.
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = 0.5, value_parser = parse_number, allow_hyphen_values = true)]
     pub glyph_scale: f64,
 }
 
@@ -173,17 +179,18 @@ pub struct RenderArgs {
     /// A scene file -- Ellipsoid CSV (`.csv`), 3D Gaussian Splatting (`.ply`), diffusion tensor
     /// NIfTI (`.nii`, `.nii.gz`), PDB (`.pdb`, `.ent`) or mmCIF (`.cif`) with anisotropic
     /// displacements; other names are recognised by content -- or `tensor-field[:N]` (N^3
-    /// glyphs, default 40) or `random:COUNT`.
+    /// glyphs, default 40) or `random:COUNT`. At most 4294967295 ellipsoids (u32 instance
+    /// indices), and no more than the machine's memory can hold.
     #[arg(long, default_value = "tensor-field")]
     pub scene: String,
     /// How scene files are read.
     #[command(flatten)]
     pub load: LoadArgs,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = 1920)]
+    /// Image width in pixels, 1 to 16384.
+    #[arg(long, default_value_t = 1920, value_parser = parse_pixels, allow_negative_numbers = true)]
     pub width: u32,
-    /// Image height in pixels.
-    #[arg(long, default_value_t = 1080)]
+    /// Image height in pixels, 1 to 16384.
+    #[arg(long, default_value_t = 1080, value_parser = parse_pixels, allow_negative_numbers = true)]
     pub height: u32,
     /// Eye position `x,y,z` (default: frames the scene).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
@@ -195,21 +202,27 @@ pub struct RenderArgs {
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, default_value = "0,1,0")]
     pub up: DVec3,
     /// Vertical field of view in degrees (perspective).
-    #[arg(long, default_value_t = 45.0, conflicts_with = "ortho")]
+    #[arg(
+        long,
+        default_value_t = 45.0,
+        conflicts_with = "ortho",
+        value_parser = parse_number,
+        allow_hyphen_values = true
+    )]
     pub fov_y: f64,
     /// Orthographic projection with this view height.
-    #[arg(long)]
+    #[arg(long, value_parser = parse_number, allow_hyphen_values = true)]
     pub ortho: Option<f64>,
     /// Near-plane distance (default: half the distance to the scene's bounding sphere).
-    #[arg(long)]
+    #[arg(long, value_parser = parse_number, allow_hyphen_values = true)]
     pub near: Option<f64>,
-    /// Colour PNG.
+    /// Colour PNG (`.png`).
     #[arg(long, default_value = "ellipsoids.png")]
     pub output: PathBuf,
-    /// Float32 EXR of view depth (background +inf).
+    /// Float32 EXR of view depth (`.exr`; background +inf).
     #[arg(long)]
     pub depth: Option<PathBuf>,
-    /// Float32 EXR of world-space unit normals (background 0).
+    /// Float32 EXR of world-space unit normals (`.exr`; background 0).
     #[arg(long)]
     pub normal: Option<PathBuf>,
     /// Lossless 32-bit instance-ID image (`.exr`: uint channel; `.png`: RGBA8 little-endian).
@@ -241,6 +254,192 @@ impl Default for RenderArgs {
     }
 }
 
+/// The largest image side `render` accepts, in pixels (the renderer's own limit, and the
+/// largest 2D image lavapipe and most GPUs allocate).
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+/// What `render` was asked for, checked before anything is loaded, allocated or drawn.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderPlan {
+    /// The scene to load or generate.
+    pub scene: SceneSpec,
+    /// The images to produce.
+    pub outputs: Outputs,
+}
+
+impl RenderArgs {
+    /// The file `image` goes to, if it is asked for.
+    pub fn file(&self, image: Image) -> Option<&Path> {
+        match image {
+            Image::Color => Some(&self.output),
+            Image::Depth => self.depth.as_deref(),
+            Image::Normal => self.normal.as_deref(),
+            Image::Id => self.id.as_deref(),
+        }
+    }
+
+    /// The images these arguments ask for: colour always, the others when their flag is
+    /// given.
+    pub fn outputs(&self) -> Outputs {
+        Outputs {
+            color: self.file(Image::Color).is_some(),
+            depth: self.file(Image::Depth).is_some(),
+            normal: self.file(Image::Normal).is_some(),
+            id: self.file(Image::Id).is_some(),
+        }
+    }
+
+    /// The instance format `--compact` selects.
+    pub fn instance_format(&self) -> InstanceFormat {
+        if self.compact {
+            InstanceFormat::Compact
+        } else {
+            InstanceFormat::Full
+        }
+    }
+
+    /// Checks every argument that can be checked without the scene -- numbers, the scene's
+    /// size, output names and whether the output files can be written -- so that a mistake
+    /// is reported before anything is loaded, allocated or drawn. Errors name the flag.
+    pub fn check(&self) -> Result<RenderPlan> {
+        self.check_numbers()?;
+        let scene = SceneSpec::parse(&self.scene)?;
+        if let Some(count) = scene.generated_count() {
+            check_host_memory(&self.scene, count, self.instance_format(), machine_memory())?;
+        }
+        let outputs = self.outputs();
+        let files: Vec<(Image, &Path)> = Image::all_in(outputs)
+            .filter_map(|image| Some((image, self.file(image)?)))
+            .collect();
+        for &(image, path) in &files {
+            output::check_extension(image, path)?;
+        }
+        for &(image, path) in &files {
+            output::check_writable(image.flag(), path)?;
+        }
+        let mut inputs: Vec<(&str, &Path)> = Vec::new();
+        if let SceneSpec::File(path) = &scene {
+            inputs.push(("--scene", path));
+        }
+        if let Some(mask) = &self.load.mask {
+            inputs.push(("--mask", mask));
+        }
+        for (k, &(image, path)) in files.iter().enumerate() {
+            let target = output::resolved(path);
+            if let Some((other, _)) = files[..k]
+                .iter()
+                .find(|(_, p)| output::resolved(p) == target)
+            {
+                return Err(Error::invalid(
+                    image.flag(),
+                    format!(
+                        "'{}' is also the {} file; each image needs a file of its own",
+                        path.display(),
+                        other.flag()
+                    ),
+                ));
+            }
+            if let Some((flag, _)) = inputs
+                .iter()
+                .find(|(_, input)| input.canonicalize().is_ok_and(|i| i == target))
+            {
+                return Err(Error::invalid(
+                    image.flag(),
+                    format!(
+                        "'{}' is the {flag} input file; writing it would overwrite it",
+                        path.display()
+                    ),
+                ));
+            }
+        }
+        Ok(RenderPlan { scene, outputs })
+    }
+
+    /// Every numeric and vector flag on its own.
+    fn check_numbers(&self) -> Result<()> {
+        for (flag, value) in [("--width", self.width), ("--height", self.height)] {
+            if !(1..=MAX_IMAGE_SIDE).contains(&value) {
+                return Err(Error::invalid(
+                    flag,
+                    format!(
+                        "{value} pixels is outside 1..={MAX_IMAGE_SIDE} (the largest image side \
+                         the renderer accepts)"
+                    ),
+                ));
+            }
+        }
+        let positive = |flag: &str, value: f64| {
+            if value.is_finite() && value > 0.0 {
+                Ok(())
+            } else {
+                Err(Error::invalid(
+                    flag,
+                    format!("must be positive (and finite), got {value}"),
+                ))
+            }
+        };
+        let number = |flag: &str, value: f64| {
+            if value.is_nan() {
+                Err(Error::invalid(flag, "must be a number, got NaN"))
+            } else {
+                Ok(())
+            }
+        };
+        if let Some(near) = self.near {
+            positive("--near", near)?;
+        }
+        match self.ortho {
+            Some(height) => positive("--ortho", height)?,
+            None => {
+                let fov = self.fov_y;
+                if !(fov.is_finite() && fov > 0.0 && fov < 180.0) {
+                    return Err(Error::invalid(
+                        "--fov-y",
+                        format!("must be between 0 and 180 degrees (exclusive), got {fov}"),
+                    ));
+                }
+            }
+        }
+        if self.up == DVec3::ZERO {
+            return Err(Error::invalid("--up", "must not be 0,0,0"));
+        }
+        if let (Some(eye), Some(target)) = (self.eye, self.target) {
+            if eye == target {
+                return Err(Error::invalid(
+                    "--target",
+                    format!(
+                        "{} is the same point as --eye; the camera needs a direction",
+                        xyz(target)
+                    ),
+                ));
+            }
+        }
+        positive("--sigma", self.load.sigma)?;
+        number("--min-opacity", self.load.min_opacity)?;
+        number("--min-fa", self.load.min_fa)?;
+        positive("--glyph-scale", self.load.glyph_scale)?;
+        Ok(())
+    }
+}
+
+/// A number flag's value. Such flags take values that start with `-`, so a flag given
+/// where the value should be is reported as the missing value it is.
+fn parse_number(text: &str) -> std::result::Result<f64, String> {
+    text.trim().parse::<f64>().map_err(|_| {
+        if text.starts_with("--") {
+            format!("'{text}' is a flag, not a number: the value is missing")
+        } else {
+            format!("'{text}' is not a number")
+        }
+    })
+}
+
+fn parse_pixels(text: &str) -> std::result::Result<u32, String> {
+    text.trim()
+        .parse::<u32>()
+        .map_err(|_| format!("'{text}' is not a whole number of pixels (1 to {MAX_IMAGE_SIDE})"))
+}
+
 fn parse_vec3(text: &str) -> std::result::Result<DVec3, String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     if parts.len() != 3 {
@@ -258,49 +457,180 @@ fn parse_vec3(text: &str) -> std::result::Result<DVec3, String> {
     Ok(DVec3::from_array(v))
 }
 
-/// Loads or generates the scene named by `--scene`, with what the loader reports.
-pub fn load_scene(spec: &str, options: &scene::LoadOptions) -> Result<scene::Loaded> {
-    let generated = |scene: Scene| scene::Loaded {
-        scene,
-        ..Default::default()
-    };
-    let count = |text: &str, what: &str| {
-        text.parse::<usize>().map_err(|_| {
-            Error::invalid(
-                "--scene",
-                format!("{what} count '{text}' is not a whole number"),
-            )
+/// The most ellipsoids a scene can have. Instance indices are u32, and 0xFFFFFFFF
+/// ([`NO_INSTANCE`]) marks background pixels in ID images, so indices run up to 0xFFFFFFFE.
+pub const MAX_ELLIPSOIDS: u64 = NO_INSTANCE as u64;
+
+/// The side of the largest `tensor-field:N` lattice: the largest N with N^3 <=
+/// [`MAX_ELLIPSOIDS`].
+pub const MAX_TENSOR_FIELD_SIDE: u64 = 1625;
+
+/// Host bytes each ellipsoid surely takes while a scene is uploaded: its record in the scene
+/// plus its packed instance. Real use is higher (a staging copy, the culling list, the
+/// driver), so a scene refused for this is certainly too large.
+pub fn host_bytes_per_ellipsoid(format: InstanceFormat) -> u64 {
+    (std::mem::size_of::<Ellipsoid>() + format.bytes()) as u64
+}
+
+/// This machine's memory plus swap in bytes (`/proc/meminfo`), a fixed figure rather than
+/// what happens to be free; `None` where it cannot be read.
+pub fn machine_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let kib = |key: &str| {
+        text.lines().find_map(|line| {
+            line.strip_prefix(key)?
+                .trim()
+                .strip_suffix("kB")?
+                .trim()
+                .parse::<u64>()
+                .ok()
         })
     };
-    if spec == "tensor-field" {
-        return Ok(generated(scene::tensor_field(40)));
+    Some((kib("MemTotal:")? + kib("SwapTotal:").unwrap_or(0)) * 1024)
+}
+
+/// Refuses `count` ellipsoids in `format` when even [`host_bytes_per_ellipsoid`] of them
+/// exceed `memory` bytes (the machine's memory and swap; no check when unknown).
+pub fn check_host_memory(
+    spec: &str,
+    count: u64,
+    format: InstanceFormat,
+    memory: Option<u64>,
+) -> Result<()> {
+    let Some(memory) = memory else {
+        return Ok(());
+    };
+    let per = host_bytes_per_ellipsoid(format);
+    let needed = count.saturating_mul(per);
+    if needed <= memory {
+        return Ok(());
     }
-    if let Some(n) = spec.strip_prefix("tensor-field:") {
-        let n = count(n, "tensor-field")?;
-        if n == 0 || n > 256 {
-            return Err(Error::invalid(
-                "--scene",
-                "tensor-field:N needs 1 <= N <= 256",
-            ));
+    Err(Error::invalid(
+        "--scene",
+        format!(
+            "{spec} needs at least {} of host memory for {count} ellipsoids ({} bytes each for \
+             the scene and {} for its packed instance), more than this machine's {} of memory \
+             and swap",
+            gib(needed),
+            std::mem::size_of::<Ellipsoid>(),
+            format.bytes(),
+            gib(memory)
+        ),
+    ))
+}
+
+fn gib(bytes: u64) -> String {
+    format!("{:.1} GiB", bytes as f64 / (1u64 << 30) as f64)
+}
+
+/// A scene as `--scene` names it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum SceneSpec {
+    /// `tensor-field[:N]`: the N x N x N glyph lattice.
+    TensorField(usize),
+    /// `random:COUNT`: a random cloud.
+    Random(usize),
+    /// A scene file.
+    File(PathBuf),
+}
+
+impl SceneSpec {
+    /// Reads `--scene`; generated scenes must stay within [`MAX_ELLIPSOIDS`]. Errors name
+    /// `--scene` and say why.
+    pub fn parse(spec: &str) -> Result<Self> {
+        let invalid = |reason: String| Error::invalid("--scene", reason);
+        let side = format!(
+            " (tensor-field:N has N^3 glyphs, so N can be at most {MAX_TENSOR_FIELD_SIDE})"
+        );
+        let too_many = |count: String, note: &str| {
+            invalid(format!(
+                "{spec} asks for {count} ellipsoids, more than the {MAX_ELLIPSOIDS} the renderer \
+                 can address{note}: instance indices are u32 (0xFFFFFFFF marks the background \
+                 in ID images), and instances are {} bytes each on the GPU, so \
+                 even that many take {}",
+                InstanceFormat::Full.bytes(),
+                gib(MAX_ELLIPSOIDS * InstanceFormat::Full.bytes() as u64)
+            ))
+        };
+        // `cube`: the count is the number cubed (`tensor-field:N`).
+        let count = |text: &str, what: &str, cube: bool| {
+            text.trim().parse::<u64>().map_err(|e| match e.kind() {
+                IntErrorKind::PosOverflow if cube => too_many(format!("{}^3", text.trim()), &side),
+                IntErrorKind::PosOverflow => too_many(text.trim().to_string(), ""),
+                _ => invalid(format!("{what} needs a whole number, got '{text}'")),
+            })
+        };
+        if spec == "tensor-field" {
+            return Ok(SceneSpec::TensorField(40));
         }
-        return Ok(generated(scene::tensor_field(n)));
-    }
-    if let Some(n) = spec.strip_prefix("random:") {
-        let n = count(n, "random")?;
-        if n == 0 {
-            return Err(Error::invalid("--scene", "random:COUNT needs COUNT >= 1"));
+        if let Some(text) = spec.strip_prefix("tensor-field:") {
+            let n = count(text, "tensor-field:N", true)?;
+            if n == 0 {
+                return Err(invalid("tensor-field:N needs N >= 1".to_string()));
+            }
+            if n > MAX_TENSOR_FIELD_SIDE {
+                let glyphs = u128::from(n)
+                    .checked_pow(3)
+                    .map_or(format!("{n}^3"), |c| format!("{n}^3 = {c}"));
+                return Err(too_many(glyphs, &side));
+            }
+            return Ok(SceneSpec::TensorField(n as usize));
         }
-        let extent = (n as f64).cbrt() * 2.0;
-        return Ok(generated(scene::random_cloud(n, 1, extent, 1.0)));
+        if let Some(text) = spec.strip_prefix("random:") {
+            let n = count(text, "random:COUNT", false)?;
+            if n == 0 {
+                return Err(invalid("random:COUNT needs COUNT >= 1".to_string()));
+            }
+            if n > MAX_ELLIPSOIDS {
+                return Err(too_many(n.to_string(), ""));
+            }
+            return Ok(SceneSpec::Random(n as usize));
+        }
+        Ok(SceneSpec::File(PathBuf::from(spec)))
     }
-    scene::load(std::path::Path::new(spec), options)
+
+    /// How many ellipsoids a generated scene has (`None` for a file).
+    pub fn generated_count(&self) -> Option<u64> {
+        match *self {
+            SceneSpec::TensorField(n) => Some((n as u64).pow(3)),
+            SceneSpec::Random(n) => Some(n as u64),
+            SceneSpec::File(_) => None,
+        }
+    }
+
+    /// Loads or generates the scene, with what the loader reports.
+    pub fn load(&self, options: &scene::LoadOptions) -> Result<scene::Loaded> {
+        let generated = |scene: Scene| scene::Loaded {
+            scene,
+            ..Default::default()
+        };
+        match self {
+            SceneSpec::TensorField(n) => Ok(generated(scene::tensor_field(*n))),
+            SceneSpec::Random(n) => {
+                let extent = (*n as f64).cbrt() * 2.0;
+                Ok(generated(scene::random_cloud(*n, 1, extent, 1.0)))
+            }
+            SceneSpec::File(path) => scene::load(path, options),
+        }
+    }
+}
+
+/// Loads or generates the scene named by `--scene` after checking its size (see
+/// [`SceneSpec::parse`] and [`check_host_memory`]), with what the loader reports.
+pub fn load_scene(spec: &str, options: &scene::LoadOptions) -> Result<scene::Loaded> {
+    let parsed = SceneSpec::parse(spec)?;
+    if let Some(count) = parsed.generated_count() {
+        check_host_memory(spec, count, InstanceFormat::Full, machine_memory())?;
+    }
+    parsed.load(options)
 }
 
 /// The camera of the render arguments, framing the scene where positions are not given.
+/// Errors name the flag to change.
 pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
     let (center, radius) = scene
         .bounding_sphere()
-        .ok_or_else(|| Error::invalid("scene", "has no ellipsoids"))?;
+        .ok_or_else(|| Error::invalid("--scene", "has no ellipsoids"))?;
     let projection = match args.ortho {
         Some(height) => Projection::Orthographic { height },
         None => Projection::Perspective {
@@ -319,6 +649,35 @@ pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
             camera.target = center;
         }
     }
+    let view = camera.target - camera.eye;
+    if view.length() <= 1e-12 * camera.eye.length().max(1.0) {
+        let (flag, what) = if args.eye.is_some() && args.target.is_none() {
+            (
+                "--eye",
+                "is the scene's centre, which the camera looks at without --target",
+            )
+        } else {
+            ("--target", "is where the camera is (--eye)")
+        };
+        return Err(Error::invalid(
+            flag,
+            format!(
+                "{} {what}; give a --target away from --eye",
+                xyz(camera.target)
+            ),
+        ));
+    }
+    if view.normalize().cross(args.up.normalize()).length() < 1e-9 {
+        return Err(Error::invalid(
+            "--up",
+            format!(
+                "{} is parallel to the view direction (from {} to {}); give an --up across it",
+                xyz(args.up),
+                xyz(camera.eye),
+                xyz(camera.target)
+            ),
+        ));
+    }
     camera.near = match args.near {
         Some(near) => near,
         None => {
@@ -333,4 +692,188 @@ pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
     };
     camera.validate()?;
     Ok(camera)
+}
+
+/// Why `camera` certainly shows none of `scene`, if it does: the scene is behind the eye,
+/// outside the field of view, or nearer than the near plane. Such an image is empty but not
+/// an error (a camera path may pass by), so this is a warning to print.
+pub fn nothing_in_view(args: &RenderArgs, camera: &Camera, scene: &Scene) -> Option<String> {
+    let (center, radius) = scene.bounding_sphere()?;
+    let basis = camera.basis();
+    let offset = center - camera.eye;
+    let depth = offset.dot(basis.forward);
+    let lateral = (offset - depth * basis.forward).length();
+    let looking = format!(
+        "looking from {} towards {} (--eye, --target)",
+        xyz(camera.eye),
+        xyz(camera.target)
+    );
+    let sphere = format!("centre {}, radius {radius:.4}", xyz(center));
+    if depth + radius <= 0.0 {
+        return Some(format!(
+            "the image is empty: {looking}, the whole scene ({sphere}) is behind the camera"
+        ));
+    }
+    let (sx, sy) = camera.ndc_scale();
+    let half_diagonal = sx.hypot(sy);
+    let outside = match camera.projection {
+        // The frustum lies in the cone of half-angle atan(half_diagonal) around the view
+        // direction; the sphere is outside when its angular distance from the axis exceeds
+        // that half-angle plus its own angular radius.
+        Projection::Perspective { .. } => {
+            let distance = offset.length();
+            distance > radius && {
+                let angle = lateral.atan2(depth);
+                let angular_radius = (radius / distance).asin();
+                angle - angular_radius > half_diagonal.atan()
+            }
+        }
+        Projection::Orthographic { .. } => lateral - radius > half_diagonal,
+    };
+    if outside {
+        return Some(format!(
+            "the image is empty: {looking}, the scene ({sphere}) is outside the field of view"
+        ));
+    }
+    if depth + radius <= camera.near {
+        let near = match args.near {
+            Some(near) => format!("--near {near}"),
+            None => format!("the near plane at {:.4}", camera.near),
+        };
+        return Some(format!(
+            "the image is empty: {near} is beyond the farthest point of the scene (view depth \
+             {:.4})",
+            depth + radius
+        ));
+    }
+    None
+}
+
+/// `v` as the flags write it, `x,y,z`, each to four decimals without trailing zeros.
+fn xyz(v: DVec3) -> String {
+    v.to_array()
+        .map(|x| {
+            let text = format!("{x:.4}");
+            let text = text.trim_end_matches('0').trim_end_matches('.');
+            if text == "-0" {
+                "0".to_string()
+            } else {
+                text.to_string()
+            }
+        })
+        .join(",")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn render_args(extra: &[&str]) -> RenderArgs {
+        let args = ["ellipsoid-splat", "render"].iter().chain(extra);
+        match Cli::try_parse_from(args).expect("parses").command {
+            Some(Command::Render(r)) => *r,
+            _ => unreachable!(),
+        }
+    }
+
+    #[test]
+    fn outputs_follow_the_flags() {
+        let colour_only = render_args(&["--width", "16384", "--height", "16384"]).outputs();
+        assert_eq!(
+            colour_only,
+            Outputs {
+                color: true,
+                ..Outputs::default()
+            }
+        );
+        assert_eq!(
+            Image::all_in(colour_only).collect::<Vec<_>>(),
+            vec![Image::Color]
+        );
+        let all =
+            render_args(&["--depth", "d.exr", "--normal", "n.exr", "--id", "i.png"]).outputs();
+        assert_eq!(
+            all,
+            Outputs {
+                color: true,
+                depth: true,
+                normal: true,
+                id: true
+            }
+        );
+        let id = render_args(&["--id", "i.exr"]).outputs();
+        assert!(id.color && id.id && !id.depth && !id.normal);
+    }
+
+    #[test]
+    fn scene_counts_are_bounded_by_addressing() {
+        assert_eq!(
+            SceneSpec::parse("random:4294967295").unwrap(),
+            SceneSpec::Random(4294967295)
+        );
+        for spec in [
+            "random:4294967296",
+            "random:999999999999",
+            "random:99999999999999999999999999",
+            "tensor-field:1626",
+            "tensor-field:99999999999999999999999999",
+        ] {
+            let e = SceneSpec::parse(spec).unwrap_err().to_string();
+            assert!(
+                e.contains("--scene") && e.contains("4294967295") && e.contains("u32"),
+                "{spec}: {e}"
+            );
+        }
+        assert_eq!(
+            SceneSpec::parse("tensor-field:1625")
+                .unwrap()
+                .generated_count(),
+            Some(1625u64.pow(3))
+        );
+        assert!(1625u64.pow(3) <= MAX_ELLIPSOIDS && 1626u64.pow(3) > MAX_ELLIPSOIDS);
+        let e = SceneSpec::parse("random:12x").unwrap_err().to_string();
+        assert!(e.contains("needs a whole number, got '12x'"), "{e}");
+    }
+
+    #[test]
+    fn host_memory_estimate_refuses_what_cannot_fit() {
+        let per = host_bytes_per_ellipsoid(InstanceFormat::Full);
+        assert_eq!(per, 96 + 48);
+        let eight_gib = Some(8u64 << 30);
+        assert!(check_host_memory("random:1000", 1000, InstanceFormat::Full, eight_gib).is_ok());
+        let fits = (8u64 << 30) / per;
+        assert!(check_host_memory("x", fits, InstanceFormat::Full, eight_gib).is_ok());
+        let e = check_host_memory("random:N", fits + 1, InstanceFormat::Full, eight_gib)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("--scene") && e.contains("host memory") && e.contains("8.0 GiB"),
+            "{e}"
+        );
+        // Compact instances take less.
+        let compact = (8u64 << 30) / host_bytes_per_ellipsoid(InstanceFormat::Compact);
+        assert!(check_host_memory("x", compact, InstanceFormat::Compact, eight_gib).is_ok());
+        assert!(check_host_memory("x", u64::MAX, InstanceFormat::Full, None).is_ok());
+        assert!(machine_memory().is_none_or(|m| m > 0));
+    }
+
+    #[test]
+    fn empty_views_are_reported() {
+        let scene = scene::random_cloud(10, 1, 4.0, 1.0);
+        let warn = |extra: &[&str]| {
+            let args = render_args(extra);
+            let camera = camera_for(&args, &scene).unwrap();
+            nothing_in_view(&args, &camera, &scene)
+        };
+        assert_eq!(warn(&[]), None);
+        let behind = warn(&["--eye", "0,0,100", "--target", "0,0,200"]).unwrap();
+        assert!(behind.contains("behind the camera"), "{behind}");
+        let near = warn(&["--near", "1e6"]).unwrap();
+        assert!(near.contains("--near"), "{near}");
+        let aside = warn(&["--eye", "0,0,100", "--target", "500,0,100"]).unwrap();
+        assert!(aside.contains("outside the field of view"), "{aside}");
+        let ortho_aside = warn(&["--eye", "0,0,100", "--target", "500,0,100", "--ortho", "2"]);
+        assert!(ortho_aside.is_some());
+        assert_eq!(warn(&["--ortho", "2"]), None);
+    }
 }

@@ -8,14 +8,14 @@ use clap::Parser;
 use ellipsoid_splat::draw::Intersection;
 use ellipsoid_splat::draw::Method;
 use ellipsoid_splat::gpu::{Context, ContextOptions};
-use ellipsoid_splat::{draw::DrawConfig, Outputs, Settings};
+use ellipsoid_splat::{draw::DrawConfig, Settings};
 use ellipsoid_splat::{OffscreenRenderer, Result};
 use ellipsoid_splat_loaders::Progress;
 use ellipsoid_splat_tool::bench;
 use ellipsoid_splat_tool::cli::{
     self, BenchArgs, Cli, Command, DeviceArgs, RenderArgs, StressArgs,
 };
-use ellipsoid_splat_tool::output;
+use ellipsoid_splat_tool::output::{self, Image};
 use ellipsoid_splat_tool::skip;
 use ellipsoid_splat_tool::stress::{run_point, sweep_points, write_report, Extent, StressResult};
 
@@ -48,12 +48,17 @@ fn context_options(args: &DeviceArgs) -> ContextOptions {
 
 fn render(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
-    let loaded = cli::load_scene(&args.scene, &args.load.options())?;
+    // Every argument, the scene's size and the output files, before anything is allocated.
+    let plan = args.check()?;
+    let loaded = plan.scene.load(&args.load.options())?;
     for note in &loaded.notes {
         eprintln!("{}: {note}", args.scene);
     }
     let scene = loaded.scene;
     let camera = cli::camera_for(args, &scene)?;
+    if let Some(warning) = cli::nothing_in_view(args, &camera, &scene) {
+        eprintln!("warning: {warning}");
+    }
     let load_time = start.elapsed();
 
     let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
@@ -62,25 +67,20 @@ fn render(args: &RenderArgs) -> Result<()> {
         intersection: args.intersection.into(),
         ..DrawConfig::default()
     });
-    if args.compact {
-        renderer.set_settings(Settings {
-            instance_format: ellipsoid_splat::instances::InstanceFormat::Compact,
-            ..*renderer.settings()
-        });
-    }
+    renderer.set_settings(Settings {
+        instance_format: args.instance_format(),
+        ..Settings::default()
+    });
     renderer.upload(&scene)?;
-    let (frame, timing) = renderer.render_uploaded(&camera, Outputs::ALL)?;
+    // Only the targets of the outputs asked for are allocated, drawn and read back.
+    let outputs = plan.outputs;
+    let (frame, timing) = renderer.render_uploaded(&camera, outputs)?;
     renderer.context().check_validation()?;
 
-    output::write_color_png(&frame, &args.output)?;
-    if let Some(path) = &args.depth {
-        output::write_depth_exr(&frame, path)?;
-    }
-    if let Some(path) = &args.normal {
-        output::write_normal_exr(&frame, path)?;
-    }
-    if let Some(path) = &args.id {
-        output::write_id_image(&frame, path)?;
+    for image in Image::all_in(outputs) {
+        if let Some(path) = args.file(image) {
+            output::write_image(&frame, image, path)?;
+        }
     }
     let device = renderer.context().info().name.clone();
     let memory = renderer.gpu_memory_bytes();
@@ -117,6 +117,7 @@ fn stress(args: &StressArgs) -> ExitCode {
 }
 
 fn run_stress(args: &StressArgs) -> Result<bool> {
+    output::check_output_dir("--out", &args.out, "stress.csv")?;
     let extent = if args.quick {
         Extent::Reduced
     } else {
@@ -185,7 +186,24 @@ fn bench(args: &BenchArgs) -> ExitCode {
 }
 
 fn run_bench(args: &BenchArgs) -> Result<bool> {
+    if args.frames == 0 {
+        return Err(ellipsoid_splat::Error::invalid(
+            "--frames",
+            "must be at least 1",
+        ));
+    }
     if args.skip {
+        if !args.methods.is_empty() || !args.scenes.is_empty() {
+            return Err(ellipsoid_splat::Error::invalid(
+                if args.methods.is_empty() {
+                    "--scenes"
+                } else {
+                    "--methods"
+                },
+                "does not apply to --skip, which measures its own methods and scenes",
+            ));
+        }
+        output::check_output_dir("--out", &args.out, "skip.csv")?;
         return run_skip(args);
     }
     let methods: Vec<Method> = if args.methods.is_empty() {
@@ -210,12 +228,6 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
             })
             .collect::<Result<_>>()?
     };
-    if args.frames == 0 {
-        return Err(ellipsoid_splat::Error::invalid(
-            "--frames",
-            "must be at least 1",
-        ));
-    }
     let wanted = |name: &str| {
         args.scenes.is_empty() || args.scenes.iter().any(|s| name.contains(s.as_str()))
     };
@@ -225,6 +237,24 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         .collect();
     let with_field = wanted("tensor-field");
     let scene_count = specs.len() + with_field as usize;
+    if scene_count == 0 {
+        let mut names = vec!["tensor-field".to_string()];
+        for (_, size) in bench::cloud_specs(args.quick) {
+            let name = format!("cloud-{size}px");
+            if !names.contains(&name) {
+                names.push(name);
+            }
+        }
+        return Err(ellipsoid_splat::Error::invalid(
+            "--scenes",
+            format!(
+                "'{}' matches no scene; the scenes are {}",
+                args.scenes.join(","),
+                names.join(", ")
+            ),
+        ));
+    }
+    output::check_output_dir("--out", &args.out, "results.csv")?;
     let mut scenes = with_field
         .then(bench::tensor_field_scene)
         .into_iter()

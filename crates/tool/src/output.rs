@@ -1,15 +1,19 @@
 //! Writing a [`Frame`] to files: colour PNG, float32 EXR view depth and world normal, and a
-//! lossless 32-bit instance-ID image. All are `width x height`, row 0 at the top.
+//! lossless 32-bit instance-ID image. All are `width x height`, row 0 at the top. Also the
+//! checks `render` makes on its output files before any work starts: the name's extension
+//! matches what is written, and the file can be written.
 
-use std::path::Path;
+use std::fs::OpenOptions;
+use std::path::{Path, PathBuf};
 
 use exr::prelude::{
-    AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes, SmallVec,
-    WritableImage,
+    AnyChannel, AnyChannels, Encoding, FlatSamples, Image as ExrImage, Layer, LayerAttributes,
+    SmallVec, WritableImage,
 };
 
 use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::frame::Frame;
+use ellipsoid_splat::Outputs;
 
 fn encode_error(path: &Path, reason: impl ToString) -> Error {
     Error::Encode {
@@ -43,7 +47,7 @@ fn write_exr(path: &Path, frame: &Frame, channels: Vec<AnyChannel<FlatSamples>>)
         Encoding::FAST_LOSSLESS,
         AnyChannels::sort(SmallVec::from_vec(channels)),
     );
-    Image::from_layer(layer)
+    ExrImage::from_layer(layer)
         .write()
         .to_file(path)
         .map_err(|e| encode_error(path, e))
@@ -82,5 +86,232 @@ pub fn write_id_image(frame: &Frame, path: &Path) -> Result<()> {
     } else {
         let id = AnyChannel::new("ID", FlatSamples::U32(frame.id.clone()));
         write_exr(path, frame, vec![id])
+    }
+}
+
+/// An image `render` can write, named by its flag.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Image {
+    /// `--output`: sRGB colour, PNG.
+    Color,
+    /// `--depth`: float32 view depth, EXR.
+    Depth,
+    /// `--normal`: float32 world-space normal, EXR.
+    Normal,
+    /// `--id`: 32-bit instance IDs, EXR or PNG.
+    Id,
+}
+
+impl Image {
+    /// Every image, in the order they are written.
+    pub const ALL: [Image; 4] = [Image::Color, Image::Depth, Image::Normal, Image::Id];
+
+    /// The command-line flag that names this image's file.
+    pub fn flag(self) -> &'static str {
+        match self {
+            Image::Color => "--output",
+            Image::Depth => "--depth",
+            Image::Normal => "--normal",
+            Image::Id => "--id",
+        }
+    }
+
+    /// File-name extensions (lower case, without the dot) this image can be written as.
+    pub fn extensions(self) -> &'static [&'static str] {
+        match self {
+            Image::Color => &["png"],
+            Image::Depth | Image::Normal => &["exr"],
+            Image::Id => &["exr", "png"],
+        }
+    }
+
+    /// How this image is encoded, for error messages.
+    fn encoding(self) -> &'static str {
+        match self {
+            Image::Color => "colour is written as an 8-bit RGBA PNG",
+            Image::Depth => "depth is written as a float32 OpenEXR image",
+            Image::Normal => "normals are written as a float32 OpenEXR image",
+            Image::Id => "IDs are written as a 32-bit OpenEXR channel or packed into an RGBA8 PNG",
+        }
+    }
+}
+
+impl Image {
+    /// Is this image among `outputs`?
+    pub fn is_in(self, outputs: Outputs) -> bool {
+        match self {
+            Image::Color => outputs.color,
+            Image::Depth => outputs.depth,
+            Image::Normal => outputs.normal,
+            Image::Id => outputs.id,
+        }
+    }
+
+    /// The images among `outputs`, in [`Image::ALL`] order. The offscreen renderer allocates,
+    /// draws and reads back only their targets, and only they are written.
+    pub fn all_in(outputs: Outputs) -> impl Iterator<Item = Image> {
+        Image::ALL.into_iter().filter(move |&i| i.is_in(outputs))
+    }
+}
+
+/// Writes `image` of `frame` to `path` in the encoding its extension names (see
+/// [`check_extension`]).
+pub fn write_image(frame: &Frame, image: Image, path: &Path) -> Result<()> {
+    match image {
+        Image::Color => write_color_png(frame, path),
+        Image::Depth => write_depth_exr(frame, path),
+        Image::Normal => write_normal_exr(frame, path),
+        Image::Id => write_id_image(frame, path),
+    }
+}
+
+/// Refuses a file name whose extension (compared case-insensitively) is not one `image` is
+/// written as, naming the flag, the file and the accepted extensions.
+pub fn check_extension(image: Image, path: &Path) -> Result<()> {
+    let accepted = image.extensions();
+    let extension = path.extension().and_then(|e| e.to_str());
+    if extension.is_some_and(|e| accepted.iter().any(|a| e.eq_ignore_ascii_case(a))) {
+        return Ok(());
+    }
+    let found = match extension {
+        Some(e) => format!("ends in .{e}"),
+        None => "has no extension".to_string(),
+    };
+    let accepted = accepted
+        .iter()
+        .map(|a| format!(".{a}"))
+        .collect::<Vec<_>>()
+        .join(" or ");
+    Err(Error::invalid(
+        image.flag(),
+        format!(
+            "'{}' {found}, but {}; the file name must end in {accepted}",
+            path.display(),
+            image.encoding()
+        ),
+    ))
+}
+
+/// Checks that `path` can be written, without changing anything: its directory exists, and
+/// the file either exists and opens for writing (not truncated) or can be created (the probe
+/// is removed again). Errors name `flag` and the path.
+pub fn check_writable(flag: &str, path: &Path) -> Result<()> {
+    let refuse = |reason: String| {
+        Error::invalid(flag, format!("cannot write '{}': {reason}", path.display()))
+    };
+    if path.file_name().is_none() || path.is_dir() {
+        return Err(refuse("it is a directory, not a file".to_string()));
+    }
+    let dir = directory_of(path);
+    if !dir.exists() {
+        return Err(refuse(format!(
+            "the directory '{}' does not exist",
+            dir.display()
+        )));
+    }
+    if !dir.is_dir() {
+        return Err(refuse(format!("'{}' is not a directory", dir.display())));
+    }
+    if path.exists() {
+        OpenOptions::new()
+            .write(true)
+            .open(path)
+            .map_err(|e| refuse(e.to_string()))?;
+    } else {
+        OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(path)
+            .map_err(|e| refuse(e.to_string()))?;
+        std::fs::remove_file(path).map_err(|e| refuse(e.to_string()))?;
+    }
+    Ok(())
+}
+
+/// Creates the directory `dir` named by `flag` (as the reports would) and checks that `file`
+/// can be written in it, so that a bad directory fails before a long run rather than after.
+pub fn check_output_dir(flag: &str, dir: &Path, file: &str) -> Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(Error::invalid(
+            flag,
+            format!("'{}' is not a directory", dir.display()),
+        ));
+    }
+    std::fs::create_dir_all(dir).map_err(|e| {
+        Error::invalid(
+            flag,
+            format!("cannot create the directory '{}': {e}", dir.display()),
+        )
+    })?;
+    check_writable(flag, &dir.join(file))
+}
+
+/// The directory `path` is in (`.` for a bare file name).
+fn directory_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    }
+}
+
+/// Where `path` points once its directory's links and `..` are resolved (the file itself need
+/// not exist); `path` unchanged when the directory cannot be resolved.
+pub fn resolved(path: &Path) -> PathBuf {
+    match (directory_of(path).canonicalize(), path.file_name()) {
+        (Ok(dir), Some(name)) => {
+            let joined = dir.join(name);
+            joined.canonicalize().unwrap_or(joined)
+        }
+        _ => path.to_path_buf(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn extensions_match_case_insensitively() {
+        assert!(check_extension(Image::Color, Path::new("a/b.PNG")).is_ok());
+        assert!(check_extension(Image::Depth, Path::new("d.Exr")).is_ok());
+        assert!(check_extension(Image::Id, Path::new("i.png")).is_ok());
+        assert!(check_extension(Image::Id, Path::new("i.EXR")).is_ok());
+        let e = check_extension(Image::Depth, Path::new("d.png")).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains("--depth") && text.contains("d.png") && text.contains(".exr"),
+            "{text}"
+        );
+        let e = check_extension(Image::Normal, Path::new("normal")).unwrap_err();
+        assert!(e.to_string().contains("has no extension"), "{e}");
+        let e = check_extension(Image::Id, Path::new("i.tif")).unwrap_err();
+        assert!(e.to_string().contains(".exr or .png"), "{e}");
+    }
+
+    #[test]
+    fn writable_check_leaves_files_as_they_were() {
+        let dir =
+            std::env::temp_dir().join(format!("ellipsoid-splat-probe-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let existing = dir.join("kept.png");
+        std::fs::write(&existing, b"keep").unwrap();
+        check_writable("--output", &existing).unwrap();
+        assert_eq!(std::fs::read(&existing).unwrap(), b"keep");
+        let fresh = dir.join("fresh.exr");
+        check_writable("--depth", &fresh).unwrap();
+        assert!(!fresh.exists());
+        let e = check_writable("--depth", &dir).unwrap_err();
+        assert!(e.to_string().contains("is a directory"), "{e}");
+        let e = check_writable("--id", &existing.join("x.exr")).unwrap_err();
+        assert!(e.to_string().contains("is not a directory"), "{e}");
+        assert_eq!(
+            resolved(
+                &dir.join("../")
+                    .join(dir.file_name().unwrap())
+                    .join("kept.png")
+            ),
+            resolved(&existing)
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -1,8 +1,10 @@
-//! Bad scene files through the command line: exit status 1 and one line naming the file, the
-//! place and the reason -- never a panic; `--skip-invalid` renders the rest and says how many
-//! records it dropped.
+//! Bad scene files and bad arguments through the command line: exit status 1 and one line
+//! naming the file or flag and the reason -- never a panic or an abort; `--skip-invalid`
+//! renders the rest and says how many records it dropped. Argument mistakes are found before
+//! the scene is built or the device is touched.
 
-use std::path::PathBuf;
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn scratch(name: &str, bytes: &[u8]) -> PathBuf {
@@ -71,4 +73,425 @@ fn skip_invalid_renders_the_rest_and_counts() {
     assert!(output.status.success(), "{stderr}");
     assert!(stderr.contains("skipped 1 invalid row"), "{stderr}");
     assert!(stdout.contains("2 ellipsoids"), "{stdout}");
+}
+
+/// Runs the binary with `args`.
+fn run<S: AsRef<OsStr>>(args: &[S]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ellipsoid-splat"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+/// Runs `render` with `args` on a small scene, and a device that does not exist: an argument
+/// error must come first, before any device is looked for.
+fn render_args<S: AsRef<OsStr>>(args: &[S]) -> Output {
+    let mut all: Vec<&OsStr> = ["render", "--device", "no-such-device"]
+        .iter()
+        .map(OsStr::new)
+        .collect();
+    all.extend(args.iter().map(AsRef::as_ref));
+    run(&all)
+}
+
+/// The `error: ` line of a run that must fail with `status`, having checked that it did not
+/// panic or abort and wrote nothing to stdout.
+fn error_line(output: &Output, status: i32, what: &str) -> String {
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(status), "{what}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{what} panicked: {stderr}");
+    assert!(
+        output.stdout.is_empty(),
+        "{what}: stdout {:?}",
+        output.stdout
+    );
+    stderr
+        .lines()
+        .find(|l| l.starts_with("error: "))
+        .unwrap_or_else(|| panic!("{what}: no error line in {stderr}"))
+        .to_string()
+}
+
+fn assert_names(error: &str, expected: &[&str], what: &str) {
+    for e in expected {
+        assert!(error.contains(e), "{what}: expected {e:?} in {error:?}");
+    }
+}
+
+/// A fresh directory of its own for one test.
+fn scratch_dir(name: &str) -> PathBuf {
+    let dir =
+        std::env::temp_dir().join(format!("ellipsoid-splat-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn absurd_scene_counts_are_refused_before_allocating() {
+    for (scene, count) in [
+        ("random:999999999999", "999999999999"),
+        ("random:4294967296", "4294967296"),
+        ("random:99999999999999999999999", "99999999999999999999999"),
+        ("tensor-field:2000", "8000000000"),
+        (
+            "tensor-field:99999999999999999999999",
+            "99999999999999999999999^3",
+        ),
+    ] {
+        let output = render_args(&["--scene", scene]);
+        let error = error_line(&output, 1, scene);
+        assert_names(
+            &error,
+            &["--scene", scene, count, "4294967295", "u32", "48 bytes"],
+            scene,
+        );
+    }
+    let error = error_line(&render_args(&["--scene", "tensor-field:2000"]), 1, "N");
+    assert_names(&error, &["at most 1625"], "tensor-field side");
+}
+
+#[test]
+fn output_names_must_match_what_is_written() {
+    let dir = scratch_dir("extensions");
+    let cases: [(&str, &str, &str); 6] = [
+        ("--depth", "d.png", ".exr"),
+        ("--normal", "n.PNG", ".exr"),
+        ("--output", "c.exr", ".png"),
+        ("--output", "colour", ".png"),
+        ("--id", "i.tiff", ".exr or .png"),
+        ("--depth", "d.exr.gz", ".exr"),
+    ];
+    for (flag, name, accepted) in cases {
+        let path = dir.join(name);
+        let output = render_args(&[OsStr::new(flag), path.as_os_str()]);
+        let what = format!("{flag} {name}");
+        let error = error_line(&output, 1, &what);
+        assert_names(&error, &[flag, name, accepted], &what);
+        assert!(!path.exists(), "{what}: {} was written", path.display());
+    }
+    // Extensions match whatever their case, and each file holds what its name says.
+    let names = ["C.PNG", "D.EXR", "N.Exr", "I.Png", "J.exr"];
+    let paths: Vec<PathBuf> = names.iter().map(|n| dir.join(n)).collect();
+    let mut args: Vec<&OsStr> = [
+        "render",
+        "--validation",
+        "--scene",
+        "random:20",
+        "--width",
+        "64",
+        "--height",
+        "48",
+    ]
+    .iter()
+    .map(OsStr::new)
+    .collect();
+    for (flag, path) in ["--output", "--depth", "--normal", "--id"]
+        .iter()
+        .zip(&paths)
+    {
+        args.extend([OsStr::new(flag), path.as_os_str()]);
+    }
+    let output = run(&args);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let magic = |path: &Path| std::fs::read(path).unwrap()[..4].to_vec();
+    assert_eq!(magic(&paths[0]), b"\x89PNG");
+    assert_eq!(magic(&paths[1]), [0x76, 0x2f, 0x31, 0x01], "EXR magic");
+    assert_eq!(magic(&paths[2]), [0x76, 0x2f, 0x31, 0x01], "EXR magic");
+    assert_eq!(magic(&paths[3]), b"\x89PNG");
+    let output = run(&[
+        OsStr::new("render"),
+        OsStr::new("--scene"),
+        OsStr::new("random:20"),
+        OsStr::new("--width"),
+        OsStr::new("64"),
+        OsStr::new("--height"),
+        OsStr::new("48"),
+        OsStr::new("--output"),
+        paths[0].as_os_str(),
+        OsStr::new("--id"),
+        paths[4].as_os_str(),
+    ]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert_eq!(magic(&paths[4]), [0x76, 0x2f, 0x31, 0x01], "EXR magic");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn negative_numbers_are_values_and_reach_validation() {
+    let cases: [(&[&str], &str, &str); 8] = [
+        (&["--near", "-1"], "--near", "must be positive"),
+        (&["--near", "-inf"], "--near", "must be positive"),
+        (
+            &["--eye", "-1,2,3", "--near", "-1"],
+            "--near",
+            "must be positive",
+        ),
+        (
+            &["--near", "-1e-3", "--target", "-5,-5,-5"],
+            "--near",
+            "must be positive",
+        ),
+        (&["--ortho", "-2"], "--ortho", "must be positive"),
+        (&["--fov-y", "-10"], "--fov-y", "between 0 and 180"),
+        (&["--sigma", "-1"], "--sigma", "must be positive"),
+        (
+            &["--glyph-scale", "-0.5"],
+            "--glyph-scale",
+            "must be positive",
+        ),
+    ];
+    for (args, flag, reason) in cases {
+        let what = args.join(" ");
+        let error = error_line(&render_args(args), 1, &what);
+        assert_names(&error, &[flag, reason], &what);
+        assert!(!error.contains("unexpected argument"), "{what}: {error}");
+    }
+    // A flag where a value belongs is a missing value, not a number (a usage error, status 2).
+    let error = error_line(
+        &render_args(&["--near", "--validation"]),
+        2,
+        "--near --validation",
+    );
+    assert_names(
+        &error,
+        &["--near", "value is missing"],
+        "--near --validation",
+    );
+    // A negative pixel count is still a value of --width (a usage error, status 2).
+    let output = render_args(&["--width", "-5"]);
+    let error = error_line(&output, 2, "--width -5");
+    assert_names(
+        &error,
+        &["--width", "-5", "whole number of pixels"],
+        "--width -5",
+    );
+    // Negative coordinates are values too, and render.
+    let dir = scratch_dir("negative");
+    let out = dir.join("c.png");
+    let output = run(&[
+        OsStr::new("render"),
+        OsStr::new("--validation"),
+        OsStr::new("--scene"),
+        OsStr::new("random:20"),
+        OsStr::new("--width"),
+        OsStr::new("64"),
+        OsStr::new("--height"),
+        OsStr::new("48"),
+        OsStr::new("--eye"),
+        OsStr::new("-30,-20,-40"),
+        OsStr::new("--target"),
+        OsStr::new("-0.5,0,0"),
+        OsStr::new("--output"),
+        out.as_os_str(),
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(!stderr.contains("warning"), "{stderr}");
+    assert!(out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn unwritable_outputs_fail_before_any_gpu_work() {
+    let dir = scratch_dir("unwritable");
+    let plain = dir.join("plain-file");
+    std::fs::write(&plain, b"not a directory").unwrap();
+    let a_dir = dir.join("dir.exr");
+    std::fs::create_dir_all(&a_dir).unwrap();
+    let cases: [(&str, PathBuf, &str); 4] = [
+        (
+            "--output",
+            PathBuf::from("/nonexistent/dir/x.png"),
+            "does not exist",
+        ),
+        ("--depth", plain.join("d.exr"), "is not a directory"),
+        ("--id", a_dir.clone(), "is a directory"),
+        (
+            "--normal",
+            dir.join("missing").join("n.exr"),
+            "does not exist",
+        ),
+    ];
+    for (flag, path, reason) in &cases {
+        let what = format!("{flag} {}", path.display());
+        let output = render_args(&[OsStr::new(flag), path.as_os_str()]);
+        let error = error_line(&output, 1, &what);
+        assert_names(&error, &[flag, &path.display().to_string(), reason], &what);
+    }
+    // Two images into one file would overwrite one with the other.
+    let same = dir.join("same.png");
+    let alias = dir
+        .join("..")
+        .join(dir.file_name().unwrap())
+        .join("same.png");
+    let output = render_args(&[
+        OsStr::new("--output"),
+        same.as_os_str(),
+        OsStr::new("--id"),
+        alias.as_os_str(),
+    ]);
+    let error = error_line(&output, 1, "same file");
+    assert_names(&error, &["--id", "--output", "same.png"], "same file");
+    // The checks leave files as they were: an existing output is not truncated and a probe
+    // file is not left behind when a later step (here, finding the device) fails.
+    let kept = dir.join("kept.png");
+    std::fs::write(&kept, b"keep").unwrap();
+    let fresh = dir.join("fresh.exr");
+    let output = render_args(&[
+        OsStr::new("--scene"),
+        OsStr::new("random:5"),
+        OsStr::new("--output"),
+        kept.as_os_str(),
+        OsStr::new("--depth"),
+        fresh.as_os_str(),
+    ]);
+    let error = error_line(&output, 1, "device");
+    assert_names(&error, &["no-such-device"], "device");
+    assert_eq!(std::fs::read(&kept).unwrap(), b"keep");
+    assert!(!fresh.exists(), "the probe was left behind");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn image_size_is_limited_with_a_named_error() {
+    for (flag, value) in [
+        ("--width", "16385"),
+        ("--height", "16385"),
+        ("--width", "100000"),
+        ("--height", "0"),
+        ("--width", "0"),
+    ] {
+        let what = format!("{flag} {value}");
+        let error = error_line(&render_args(&[flag, value]), 1, &what);
+        assert_names(&error, &[flag, value, "1..=16384"], &what);
+    }
+}
+
+#[test]
+fn camera_flags_are_checked_with_named_errors() {
+    let cases: [(&[&str], &str, &str); 4] = [
+        (&["--up", "0,0,0"], "--up", "must not be 0,0,0"),
+        (
+            &["--eye", "1,2,3", "--target", "1,2,3"],
+            "--target",
+            "same point as --eye",
+        ),
+        (
+            &[
+                "--scene",
+                "random:10",
+                "--eye",
+                "0,100,0",
+                "--target",
+                "0,0,0",
+            ],
+            "--up",
+            "parallel to the view direction",
+        ),
+        (&["--fov-y", "180"], "--fov-y", "between 0 and 180"),
+    ];
+    for (args, flag, reason) in cases {
+        let what = args.join(" ");
+        let error = error_line(&render_args(args), 1, &what);
+        assert_names(&error, &[flag, reason], &what);
+    }
+    // A camera that sees nothing renders, but says so.
+    let dir = scratch_dir("empty-view");
+    let out = dir.join("c.png");
+    for args in [["--near", "1e6"], ["--target", "1e4,0,0"]] {
+        let output = run(&[
+            OsStr::new("render"),
+            OsStr::new("--scene"),
+            OsStr::new("random:20"),
+            OsStr::new("--width"),
+            OsStr::new("64"),
+            OsStr::new("--height"),
+            OsStr::new("48"),
+            OsStr::new("--eye"),
+            OsStr::new("0,0,50"),
+            OsStr::new(args[0]),
+            OsStr::new(args[1]),
+            OsStr::new("--output"),
+            out.as_os_str(),
+        ]);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(output.status.success(), "{stderr}");
+        assert!(
+            stderr.contains("warning: the image is empty"),
+            "{args:?}: {stderr}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bench_and_stress_check_arguments_before_running() {
+    let dir = scratch_dir("reports");
+    let plain = dir.join("plain-file");
+    std::fs::write(&plain, b"not a directory").unwrap();
+    let below_file = plain.join("out");
+    let cases: [(&[&OsStr], &str, &str); 5] = [
+        (
+            &[
+                OsStr::new("bench"),
+                OsStr::new("--scenes"),
+                OsStr::new("nosuch"),
+            ],
+            "--scenes",
+            "matches no scene",
+        ),
+        (
+            &[
+                OsStr::new("bench"),
+                OsStr::new("--skip"),
+                OsStr::new("--methods"),
+                OsStr::new("impostor"),
+            ],
+            "--methods",
+            "does not apply to --skip",
+        ),
+        (
+            &[OsStr::new("bench"), OsStr::new("--frames"), OsStr::new("0")],
+            "--frames",
+            "at least 1",
+        ),
+        (
+            &[
+                OsStr::new("bench"),
+                OsStr::new("--quick"),
+                OsStr::new("--out"),
+                below_file.as_os_str(),
+            ],
+            "--out",
+            "plain-file",
+        ),
+        (
+            &[
+                OsStr::new("stress"),
+                OsStr::new("--quick"),
+                OsStr::new("--out"),
+                plain.as_os_str(),
+            ],
+            "--out",
+            "is not a directory",
+        ),
+    ];
+    for (args, flag, reason) in cases {
+        let mut all = args.to_vec();
+        all.extend([OsStr::new("--device"), OsStr::new("no-such-device")]);
+        let what = format!("{args:?}");
+        // `bench` and `stress` exit 2 on an error (1 means a target or bound was missed).
+        let error = error_line(&run(&all), 2, &what);
+        assert_names(&error, &[flag, reason], &what);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
