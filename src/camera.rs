@@ -1,4 +1,4 @@
-//! The camera and the pixel-ray contract of DESIGN.md section 4, in float64.
+//! The camera and the pixel-ray contract of `docs/design.md` §3, in float64.
 //!
 //! `f = normalize(target - eye)`, `r = normalize(f x up)`, `u = r x f`. Pixel `(i, j)` (row 0 at
 //! the top) has `ndc = ((2i+1)/W - 1, 1 - (2j+1)/H)`. Perspective: the ray leaves `eye` along

@@ -1,9 +1,10 @@
-// The impostor fragment stage, shared by ellipsoid.frag and ellipsoid_flat_depth.frag.
-// Closed-form ray/ellipsoid hit in the silhouette frame (DESIGN.md section 3):
+// The impostor fragment stage, shared by ellipsoid.frag, ellipsoid_setup_once.frag and the
+// benchmark's research/ellipsoid_flat_depth.frag.
+// Closed-form ray/ellipsoid hit in the silhouette frame (docs/design.md §4.2):
 //   p = (r q, -(u + alpha)) / (1 + u alpha),  alpha = sqrt(1 - |q|^2)
 // is both the hit point and the parameter-space normal, with no cancellation at any distance.
-// Handles near-plane caps and a camera inside the ellipsoid. Writes reversed-Z depth unless
-// FLAT_DEPTH is defined (then the quad's constant depth stands: a measured approximation).
+// Handles near-plane caps and a camera inside the ellipsoid. Writes the depth in the camera's
+// convention (depth_value) unless FLAT_DEPTH is defined (then the quad's constant depth stands: a measured approximation).
 #include "ellipsoid_common.glsl"
 #include "shading.glsl"
 #include "fragment_counter.glsl"

@@ -1,4 +1,4 @@
-//! Error of a GPU frame against the float64 reference (DESIGN.md section 5): coverage, depth,
+//! Error of a GPU frame against the float64 reference (`docs/design.md` §9.2): coverage, depth,
 //! normal and instance-ID errors, and bounds to check them against.
 
 use std::fmt;

@@ -2,7 +2,7 @@
 //!
 //! Each pixel's ray (the camera contract, `Camera::ray`) is intersected exactly with every
 //! ellipsoid that may cover it, in parameter space where the ellipsoid is the unit sphere, with a
-//! quadratic solved without catastrophic cancellation. Visibility follows DESIGN.md section 3:
+//! quadratic solved without catastrophic cancellation. Visibility follows `docs/design.md` §3.3:
 //! a surface point shows only at view depth >= near; a ray that enters before the near plane and
 //! leaves after it shows a *cap* at depth `near` facing the camera. The nearest visible depth
 //! wins, ties going to the lower instance index.
@@ -113,7 +113,7 @@ impl ReferenceFrame {
     }
 }
 
-/// Intersects one ray with one ellipsoid under the near-plane rules of DESIGN.md section 3.
+/// Intersects one ray with one ellipsoid under the near-plane rules of `docs/design.md` §3.3.
 ///
 /// The ray must follow the camera contract (as `Camera::ray` and `Camera::ray_at_ndc` build
 /// them): perspective rays leave the eye with forward component 1, orthographic rays leave the
