@@ -1,16 +1,19 @@
 //! The GPU instance record: how a scene becomes the bytes of the instance buffer.
 //!
 //! Two layouts (`load_instance` in `glsl/include/ellipsoid_common.glsl` reads both):
-//! - **full**, 48 bytes ([`Instance`]): centre relative to the scene origin (3 x f32),
+//! - **full**, 48 bytes (`Instance` in `src/gpu_layout.rs`): centre relative to the scene origin (3 x f32),
 //!   sRGB colour as RGBA8 (u32), unit quaternion (x, y, z, w: 4 x f32), semi-axes (3 x f32) and
 //!   one unused f32;
-//! - **compact**, 32 bytes ([`CompactInstance`]): the same centre and colour, the quaternion as
+//! - **compact**, 32 bytes (`CompactInstance`): the same centre and colour, the quaternion as
 //!   4 x snorm16, and the
 //!   semi-axes as 3 x float16 in units of the scene's largest semi-axis (so every scene uses
 //!   the half floats' full precision), one float16 unused. The quantisation moves the surface
 //!   by at most about 2^-11 of a semi-axis (the float16 rounding) plus 2^-15 of a radian of
 //!   rotation; `bench` reports what that costs in accuracy beside the time it saves.
 
+// Without `research` the module is private, and the conveniences only the benchmark calls
+// go unused.
+#![cfg_attr(not(feature = "research"), allow(dead_code))]
 use glam::DVec3;
 
 use crate::ellipsoid::Ellipsoid;

@@ -4,17 +4,17 @@
 //! [`EllipsoidRenderer`] records into a host's command buffers: the host's device, allocator,
 //! render pass (or dynamic rendering), sample count and projection (see `examples/minimal.rs`
 //! and the README's "Embedding" section). With the default feature `offscreen`,
-//! [`OffscreenRenderer`] owns its Vulkan device and reads frames back.
+//! `OffscreenRenderer` owns its Vulkan device and reads frames back.
 //!
 //! Features:
-//! - `offscreen` (default): [`OffscreenRenderer`], [`Frame`] and the [`gpu`] context; no extra
-//!   dependency.
-//! - `research`: the benchmark's baselines ([`draw::Method`]: textbook intersection, box proxy,
+//! - `offscreen` (default): `OffscreenRenderer`, `Frame`, `Outputs` and the `gpu` context; no
+//!   extra dependency.
+//! - `research`: the benchmark's baselines (`draw::Method`: textbook intersection, box proxy,
 //!   icosphere meshes, flat fill, fixed footprints) and fragment counting. Hosts never need it.
 //!
 //! Diagnostics go through the `log` crate. [`EllipsoidRenderer`] reads no environment
 //! variable; the `offscreen` context reads `ELLIPSOID_SPLAT_DEVICE` (which device, when
-//! [`gpu::ContextOptions::device`] is `None`) and, in [`gpu::ContextOptions::validated`],
+//! `gpu::ContextOptions::device` is `None`) and, in `gpu::ContextOptions::validated`,
 //! `ELLIPSOID_SPLAT_EXTRA_VALIDATION` (`gpu-assisted` or `best-practices`).
 //!
 //! The design, the numerics of the exact hit and every contract are in `docs/design.md`.
@@ -55,9 +55,13 @@ pub mod ellipsoid;
 pub mod error;
 pub mod features;
 mod frame_slots;
-pub mod gpu_layout;
+mod gpu_layout;
 mod host_camera;
+// The packing is public for the benchmark's CPU timings only.
+#[cfg(feature = "research")]
 pub mod instances;
+#[cfg(not(feature = "research"))]
+mod instances;
 mod pipeline;
 pub mod renderer;
 pub mod scene;

@@ -65,7 +65,7 @@ fn chunks_draw_the_same_picture_with_the_set_up_in_the_pre_pass() {
 /// float64 reference, and chunked exactly like the full format.
 #[test]
 fn compact_instances_stay_within_their_quantisation_error() {
-    use ellipsoid_splat::instances::InstanceFormat;
+    use ellipsoid_splat::InstanceFormat;
     use ellipsoid_splat_reference::compare::compare;
     use ellipsoid_splat_reference::reference::render_reference;
     let scene = random_cloud(2_000, 13, 8.0, 0.6);

@@ -17,8 +17,8 @@ use crate::report::{
 use ellipsoid_splat::camera::{Camera, Projection};
 use ellipsoid_splat::draw::{Geometry, Method};
 use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::instances::InstanceFormat;
 use ellipsoid_splat::offscreen::OffscreenRenderer;
+use ellipsoid_splat::InstanceFormat;
 use ellipsoid_splat::{Outputs, Scene, Settings};
 use ellipsoid_splat_loaders::{random_cloud, tensor_field, Progress};
 use ellipsoid_splat_reference::render_reference;

@@ -10,7 +10,7 @@ use glam::DVec3;
 use ellipsoid_splat::camera::{Camera, Projection};
 use ellipsoid_splat::ellipsoid::Ellipsoid;
 use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::instances::InstanceFormat;
+use ellipsoid_splat::InstanceFormat;
 use ellipsoid_splat::{Scene, NO_INSTANCE};
 use ellipsoid_splat_loaders as scene;
 
