@@ -9,13 +9,13 @@ source "$here/scripts/setup.sh"
 set +e # setup.sh sets -e; here a failing run is a result to report
 cd "$here"
 minutes="${1:-30}"
-cargo test --release --no-run || { echo "build failed"; exit 1; }
+cargo test --release --workspace --no-run || { echo "build failed"; exit 1; }
 for mode in gpu-assisted best-practices; do
     log="target/validation-$mode.log"
     echo "== $mode (up to $minutes min) =="
     start=$(date +%s)
     ELLIPSOID_SPLAT_EXTRA_VALIDATION="$mode" ELLIPSOID_SPLAT_PRINT_VALIDATION=1 \
-        timeout "${minutes}m" cargo test --release --no-fail-fast -- --test-threads=1 --nocapture >"$log" 2>&1
+        timeout "${minutes}m" cargo test --release --workspace --no-fail-fast -- --test-threads=1 --nocapture >"$log" 2>&1
     status=$?
     echo "exit status $status after $(( $(date +%s) - start )) s (124: timed out); log: $log"
     grep -E "^test result" "$log" | awk '{p+=$4; f+=$6} END {print "tests passed", p, "failed", f}'

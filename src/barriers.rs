@@ -1,5 +1,5 @@
 //! Every pipeline barrier the renderer records, as data: the module documentation of
-//! `renderer.rs` says where each goes, and `tests/barriers.rs` checks each covers the hazards
+//! `src/renderer/mod.rs` says where each goes, and `tests/barriers.rs` checks each covers the hazards
 //! it is there for (synchronization validation misses some, e.g. across submissions).
 //!
 //! All are global memory barriers: the renderer's buffers are its own and every hazard is
@@ -148,7 +148,8 @@ pub const PREPASS_TO_DRAW: Barrier = Barrier {
     ]),
 };
 
-/// After a counting frame's pass: the host reads the fragment counter (`bench`).
+/// After a read-back frame's pass with the `research` feature: the host reads the fragment
+/// counter (`bench`).
 pub const COUNTER_TO_HOST: Barrier = Barrier {
     purpose: "fragment counter atomics -> host read",
     src_stages: vk::PipelineStageFlags::FRAGMENT_SHADER,

@@ -6,7 +6,8 @@ use ash::vk;
 use crate::barriers;
 use crate::gpu_layout::{IndirectDraw, PushConstants};
 
-/// Which exact culling the pre-pass does before the draw (none: no pre-pass). Nothing culled
+/// Which exact culling the pre-pass does before the draw (none: the pre-pass runs only to set
+/// up glyphs once, if it does that). Nothing culled
 /// can change a pixel: see `glsl/cull.comp`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Culling {
@@ -20,7 +21,7 @@ pub struct Culling {
 }
 
 impl Culling {
-    /// No pre-pass.
+    /// No culling.
     pub const OFF: Culling = Culling {
         frustum: false,
         pixel_centres: false,
@@ -33,7 +34,7 @@ impl Culling {
         occlusion: true,
     };
 
-    /// Whether the pre-pass runs at all.
+    /// Whether anything is culled.
     pub fn any(self) -> bool {
         self.frustum || self.pixel_centres || self.occlusion
     }

@@ -76,7 +76,7 @@ impl Footprint {
         }
     }
 
-    /// The `BOUNDS` specialization constant of `ellipsoid.vert`.
+    /// The `BOUNDS` specialization constant (`glsl/include/instance_setup.glsl`).
     pub(crate) fn bounds_mode(self) -> u32 {
         match self {
             Footprint::Auto

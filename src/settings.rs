@@ -1,5 +1,6 @@
-//! What a host may tune: the material and the exact work-skipping the renderer does. Each
-//! setting is safe to leave at its default; none changes a pixel except the material.
+//! What a host may tune: the material, the exact work-skipping the renderer does, and how
+//! instances are stored. Each setting is safe to leave at its default; the work-skipping
+//! changes no pixel, the material and the compact instance format do.
 
 use crate::culling::Culling;
 use crate::instances::InstanceFormat;
@@ -58,7 +59,8 @@ pub struct Settings {
     pub instance_format: InstanceFormat,
     /// The most instances drawn with one descriptor set; the device's
     /// `maxStorageBufferRange` caps it anyway. Larger scenes are drawn in chunks, each with
-    /// its own pre-pass and draw. Rounded down to a multiple of 256.
+    /// its own pre-pass and draw. Rounded down to a multiple of 256 (at least 256). Takes
+    /// effect at the next `upload`.
     pub max_chunk_instances: u32,
 }
 

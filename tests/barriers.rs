@@ -3,7 +3,7 @@
 //! Synchronization validation sees only what one submission does in the order it records, and
 //! lavapipe runs commands in order anyway, so a missing stage or access bit would pass every
 //! image test. Here each hazard -- who writes or reads what, in which stage, and which barrier
-//! sits between them (see the module documentation of `renderer.rs`) -- is written out from the
+//! sits between them (see the module documentation of `src/renderer/mod.rs`) -- is written out from the
 //! shaders and commands, and the barrier must cover it. `tests/embedding.rs` then runs two
 //! frames in one command buffer under synchronization validation.
 

@@ -12,18 +12,25 @@ use ellipsoid_splat::{Camera, NO_INSTANCE};
 use ellipsoid_splat_loaders::random_cloud;
 use glam::DVec3;
 
-fn assert_chunking_changes_nothing(scene: &Scene, camera: &Camera, expect_presets: bool) {
+fn assert_chunking_changes_nothing(scene: &Scene, camera: &Camera, expect_setup_once: bool) {
     let mut renderer = validated_renderer();
     renderer.upload(scene).unwrap();
     assert_eq!(
         renderer.plan(camera).expect("plan").setup_once,
-        expect_presets
+        expect_setup_once
     );
     let (whole, _) = renderer.render_uploaded(camera, Outputs::ALL).unwrap();
     renderer.set_settings(Settings {
         max_chunk_instances: 256,
         ..*renderer.settings()
     });
+    // The chunk size takes effect at the next upload: until then the scene is drawn as
+    // uploaded, with the buffers and descriptor sets cut for it.
+    let (before_upload, _) = renderer.render_uploaded(camera, Outputs::ALL).unwrap();
+    assert_eq!(
+        whole, before_upload,
+        "a new chunk size changed the frame before the upload"
+    );
     renderer.upload(scene).unwrap();
     let (chunked, _) = renderer.render_uploaded(camera, Outputs::ALL).unwrap();
     let shown = whole.id.iter().filter(|&&id| id != NO_INSTANCE).count();

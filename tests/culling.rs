@@ -209,17 +209,20 @@ fn setup_in_the_prepass_changes_no_pixel() {
                 renderer.plan(&camera).expect("plan").setup_once,
                 "the glyphs should be small enough for the pre-pass set-up"
             );
-            let (preset, _) = renderer
+            let (setup_once, _) = renderer
                 .render_uploaded(&camera, Outputs::ALL)
                 .expect("render");
             assert!(plain
                 .id
                 .iter()
                 .any(|&id| id != ellipsoid_splat::NO_INSTANCE));
-            assert_eq!(plain.id, preset.id, "{culling:?}: instance IDs differ");
-            assert_eq!(plain.color, preset.color, "{culling:?}: colours differ");
-            assert_eq!(plain.depth, preset.depth, "{culling:?}: depths differ");
-            assert_eq!(plain.normal, preset.normal, "{culling:?}: normals differ");
+            assert_eq!(plain.id, setup_once.id, "{culling:?}: instance IDs differ");
+            assert_eq!(plain.color, setup_once.color, "{culling:?}: colours differ");
+            assert_eq!(plain.depth, setup_once.depth, "{culling:?}: depths differ");
+            assert_eq!(
+                plain.normal, setup_once.normal,
+                "{culling:?}: normals differ"
+            );
         }
     }
     finish_validated(renderer);

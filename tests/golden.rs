@@ -253,7 +253,7 @@ struct CaseSettings {
     config: DrawConfig,
     format: InstanceFormat,
     culling: Culling,
-    setup_in_prepass: bool,
+    setup_once: bool,
     small_glyph_triangles: bool,
     sphere_path: bool,
     cap_free_path: bool,
@@ -267,7 +267,7 @@ impl CaseSettings {
             config: DrawConfig::default(),
             format: InstanceFormat::Full,
             culling: Culling::ON,
-            setup_in_prepass: true,
+            setup_once: true,
             small_glyph_triangles: false,
             sphere_path: true,
             cap_free_path: true,
@@ -289,7 +289,7 @@ impl CaseSettings {
         renderer.set_settings(Settings {
             instance_format: self.format,
             culling: self.culling,
-            setup_once: self.setup_in_prepass,
+            setup_once: self.setup_once,
             small_glyph_triangles: self.small_glyph_triangles,
             sphere_path: self.sphere_path,
             cap_free_path: self.cap_free_path,
@@ -302,9 +302,9 @@ impl CaseSettings {
 /// What a case asserts about the draw, so that it cannot silently stop covering its path.
 #[derive(Clone, Copy, Default)]
 struct Expect {
-    /// `sets_up_in_prepass` after the upload.
-    presets: Option<bool>,
-    /// `shader_variants`: (sphere path, cap-free).
+    /// `FramePlan::setup_once` after the upload.
+    setup_once: Option<bool>,
+    /// `FramePlan::spheres` and `FramePlan::no_caps`.
     variants: Option<(bool, bool)>,
 }
 
@@ -332,9 +332,9 @@ fn case(name: &str, scene: SceneFn, settings: CaseSettings, expect: Expect) -> C
     }
 }
 
-fn presets(on: bool) -> Expect {
+fn setup_once(on: bool) -> Expect {
     Expect {
-        presets: Some(on),
+        setup_once: Some(on),
         ..Expect::default()
     }
 }
@@ -366,12 +366,12 @@ fn cases() -> Vec<Case> {
             shipped,
             variants(false, false),
         ),
-        case("tiny-glyphs", tiny_glyphs, shipped, presets(true)),
+        case("tiny-glyphs", tiny_glyphs, shipped, setup_once(true)),
         case(
             "tiny-glyphs-ortho",
             tiny_glyphs_ortho,
             shipped,
-            presets(true),
+            setup_once(true),
         ),
         case("spheres", spheres, shipped, variants(true, true)),
         case(
@@ -414,7 +414,7 @@ fn cases() -> Vec<Case> {
                 format: InstanceFormat::Compact,
                 ..shipped
             },
-            presets(true),
+            setup_once(true),
         ),
         // Chunks of 256 instances.
         case(
@@ -424,7 +424,7 @@ fn cases() -> Vec<Case> {
                 max_chunk_instances: 256,
                 ..shipped
             },
-            presets(false),
+            setup_once(false),
         ),
         case(
             "chunks-small",
@@ -433,7 +433,7 @@ fn cases() -> Vec<Case> {
                 max_chunk_instances: 256,
                 ..shipped
             },
-            presets(true),
+            setup_once(true),
         ),
         // Culling switched off, wholly or in part.
         case(
@@ -478,17 +478,17 @@ fn cases() -> Vec<Case> {
                 culling: Culling::OFF,
                 ..shipped
             },
-            presets(true),
+            setup_once(true),
         ),
         // The set-up in the pre-pass switched off.
         case(
             "tiny-glyphs-no-setup",
             tiny_glyphs,
             CaseSettings {
-                setup_in_prepass: false,
+                setup_once: false,
                 ..shipped
             },
-            presets(false),
+            setup_once(false),
         ),
         // Small glyphs drawn as one triangle.
         case(
@@ -545,7 +545,7 @@ fn render_case(renderer: &mut OffscreenRenderer, case: &Case) -> Frame {
     let camera = (case.camera)(camera);
     case.settings.apply(renderer);
     renderer.upload(&scene).expect("upload");
-    if let Some(want) = case.expect.presets {
+    if let Some(want) = case.expect.setup_once {
         assert_eq!(
             renderer.plan(&camera).expect("plan").setup_once,
             want,

@@ -103,7 +103,7 @@ bool hit_textbook(out float depth, out vec3 normal, out bool cap) {
     return true;
 }
 
-// This pixel's ray in the silhouette frame (see ellipsoid.vert).
+// This pixel's ray in the silhouette frame (see instance_setup.glsl).
 vec3 frame_ray() {
     vec2 ndc = vec2(gl_FragCoord.x * cam.ndc_per_pixel.x - 1.0, 1.0 - gl_FragCoord.y * cam.ndc_per_pixel.y);
     vec2 d = ndc - v_ray_origin;

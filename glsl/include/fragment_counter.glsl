@@ -1,4 +1,4 @@
-// With COUNT_FRAGMENTS (build.rs builds every fragment shader both ways) each fragment shader
+// With COUNT_FRAGMENTS (build.rs builds every fragment shader so with the `research` feature) each fragment shader
 // invocation adds one to a counter, before any discard: the exact number of pixels shaded,
 // which lavapipe's pipeline statistics do not give (they count whole 4x4 blocks).
 #ifdef COUNT_FRAGMENTS

@@ -14,7 +14,8 @@
 // Footprint flags.
 const uint FOOTPRINT_CULLED = 1u;
 const uint FOOTPRINT_SCREEN = 2u;
-// Shading flag: ray_c holds the ray origin o (offset mode) rather than the constant term.
+// Shading flag: the ray is relative to ray_origin (offset mode), so ray_c and eye_dist are
+// not read.
 const uint FLAG_OFFSET_ORIGIN = 4u;
 
 #if defined(CULL_PASS) || defined(SETUP_ONCE_VERTEX)

@@ -55,15 +55,17 @@ pub struct FrameTiming {
     pub gpu_wall: Duration,
     /// Timestamps around the rendering pass, and fragment shader invocations in it.
     pub gpu: QueryResults,
-    /// Pixels shaded, counted exactly by the fragment shaders (read-back frames on devices
-    /// with `fragmentStoresAndAtomics`).
+    /// Pixels shaded, counted exactly by the fragment shaders (read-back frames with the
+    /// `research` feature and `set_count_fragments(true)`, on devices with
+    /// `fragmentStoresAndAtomics`).
     pub shaded_fragments: Option<u64>,
     /// Copying the readback into a [`Frame`].
     pub readback: Duration,
 }
 
 impl OffscreenRenderer {
-    /// Creates a context with `options` and the renderer's pipelines.
+    /// Creates a context with `options` and the renderer (its pipelines are built on first
+    /// use).
     pub fn new(options: &ContextOptions) -> Result<Self> {
         let context = Context::new(options)?;
         let mut this = Self {
@@ -233,7 +235,9 @@ impl OffscreenRenderer {
     }
 
     /// Renders the last uploaded scene and reads `outputs` back (the [`Frame`]'s other
-    /// images are empty). Only the targets of those outputs are allocated.
+    /// images are empty). Colour and depth targets always exist (the draw needs them); the
+    /// normal and ID targets, which the fragment stage writes together, only when one of them
+    /// is asked for.
     pub fn render_uploaded(
         &mut self,
         camera: &Camera,

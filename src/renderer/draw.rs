@@ -72,7 +72,16 @@ impl EllipsoidRenderer {
             return Ok(());
         }
         let plan = match prepared {
-            Some((prepared_camera, plan)) if prepared_camera == *camera => plan,
+            Some((prepared_camera, plan)) if prepared_camera == *camera => {
+                if plan.target != self.target {
+                    return Err(Error::invalid(
+                        "record",
+                        "the target changed after record_prepass: record the pre-pass again \
+                         for the new target",
+                    ));
+                }
+                plan
+            }
             _ => {
                 let plan = self.plan(camera)?;
                 if plan.prepass {

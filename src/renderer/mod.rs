@@ -148,7 +148,10 @@ impl EllipsoidRenderer {
             buffers: SceneBuffers::default(),
             descriptor_pool: vk::DescriptorPool::null(),
             descriptor_sets: Vec::new(),
-            scene: UploadedScene::default(),
+            scene: UploadedScene {
+                chunk_limit: options.settings.max_chunk_instances,
+                ..UploadedScene::default()
+            },
             prepared: None,
             config: DrawConfig::default(),
             count_fragments: false,
@@ -198,9 +201,9 @@ impl EllipsoidRenderer {
         self.settings = settings;
     }
 
-    /// Draws into `target` from the next `record` on (pipelines for earlier targets are
-    /// kept, so switching back costs nothing). Errors say what the device or the description
-    /// lacks.
+    /// Draws into `target` from the next frame on, that is from the next `record_prepass`
+    /// (or `record`, for a frame without a pre-pass); pipelines for earlier targets are kept,
+    /// so switching back costs nothing. Errors say what the device or the description lacks.
     pub fn set_target(&mut self, target: Target) -> Result<()> {
         if let Some(k) = self.targets.iter().position(|t| *t == target) {
             self.target = k;
@@ -260,7 +263,7 @@ impl EllipsoidRenderer {
             self.scene.count,
             self.scene.format.bytes(),
             self.caps.limits.max_storage_buffer_range,
-            self.settings.max_chunk_instances,
+            self.scene.chunk_limit,
         )
     }
 

@@ -90,8 +90,8 @@ impl FramePlan {
                 chosen => chosen,
             };
         }
-        // Only the exact impostor goes through the pre-pass: the culling proofs assume its
-        // coverage and depth.
+        // Only impostors with the exact hit go through the pre-pass (the culling proofs assume
+        // its coverage and depth); set-up once also needs the exact fragment stage.
         let exact_impostor = config.geometry == Geometry::Impostor
             && config.intersection == Intersection::Stable
             && matches!(config.shading, Shading::Exact | Shading::FastNormal);

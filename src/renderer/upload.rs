@@ -37,12 +37,14 @@ impl EllipsoidRenderer {
     ) -> Result<()> {
         let packed = pack_scene(scene, self.settings.instance_format)?;
         // Until the new scene is recorded, none is drawn (so a failed upload draws nothing).
+        let chunk_limit = self.settings.max_chunk_instances;
         self.scene = UploadedScene {
             format: packed.format(),
+            chunk_limit,
             ..UploadedScene::default()
         };
         self.buffers.replaced = true; // the chunks and slices change
-        let uploaded = UploadedScene::new(scene, &packed);
+        let uploaded = UploadedScene::new(scene, &packed, chunk_limit);
         let bytes = packed.records.bytes();
         self.size_buffers(device, allocator, uploaded.count, (1, 1))?;
         self.buffers.ensure(

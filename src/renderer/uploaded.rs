@@ -21,6 +21,9 @@ pub(crate) struct UploadedScene {
     pub format: InstanceFormat,
     /// The compact format's unit of semi-axes.
     pub radius_unit: f32,
+    /// The most instances per chunk when the scene was uploaded (`Settings::max_chunk_instances`
+    /// then): the buffers and descriptor sets are cut for it.
+    pub chunk_limit: u32,
     /// Every instance is a sphere.
     pub all_spheres: bool,
     /// A box holding every ellipsoid whole, in world coordinates.
@@ -31,8 +34,8 @@ pub(crate) struct UploadedScene {
 }
 
 impl UploadedScene {
-    /// The facts of `scene`, packed as `packed`.
-    pub fn new(scene: &Scene, packed: &PackedInstances) -> Self {
+    /// The facts of `scene`, packed as `packed` and cut into chunks of at most `chunk_limit`.
+    pub fn new(scene: &Scene, packed: &PackedInstances, chunk_limit: u32) -> Self {
         let step = scene.len().div_ceil(SIZE_SAMPLE).max(1);
         let size_sample = scene
             .ellipsoids
@@ -49,6 +52,7 @@ impl UploadedScene {
             origin: packed.origin,
             format: packed.format(),
             radius_unit: packed.radius_scale,
+            chunk_limit,
             all_spheres: packed.all_spheres,
             extent: packed.extent,
             size_sample,
