@@ -146,7 +146,7 @@ impl Host {
         self.command_buffer
     }
 
-    /// A copy of the validation warnings and errors collected so far ("<id>: <message>").
+    /// A copy of the validation warnings and errors collected so far (`<id>: <message>`).
     pub fn messages(&self) -> Vec<String> {
         self.instance.messages()
     }
@@ -274,7 +274,7 @@ fn create_device(instance: &ash::Instance) -> HostResult<(vk::PhysicalDevice, u3
 }
 
 /// The GRAPHICS | COMPUTE queue family of a device that has everything the host needs, or
-/// why the device will not do ("<name>: <reason>").
+/// why the device will not do (`<name>: <reason>`).
 fn suitable_queue_family(
     instance: &ash::Instance,
     physical_device: vk::PhysicalDevice,

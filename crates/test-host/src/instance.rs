@@ -90,7 +90,7 @@ impl HostInstance {
         &self.instance
     }
 
-    /// A copy of the validation warnings and errors collected so far ("<id>: <message>").
+    /// A copy of the validation warnings and errors collected so far (`<id>: <message>`).
     pub(crate) fn messages(&self) -> Vec<String> {
         self.log.lock().map(|m| m.clone()).unwrap_or_default()
     }

@@ -11,7 +11,7 @@ use crate::{fail, HostResult};
 /// The layer's name.
 pub(crate) const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
-/// Where the messenger writes "<message id name>: <message>" for each warning and error. It
+/// Where the messenger writes `<message id name>: <message>` for each warning and error. It
 /// must outlive the messenger and the instance (whose create info chains a messenger too).
 pub(crate) type MessageLog = Arc<Mutex<Vec<String>>>;
 
@@ -62,7 +62,7 @@ pub(crate) fn messenger_info(log: &MessageLog) -> vk::DebugUtilsMessengerCreateI
         .user_data(Arc::as_ptr(log) as *mut c_void)
 }
 
-/// Debug-utils callback: appends "<message id name>: <message>" to the [`MessageLog`] passed
+/// Debug-utils callback: appends `<message id name>: <message>` to the [`MessageLog`] passed
 /// as user data, skipping the loader's informational "Loader Message"s.
 unsafe extern "system" fn collect_message(
     severity: vk::DebugUtilsMessageSeverityFlagsEXT,
