@@ -10,9 +10,12 @@
 use ellipsoid_splat_test_host as host;
 
 use ash::vk;
-use ellipsoid_splat::renderer::{EllipsoidRenderer, HostDevice, Pass, RendererOptions, Target};
-use ellipsoid_splat::{Camera, Ellipsoid, Material, Scene, Settings};
+use ellipsoid_splat::{
+    Camera, Ellipsoid, EllipsoidRenderer, HostDevice, Material, Pass, RendererOptions, Scene,
+    Settings, Target,
+};
 use glam::{DMat4, DQuat, DVec3};
+use gpu_allocator::vulkan::Allocator;
 use host::{DepthKind, Host, HostTarget, MeshPipeline, TargetKind};
 
 const WIDTH: u32 = 160;
@@ -214,61 +217,54 @@ fn render(
             ..Settings::default()
         },
     };
-    let (instance, device) = (host.instance().clone(), host.device().clone());
-    let handles = HostDevice {
-        instance: &instance,
-        physical_device: host.physical_device(),
-        device: &device,
-        queue_family_index: host.queue_family(),
+    let handles = host.handles();
+    let host_device = HostDevice {
+        instance: handles.instance,
+        physical_device: handles.physical_device,
+        device: handles.device,
+        queue_family_index: handles.queue_family,
     };
     // SAFETY: the host's handles belong together and enable the required features.
     let mut renderer =
-        unsafe { EllipsoidRenderer::new(&handles, host.allocator_mut(), options) }.unwrap();
+        unsafe { EllipsoidRenderer::new(&host_device, handles.allocator, options) }.unwrap();
     let scene = Scene::new(vec![setup.glyph]);
     let cmd = host.begin().unwrap();
-    // SAFETY: `cmd` is recording; the pre-pass and upload go outside the pass, the draw
-    // inside it; everything is submitted and waited for before the renderer is destroyed.
-    unsafe {
-        renderer
-            .begin_frame(&device, host.allocator_mut(), 0)
-            .unwrap();
-        renderer
-            .upload(&device, host.allocator_mut(), cmd, &scene)
-            .unwrap();
-        renderer
-            .record_prepass(&device, host.allocator_mut(), cmd, &camera)
-            .unwrap();
-        target.begin_pass(&device, cmd);
-        mesh.record(&device, cmd, projection * view);
-        renderer
-            .record(&device, host.allocator_mut(), cmd, &camera)
-            .unwrap();
-        target.end_pass(&device, cmd);
-        if let Some(second) = second {
-            let allocator = host.allocator_mut();
-            // Slot 1 has no earlier work; slot 0's is still pending, so nothing is freed.
-            renderer.begin_frame(&device, allocator, 1).unwrap();
+    let (device, allocator) = host.device_and_allocator();
+    // One frame in slot `slot`: `scene` uploaded, its first instances replaced by `update`,
+    // the culling pre-pass, then the plane and the ellipsoids inside the target's pass.
+    let frame = |renderer: &mut EllipsoidRenderer,
+                 allocator: &mut Allocator,
+                 slot: u32,
+                 scene: &Scene,
+                 update: &[Ellipsoid]| {
+        // SAFETY: `cmd` is recording; the upload, update and pre-pass go outside the pass, the
+        // draw inside it; everything is submitted and waited for before the renderer is
+        // destroyed. The second frame's slot 1 has no earlier work, and slot 0's is still
+        // pending, so nothing is freed.
+        unsafe {
+            renderer.begin_frame(device, allocator, slot).unwrap();
+            renderer.upload(device, allocator, cmd, scene).unwrap();
+            if !update.is_empty() {
+                renderer.update(device, allocator, cmd, 0, update).unwrap();
+            }
             renderer
-                .upload(&device, allocator, cmd, &second.scene)
+                .record_prepass(device, allocator, cmd, &camera)
                 .unwrap();
-            renderer
-                .update(&device, allocator, cmd, 0, &[second.update])
-                .unwrap();
-            renderer
-                .record_prepass(&device, allocator, cmd, &camera)
-                .unwrap();
-            target.begin_pass(&device, cmd);
-            mesh.record(&device, cmd, projection * view);
-            renderer
-                .record(&device, host.allocator_mut(), cmd, &camera)
-                .unwrap();
-            target.end_pass(&device, cmd);
+            target.begin_pass(device, cmd);
+            mesh.record(device, cmd, projection * view);
+            renderer.record(device, allocator, cmd, &camera).unwrap();
+            target.end_pass(device, cmd);
         }
+    };
+    frame(&mut renderer, allocator, 0, &scene, &[]);
+    if let Some(second) = second {
+        frame(&mut renderer, allocator, 1, &second.scene, &[second.update]);
     }
     host.submit_and_wait().unwrap();
     let rgba = target.read_rgba().unwrap();
+    let (device, allocator) = host.device_and_allocator();
     // SAFETY: the submission completed.
-    unsafe { renderer.destroy(&device, host.allocator_mut()) };
+    unsafe { renderer.destroy(device, allocator) };
     mesh.destroy(host);
     target.destroy(host);
     (rgba, camera)
