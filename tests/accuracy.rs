@@ -8,19 +8,6 @@ use ellipsoid_splat_loaders::random_cloud;
 use ellipsoid_splat_reference::compare::Bounds;
 use glam::{DQuat, DVec3, EulerRot};
 
-fn perspective(eye: DVec3, target: DVec3, fov_y_deg: f64, near: f64, w: u32, h: u32) -> Camera {
-    Camera::new(
-        eye,
-        target,
-        DVec3::Y,
-        Projection::Perspective { fov_y_deg },
-        near,
-        w,
-        h,
-    )
-    .unwrap()
-}
-
 #[test]
 fn rotated_ellipsoid_matches_reference() {
     let e = Ellipsoid::new(
@@ -31,7 +18,8 @@ fn rotated_ellipsoid_matches_reference() {
     )
     .unwrap();
     let scene = Scene::new(vec![e]);
-    let camera = perspective(DVec3::new(1.5, 2.0, 6.0), DVec3::ZERO, 45.0, 0.1, 320, 240);
+    let camera =
+        Camera::look_at(DVec3::new(1.5, 2.0, 6.0), DVec3::ZERO, 45.0, 0.1, 320, 240).unwrap();
     assert_matches_reference(&scene, &camera, &Bounds::STRICT, 5_000);
 }
 
@@ -45,21 +33,23 @@ fn sphere_matches_reference() {
     )
     .unwrap();
     let scene = Scene::new(vec![e]);
-    let camera = perspective(
+    let camera = Camera::look_at(
         DVec3::new(0.0, 0.5, 2.0),
         DVec3::new(0.0, 0.0, -3.0),
         30.0,
         0.5,
         256,
         256,
-    );
+    )
+    .unwrap();
     assert_matches_reference(&scene, &camera, &Bounds::STRICT, 5_000);
 }
 
 #[test]
 fn overlapping_random_cloud_matches_reference() {
     let scene = random_cloud(300, 7, 3.0, 0.8);
-    let camera = perspective(DVec3::new(4.0, 3.0, 9.0), DVec3::ZERO, 50.0, 0.5, 320, 240);
+    let camera =
+        Camera::look_at(DVec3::new(4.0, 3.0, 9.0), DVec3::ZERO, 50.0, 0.5, 320, 240).unwrap();
     let stats = assert_matches_reference(&scene, &camera, &Bounds::STRICT, 20_000);
     assert!(
         stats.id_mismatch == 0,

@@ -8,19 +8,6 @@ use ellipsoid_splat_reference::testing::{finish_validated, validated_renderer};
 use ellipsoid_splat_reference::{compare, render_reference, Bounds};
 use glam::DVec3;
 
-fn perspective(eye: DVec3, target: DVec3, fov_y_deg: f64, near: f64, w: u32, h: u32) -> Camera {
-    Camera::new(
-        eye,
-        target,
-        DVec3::Y,
-        Projection::Perspective { fov_y_deg },
-        near,
-        w,
-        h,
-    )
-    .unwrap()
-}
-
 /// Every footprint polygon must contain every covered pixel centre (same fragment shader, so
 /// the same accuracy), in perspective (near-plane cuts included) and orthographic views.
 #[test]
@@ -30,7 +17,8 @@ fn every_footprint_covers_exactly() {
     for e in &mut thin.ellipsoids {
         e.radii.y *= 0.02; // needles and blades at every angle
     }
-    let perspective_cam = perspective(DVec3::new(3.0, 2.5, 7.0), DVec3::ZERO, 55.0, 0.5, 256, 160);
+    let perspective_cam =
+        Camera::look_at(DVec3::new(3.0, 2.5, 7.0), DVec3::ZERO, 55.0, 0.5, 256, 160).unwrap();
     let mut cut_cam = perspective_cam;
     cut_cam.near = 6.5;
     let mut ortho_cam = perspective_cam;

@@ -81,19 +81,6 @@ fn hash_frame(frame: &Frame) -> [(&'static str, u64); 4] {
 // ---------------------------------------------------------------------------------------------
 // Cameras
 
-fn perspective(eye: DVec3, target: DVec3, fov_y_deg: f64, near: f64, w: u32, h: u32) -> Camera {
-    Camera::new(
-        eye,
-        target,
-        DVec3::Y,
-        Projection::Perspective { fov_y_deg },
-        near,
-        w,
-        h,
-    )
-    .expect("camera")
-}
-
 fn orthographic(eye: DVec3, target: DVec3, height: f64, near: f64, w: u32, h: u32) -> Camera {
     Camera::new(
         eye,
@@ -136,7 +123,7 @@ fn reversed_far(camera: Camera) -> Camera {
 
 /// The camera looking from inside a cloud, shared by the near-plane scenes.
 fn inside_camera() -> Camera {
-    perspective(
+    Camera::look_at(
         DVec3::new(0.5, 0.2, 1.0),
         DVec3::new(-4.0, -3.0, -6.0),
         70.0,
@@ -144,6 +131,7 @@ fn inside_camera() -> Camera {
         320,
         240,
     )
+    .unwrap()
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -157,7 +145,8 @@ fn tensor_field_6() -> (Scene, Camera) {
 
 /// 300 overlapping random ellipsoids (seed 7) in perspective at 320x240.
 fn cloud_300() -> (Scene, Camera) {
-    let camera = perspective(DVec3::new(4.0, 3.0, 9.0), DVec3::ZERO, 50.0, 0.5, 320, 240);
+    let camera =
+        Camera::look_at(DVec3::new(4.0, 3.0, 9.0), DVec3::ZERO, 50.0, 0.5, 320, 240).unwrap();
     (random_cloud(300, 7, 3.0, 0.8), camera)
 }
 
@@ -189,7 +178,8 @@ fn inside_cloud() -> (Scene, Camera) {
 /// 20,000 glyphs (seed 21) of one or two pixels each, in perspective at 320x240: small enough
 /// for the pre-pass to set them up.
 fn tiny_glyphs() -> (Scene, Camera) {
-    let camera = perspective(DVec3::new(2.0, 3.0, 25.0), DVec3::ZERO, 45.0, 1.0, 320, 240);
+    let camera =
+        Camera::look_at(DVec3::new(2.0, 3.0, 25.0), DVec3::ZERO, 45.0, 1.0, 320, 240).unwrap();
     (random_cloud(20_000, 21, 10.0, 0.06), camera)
 }
 
@@ -206,7 +196,8 @@ fn tiny_glyphs_ortho() -> (Scene, Camera) {
 /// 600 randomly rotated spheres (seed 41), all clear of the near plane, in perspective at
 /// 320x240.
 fn spheres() -> (Scene, Camera) {
-    let camera = perspective(DVec3::new(3.0, 4.0, 14.0), DVec3::ZERO, 45.0, 1.0, 320, 240);
+    let camera =
+        Camera::look_at(DVec3::new(3.0, 4.0, 14.0), DVec3::ZERO, 45.0, 1.0, 320, 240).unwrap();
     (sphere_cloud(600, 41, 4.0, 0.7), camera)
 }
 
@@ -223,13 +214,15 @@ fn spheres_inside() -> (Scene, Camera) {
 
 /// 3,000 random glyphs (seed 11), several chunks' worth at 256 instances per chunk, 320x240.
 fn chunk_cloud() -> (Scene, Camera) {
-    let camera = perspective(DVec3::new(4.0, 5.0, 22.0), DVec3::ZERO, 45.0, 1.0, 320, 240);
+    let camera =
+        Camera::look_at(DVec3::new(4.0, 5.0, 22.0), DVec3::ZERO, 45.0, 1.0, 320, 240).unwrap();
     (random_cloud(3_000, 11, 8.0, 0.5), camera)
 }
 
 /// 3,000 small glyphs (seed 12) the pre-pass sets up, for chunking, at 320x240.
 fn chunk_cloud_small() -> (Scene, Camera) {
-    let camera = perspective(DVec3::new(4.0, 5.0, 40.0), DVec3::ZERO, 45.0, 1.0, 320, 240);
+    let camera =
+        Camera::look_at(DVec3::new(4.0, 5.0, 40.0), DVec3::ZERO, 45.0, 1.0, 320, 240).unwrap();
     (random_cloud(3_000, 12, 8.0, 0.12), camera)
 }
 
