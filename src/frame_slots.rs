@@ -17,7 +17,7 @@ use crate::gpu::GpuBuffer;
 pub(crate) enum Retired {
     /// A buffer (instances, staging, culling scratch).
     Buffer(GpuBuffer),
-    /// A descriptor pool with the one set the renderer allocated from it.
+    /// A descriptor pool with the sets (one per chunk) the renderer allocated from it.
     DescriptorPool(vk::DescriptorPool),
 }
 

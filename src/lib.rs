@@ -70,7 +70,10 @@ mod target;
 
 #[cfg(feature = "offscreen")]
 pub mod frame;
+#[cfg(feature = "offscreen")]
 pub mod gpu;
+#[cfg(not(feature = "offscreen"))]
+mod gpu;
 #[cfg(feature = "research")]
 pub mod icosphere;
 #[cfg(feature = "offscreen")]

@@ -429,3 +429,51 @@ fn two_frames_in_one_command_buffer() {
     let messages = host.messages();
     assert!(messages.is_empty(), "validation: {messages:#?}");
 }
+
+/// A pre-pass culls the scene it was recorded for: an upload between `record_prepass` and
+/// `record` makes the draw an error (the host records the pre-pass again), never an indirect
+/// draw over the old scene's kept instances.
+#[test]
+fn an_upload_between_pre_pass_and_draw_is_refused() {
+    let mut host = Host::new(true).unwrap();
+    let options = RendererOptions::new(Target::dynamic(
+        vk::Format::R8G8B8A8_SRGB,
+        HostTarget::DEPTH_FORMAT,
+    ));
+    let handles = host.handles();
+    let host_device = HostDevice {
+        instance: handles.instance,
+        physical_device: handles.physical_device,
+        device: handles.device,
+        queue_family_index: handles.queue_family,
+    };
+    // SAFETY: the host's handles belong together and enable the required features.
+    let mut renderer =
+        unsafe { EllipsoidRenderer::new(&host_device, handles.allocator, options) }.unwrap();
+    let setup = Setup::new([1.0, 0.0, 0.0]);
+    let scene = Scene::new(vec![setup.glyph]);
+    let camera =
+        Camera::look_at(setup.eye, DVec3::ZERO, 40.0, NEAR, WIDTH, HEIGHT).expect("camera");
+    let cmd = host.begin().unwrap();
+    let (device, allocator) = host.device_and_allocator();
+    // SAFETY: `cmd` is recording outside a pass; `record` is refused before it records
+    // anything, so no pass is needed; the work is waited for before the renderer goes.
+    let refused = unsafe {
+        renderer.begin_frame(device, allocator, 0).unwrap();
+        renderer.upload(device, allocator, cmd, &scene).unwrap();
+        renderer
+            .record_prepass(device, allocator, cmd, &camera)
+            .unwrap();
+        assert!(renderer.plan(&camera).unwrap().prepass, "the frame culls");
+        renderer.upload(device, allocator, cmd, &scene).unwrap();
+        renderer.record(device, allocator, cmd, &camera)
+    };
+    let error = refused.expect_err("a draw over a pre-pass of the previous upload");
+    assert!(error.to_string().contains("record_prepass"), "{error}");
+    host.submit_and_wait().unwrap();
+    let (device, allocator) = host.device_and_allocator();
+    // SAFETY: the submission completed.
+    unsafe { renderer.destroy(device, allocator) };
+    let messages = host.messages();
+    assert!(messages.is_empty(), "validation: {messages:?}");
+}

@@ -7,7 +7,7 @@ use gpu_allocator::MemoryLocation;
 use crate::error::{Error, Result, VkCall};
 
 /// A `VkBuffer` bound to its own allocation. Free it with [`GpuBuffer::destroy`]; dropping it
-/// without that leaks and is reported on stderr (it cannot free: it holds no allocator).
+/// without that leaks and is logged as an error (it cannot free: it holds no allocator).
 pub struct GpuBuffer {
     buffer: vk::Buffer,
     allocation: Option<Allocation>,

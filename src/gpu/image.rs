@@ -67,9 +67,9 @@ impl GpuImage {
             }
         };
         // SAFETY: memory and offset come from an allocation made for these requirements.
-        if let Err(result) =
-            unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) }
-        {
+        let bound =
+            unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) };
+        if let Err(result) = bound {
             cleanup(device, allocator, allocation);
             return Err(Error::vulkan("vkBindImageMemory", result));
         }

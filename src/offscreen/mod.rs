@@ -274,13 +274,15 @@ impl OffscreenRenderer {
                 .as_mut()
                 .expect("renderer exists after construction");
             let (device, allocator) = self.context.device_and_allocator();
-            renderer.set_target(target(outputs.aux()))?;
+            // SAFETY: the offscreen targets are dynamic rendering: no render pass to outlive.
+            unsafe { renderer.set_target(target(outputs.aux()))? };
             #[cfg(feature = "research")]
             {
                 renderer.set_count_fragments(counting);
                 renderer.reset_fragment_counter()?;
             }
-            renderer.prepare_for(device, allocator, camera)?;
+            // SAFETY: the renderer was made on this context's device and allocator.
+            unsafe { renderer.prepare_for(device, allocator, camera)? };
         }
         self.record(camera, extent, outputs, readback)?;
         let start = Instant::now();

@@ -38,7 +38,10 @@ impl EllipsoidRenderer {
 
     /// Creates the pipeline of a frame with `camera` now, so the first `record` with it
     /// does not pay for building it.
-    pub fn prepare_for(
+    ///
+    /// # Safety
+    /// `device` is the renderer's device and `allocator` allocates from it.
+    pub unsafe fn prepare_for(
         &mut self,
         device: &ash::Device,
         allocator: &mut Allocator,
@@ -50,8 +53,9 @@ impl EllipsoidRenderer {
 
     /// Records the draw into `cmd`, inside the host's pass. Sets viewport and scissor to the
     /// camera's whole image. Records nothing if the scene is empty. A frame whose plan has a
-    /// pre-pass needs `record_prepass` with the same camera first, before the pass (an error
-    /// otherwise).
+    /// pre-pass needs `record_prepass` with the same camera first, before the pass, and with
+    /// no upload or update in between (an error otherwise): one pre-pass serves one draw, so
+    /// a second view in the same frame records its own pre-pass first.
     ///
     /// # Safety
     /// `cmd` is a command buffer of `device` recording inside a pass compatible with the
@@ -153,7 +157,8 @@ impl EllipsoidRenderer {
                 match plan.config.geometry {
                     Geometry::Impostor if plan.prepass => {
                         let offset = k as u64 * SLICE_ALIGN;
-                        device.cmd_draw_indirect(cmd, indirect, offset, 1, 16)
+                        let stride = size_of::<vk::DrawIndirectCommand>() as u32;
+                        device.cmd_draw_indirect(cmd, indirect, offset, 1, stride)
                     }
                     Geometry::Impostor => {
                         device.cmd_draw(cmd, plan.config.footprint.vertices(), count, 0, 0)

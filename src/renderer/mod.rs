@@ -50,7 +50,7 @@ use crate::error::Result;
 use crate::frame_slots::{FrameSlots, Retired};
 use crate::settings::Settings;
 use crate::target::DeviceCaps;
-pub use crate::target::{HostDevice, Pass, RendererOptions, Target};
+use crate::target::{HostDevice, RendererOptions, Target};
 
 use buffers::{Binding, SceneBuffers};
 use chunks::Chunking;
@@ -116,6 +116,16 @@ pub struct EllipsoidRenderer {
     count_fragments: bool,
     #[cfg(feature = "research")]
     meshes: research::Meshes,
+    /// `destroy` ran (a renderer dropped without it leaks its Vulkan objects, and says so).
+    destroyed: bool,
+}
+
+impl Drop for EllipsoidRenderer {
+    fn drop(&mut self) {
+        if !self.destroyed {
+            log::error!("EllipsoidRenderer dropped without destroy(): its Vulkan objects leaked");
+        }
+    }
 }
 
 impl EllipsoidRenderer {
@@ -157,6 +167,7 @@ impl EllipsoidRenderer {
             count_fragments: false,
             #[cfg(feature = "research")]
             meshes: research::Meshes::default(),
+            destroyed: false,
         };
         // On failure, `destroy` releases whatever was created (null handles are skipped).
         match renderer
@@ -204,7 +215,13 @@ impl EllipsoidRenderer {
     /// Draws into `target` from the next frame on, that is from the next `record_prepass`
     /// (or `record`, for a frame without a pre-pass); pipelines for earlier targets are kept,
     /// so switching back costs nothing. Errors say what the device or the description lacks.
-    pub fn set_target(&mut self, target: Target) -> Result<()> {
+    /// Targets are told apart by their handles and formats: a host that recreates its render
+    /// pass (say, on resize) passes the new handle, and the renderer builds pipelines for it.
+    ///
+    /// # Safety
+    /// `target`'s render pass (if any) outlives the renderer, as for
+    /// [`EllipsoidRenderer::new`].
+    pub unsafe fn set_target(&mut self, target: Target) -> Result<()> {
         if let Some(k) = self.targets.iter().position(|t| *t == target) {
             self.target = k;
             return Ok(());
@@ -346,6 +363,7 @@ impl EllipsoidRenderer {
     /// # Safety
     /// No command buffer recorded with the renderer is pending or will be submitted again.
     pub unsafe fn destroy(mut self, device: &ash::Device, allocator: &mut Allocator) {
+        self.destroyed = true;
         for object in self.slots.drain() {
             // SAFETY: the caller guarantees no pending work uses it.
             unsafe { object.destroy(device, allocator) };

@@ -36,8 +36,8 @@ impl EllipsoidRenderer {
         cmd: vk::CommandBuffer,
         camera: &Camera,
     ) -> Result<()> {
-        let plan = self.plan(camera)?;
         self.prepared = None;
+        let plan = self.plan(camera)?;
         if !plan.prepass {
             return Ok(());
         }

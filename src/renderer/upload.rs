@@ -36,6 +36,8 @@ impl EllipsoidRenderer {
         scene: &Scene,
     ) -> Result<()> {
         let packed = pack_scene(scene, self.settings.instance_format)?;
+        // A pre-pass recorded before this upload culled the old scene.
+        self.prepared = None;
         // Until the new scene is recorded, none is drawn (so a failed upload draws nothing).
         let chunk_limit = self.settings.max_chunk_instances;
         self.scene = UploadedScene {
@@ -89,6 +91,8 @@ impl EllipsoidRenderer {
         if ellipsoids.is_empty() {
             return Ok(());
         }
+        // A pre-pass recorded before this update planned for the old instances.
+        self.prepared = None;
         let format = self.scene.format;
         let packed = pack_relative(
             ellipsoids,
