@@ -122,7 +122,21 @@ pub(crate) struct Prepass {
     /// Occlusion runs: reset the tiles first.
     pub clear_tiles: bool,
     pub buffers: PrepassBuffers,
+    /// The compute splat, after the steps.
+    pub splat: Option<SplatStep>,
 }
+
+/// The compute splat's dispatch at the end of a pre-pass (`glsl/splat.comp`).
+pub(crate) struct SplatStep {
+    pub pipeline: vk::Pipeline,
+    /// The dispatch grid over the chunk's instances, 64 per workgroup.
+    pub groups: (u32, u32),
+    /// Clear the visibility buffer first (the first chunk), to this word.
+    pub clear: Option<(vk::Buffer, u32)>,
+}
+
+/// Instances per workgroup of the compute splat (`local_size_x` of `splat.comp`).
+pub(crate) const SPLAT_GROUP_SIZE: u32 = 64;
 
 impl Prepass {
     /// Records the pre-pass with its barriers: after the previous frame's draw (its reads)
@@ -149,6 +163,10 @@ impl Prepass {
                 // +inf: no surface known in front of any tile yet.
                 device.cmd_fill_buffer(cmd, b.tiles, 0, vk::WHOLE_SIZE, f32::INFINITY.to_bits());
             }
+            if let Some((visibility, word)) = self.splat.as_ref().and_then(|s| s.clear) {
+                // Nothing hit yet: every 64-bit key holds the empty value.
+                device.cmd_fill_buffer(cmd, visibility, 0, vk::WHOLE_SIZE, word);
+            }
             barriers::PREPASS_CLEARED.record(device, cmd);
             device.cmd_bind_descriptor_sets(
                 cmd,
@@ -174,6 +192,11 @@ impl Prepass {
                     CullStep::Scan => device.cmd_dispatch(cmd, 1, 1, 1),
                     _ => device.cmd_dispatch(cmd, self.groups.0, self.groups.1, 1),
                 }
+            }
+            if let Some(splat) = &self.splat {
+                barriers::PREPASS_STEP.record(device, cmd);
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, splat.pipeline);
+                device.cmd_dispatch(cmd, splat.groups.0, splat.groups.1, 1);
             }
             barriers::PREPASS_TO_DRAW.record(device, cmd);
         }

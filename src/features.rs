@@ -29,6 +29,20 @@ pub fn required_device_features() -> (
     (required_core_features(), required_vulkan13_features())
 }
 
+/// The features the compute splat path needs on top ([`crate::Settings::compute_splat`]):
+/// `shaderInt64` (Vulkan 1.0) and `shaderBufferInt64Atomics` (Vulkan 1.2), for the 64-bit
+/// atomic that keeps each pixel's nearest hit. A host enables them where the device has them,
+/// and only then turns the path on.
+pub fn compute_splat_features() -> (
+    vk::PhysicalDeviceFeatures,
+    vk::PhysicalDeviceVulkan12Features<'static>,
+) {
+    (
+        vk::PhysicalDeviceFeatures::default().shader_int64(true),
+        vk::PhysicalDeviceVulkan12Features::default().shader_buffer_int64_atomics(true),
+    )
+}
+
 /// The features a physical device supports: Vulkan 1.0 and 1.3.
 pub fn supported_features(
     instance: &ash::Instance,

@@ -82,10 +82,10 @@ pub struct PushConstants {
     pub first_instance: u32,
     /// The compact format's unit of semi-axes.
     pub radius_unit: f32,
-    /// Padding to 128 bytes.
-    pub unused0: u32,
-    /// Padding to 128 bytes.
-    pub unused1: u32,
+    /// Image width in pixels (the compute splat's visibility buffer is row-major).
+    pub image_width: u32,
+    /// Image height in pixels.
+    pub image_height: u32,
 }
 
 /// The culled draw's `VkDrawIndirectCommand` and the chunk's instance count (GLSL buffer
@@ -196,6 +196,8 @@ pub struct SpecConstants {
     pub no_caps: vk::Bool32,
     /// `COMPACT` (15).
     pub compact: vk::Bool32,
+    /// `REVERSED_Z` (16): larger depth is nearer (the compute splat keeps the largest).
+    pub reversed_z: vk::Bool32,
 }
 
 impl Default for SpecConstants {
@@ -216,13 +218,14 @@ impl Default for SpecConstants {
             spheres: 0,
             no_caps: 0,
             compact: 0,
+            reversed_z: 1,
         }
     }
 }
 
 impl SpecConstants {
     /// `(constant_id, byte offset)` of every field.
-    pub const IDS: [(u32, usize); 14] = [
+    pub const IDS: [(u32, usize); 15] = [
         (0, offset_of!(SpecConstants, orthographic)),
         (2, offset_of!(SpecConstants, textbook)),
         (3, offset_of!(SpecConstants, bounds)),
@@ -237,11 +240,12 @@ impl SpecConstants {
         (13, offset_of!(SpecConstants, spheres)),
         (14, offset_of!(SpecConstants, no_caps)),
         (15, offset_of!(SpecConstants, compact)),
+        (16, offset_of!(SpecConstants, reversed_z)),
     ];
 
     /// The map entries of [`SpecConstants::IDS`], for a `VkSpecializationInfo` over
     /// `bytemuck::bytes_of(self)`.
-    pub fn map_entries() -> [vk::SpecializationMapEntry; 14] {
+    pub fn map_entries() -> [vk::SpecializationMapEntry; 15] {
         Self::IDS.map(|(constant_id, offset)| vk::SpecializationMapEntry {
             constant_id,
             offset: offset as u32,
@@ -275,5 +279,5 @@ const _: () = {
     assert!(offset_of!(ShadingRecord, ray_c) == 48);
     assert!(offset_of!(ShadingRecord, depth_gradient) == 64);
     assert!(offset_of!(ShadingRecord, to_normal_x) == 80);
-    assert!(size_of::<SpecConstants>() == 56);
+    assert!(size_of::<SpecConstants>() == 60);
 };

@@ -32,6 +32,8 @@ pub(crate) struct PipelineKey {
     pub compact: bool,
     /// Nothing reaches in front of the near plane (`NO_CAPS`).
     pub no_caps: bool,
+    /// The compute splat's resolve instead of the instanced draw.
+    pub compute_splat: bool,
 }
 
 impl PipelineKey {
@@ -48,6 +50,7 @@ impl PipelineKey {
             spheres: plan.spheres,
             compact: plan.compact,
             no_caps: plan.no_caps,
+            compute_splat: plan.compute_splat,
         }
     }
 
@@ -63,6 +66,35 @@ impl PipelineKey {
             spheres: self.spheres as u32,
             no_caps: self.no_caps as u32,
             compact: self.compact as u32,
+            reversed_z: self.reversed_z as u32,
+            ..SpecConstants::default()
+        }
+    }
+}
+
+/// What the compute splat's pipeline is specialised for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct SplatKey {
+    pub orthographic: bool,
+    pub no_caps: bool,
+    pub reversed_z: bool,
+}
+
+impl SplatKey {
+    /// The compute splat `plan` needs.
+    pub fn of(plan: &FramePlan) -> Self {
+        Self {
+            orthographic: plan.orthographic,
+            no_caps: plan.no_caps,
+            reversed_z: plan.reversed_z,
+        }
+    }
+
+    fn spec_constants(&self) -> SpecConstants {
+        SpecConstants {
+            orthographic: self.orthographic as u32,
+            no_caps: self.no_caps as u32,
+            reversed_z: self.reversed_z as u32,
             ..SpecConstants::default()
         }
     }
@@ -120,6 +152,9 @@ impl CullKey {
 fn stage_code(key: &PipelineKey, aux_outputs: bool) -> Result<(&'static [u8], &'static [u8])> {
     let config = &key.config;
     let (vertex, fragment) = match (config.geometry, config.shading) {
+        (Geometry::Impostor, Shading::Exact | Shading::FastNormal) if key.compute_splat => {
+            (shaders::RESOLVE_VERT, shaders::RESOLVE_FRAG)
+        }
         (Geometry::Impostor, Shading::Exact | Shading::FastNormal) if key.setup_once => (
             shaders::ELLIPSOID_SETUP_ONCE_VERT,
             shaders::ELLIPSOID_SETUP_ONCE_FRAG,
@@ -317,12 +352,34 @@ pub(crate) fn create_cull_pipeline(
     layout: vk::PipelineLayout,
     key: CullKey,
 ) -> Result<vk::Pipeline> {
-    let module = shaders::create_module(device, shaders::CULL_COMP)?;
     let constants = key.spec_constants();
+    create_compute_pipeline(device, cache, layout, shaders::CULL_COMP, &constants)
+}
+
+/// The compute splat's pipeline for `key` (`glsl/splat.comp`); the caller owns it.
+pub(crate) fn create_splat_pipeline(
+    device: &ash::Device,
+    cache: vk::PipelineCache,
+    layout: vk::PipelineLayout,
+    key: SplatKey,
+) -> Result<vk::Pipeline> {
+    let constants = key.spec_constants();
+    create_compute_pipeline(device, cache, layout, shaders::SPLAT_COMP, &constants)
+}
+
+/// A compute pipeline running `code` with `constants`; the caller owns it.
+fn create_compute_pipeline(
+    device: &ash::Device,
+    cache: vk::PipelineCache,
+    layout: vk::PipelineLayout,
+    code: &[u8],
+    constants: &SpecConstants,
+) -> Result<vk::Pipeline> {
+    let module = shaders::create_module(device, code)?;
     let entries = SpecConstants::map_entries();
     let spec = vk::SpecializationInfo::default()
         .map_entries(&entries)
-        .data(bytemuck::bytes_of(&constants));
+        .data(bytemuck::bytes_of(constants));
     let stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
         .module(module)

@@ -57,6 +57,14 @@ pub struct Settings {
     /// How `upload` stores instances: full float32 (default) or the compact 32-byte records,
     /// a third less memory at a measured accuracy cost.
     pub instance_format: InstanceFormat,
+    /// Draw frames of glyphs of a few pixels without the rasterizer: a compute pass ray casts
+    /// each glyph's pixel centres and keeps the nearest hit per pixel with a 64-bit atomic,
+    /// and a full-screen pass inside the host's pass shades each pixel once. The same pixels,
+    /// depths and IDs as the draw. Needs the device features of
+    /// [`crate::features::compute_splat_features`] enabled; single-sample targets only. Off
+    /// by default (a host must enable those features first); the offscreen renderer turns it
+    /// on where its device has them.
+    pub compute_splat: bool,
     /// The most instances drawn with one descriptor set; the device's
     /// `maxStorageBufferRange` caps it anyway. Larger scenes are drawn in chunks, each with
     /// its own pre-pass and draw. Rounded down to a multiple of 256 (at least 256). Takes
@@ -73,6 +81,7 @@ impl Default for Settings {
             sphere_path: true,
             cap_free_path: true,
             small_glyph_triangles: false,
+            compute_splat: false,
             instance_format: InstanceFormat::Full,
             max_chunk_instances: u32::MAX,
         }

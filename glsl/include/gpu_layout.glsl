@@ -27,8 +27,8 @@ layout(push_constant, std430) uniform PushConstants {
     uint first_instance;    // the draw's first instance: scenes beyond one binding are drawn
                             // in chunks, and shader instance indices are chunk-relative
     float radius_unit;      // the compact format's unit of semi-axes
-    uint unused0;
-    uint unused1;
+    uint image_width;       // pixels per row of the compute splat's visibility buffer
+    uint image_height;
 } cam;
 
 // The full instance record (`Instance`, 48 bytes).
@@ -102,8 +102,9 @@ layout(constant_id = 11) const bool CULL_SETUP = false;    // the pre-pass write
 layout(constant_id = 13) const bool SPHERES = false;
 layout(constant_id = 14) const bool NO_CAPS = false;       // nothing reaches the near plane
 layout(constant_id = 15) const bool COMPACT = false;       // instances are CompactInstance
+layout(constant_id = 16) const bool REVERSED_Z = true;     // larger depth is nearer
 
-#ifdef CULL_PASS
+#if defined(CULL_PASS) || defined(SPLAT_PASS)
 // The culled draw's `VkDrawIndirectCommand` followed by the number of instances in the chunk
 // (`IndirectDraw`, 20 bytes).
 layout(std430, set = 0, binding = 3) buffer IndirectDraw {

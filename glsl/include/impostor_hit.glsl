@@ -95,21 +95,30 @@ bool hit_stable(vec2 frag_coord, out float depth, out vec3 normal, out bool cap)
 }
 
 
+// Whether instance v_id shows at the pixel centre `frag_coord`, and if so its depth-buffer
+// value z (clamped to [0, 1]), its normal in the silhouette frame (world with TEXTBOOK) and
+// whether it is the near-plane cap. Needs only the hit part of the set-up.
+bool impostor_depth(vec2 frag_coord, out float z, out vec3 normal, out bool cap) {
+    float near = cam.near_plane;
+    float depth;
+    bool hit = TEXTBOOK ? hit_textbook(frag_coord, depth, normal, cap)
+                        : hit_stable(frag_coord, depth, normal, cap);
+    // Beyond the far plane (a finite one) nothing shows; rounding at the planes is clamped.
+    z = depth_value(cap ? near : depth);
+    bool shows = hit && z >= -1e-6 && z <= 1.0 + 1e-6;
+    z = clamp(z, 0.0, 1.0);
+    return shows;
+}
+
 // What instance v_id shows at the pixel centre `frag_coord` (window coordinates, as
 // gl_FragCoord): false where it shows nothing; else its depth-buffer value z in the camera's
 // convention and its unit world normal n. Loads the shading part of the set-up only for a
 // hit. The fragment stage, the compute splat and the resolve all decide with this function.
 bool impostor_pixel(vec2 frag_coord, out float z, out vec3 n) {
-    float near = cam.near_plane;
-    float depth;
     vec3 normal;
     bool cap;
-    bool hit = TEXTBOOK ? hit_textbook(frag_coord, depth, normal, cap)
-                        : hit_stable(frag_coord, depth, normal, cap);
-    // Beyond the far plane (a finite one) nothing shows; rounding at the planes is clamped.
-    z = depth_value(cap ? near : depth);
     n = vec3(0.0);
-    if (!hit || z < -1e-6 || z > 1.0 + 1e-6) {
+    if (!impostor_depth(frag_coord, z, normal, cap)) {
         return false;
     }
     load_shading();
@@ -124,6 +133,5 @@ bool impostor_pixel(vec2 frag_coord, out float z, out vec3 n) {
     } else {
         n = normalize(normal);
     }
-    z = clamp(z, 0.0, 1.0);
     return true;
 }

@@ -65,6 +65,9 @@ pub struct DeviceInfo {
     pub pipeline_statistics: bool,
     /// Whether fragment shaders may write storage buffers (the `bench` fragment counter).
     pub fragment_stores_and_atomics: bool,
+    /// Whether `shaderInt64` and `shaderBufferInt64Atomics` were enabled: the compute splat
+    /// path ([`crate::Settings::compute_splat`]) needs both.
+    pub compute_splat: bool,
 }
 
 /// Owns every Vulkan object of the standalone path.
@@ -388,6 +391,7 @@ fn choose_device(
 struct EnabledFeatures {
     pipeline_statistics: bool,
     fragment_stores_and_atomics: bool,
+    compute_splat: bool,
 }
 
 /// Creates the device with dynamic rendering; returns it and the optional features enabled.
@@ -399,7 +403,10 @@ fn create_device(
     // SAFETY: `pd` was enumerated from `instance`.
     let supported = unsafe { instance.get_physical_device_features(pd) };
     let mut supported13 = vk::PhysicalDeviceVulkan13Features::default();
-    let mut supported2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut supported13);
+    let mut supported12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut supported2 = vk::PhysicalDeviceFeatures2::default()
+        .push_next(&mut supported13)
+        .push_next(&mut supported12);
     // SAFETY: as above; the chain points at locals.
     unsafe { instance.get_physical_device_features2(pd, &mut supported2) };
     let missing = crate::features::missing_features(&supported13);
@@ -412,13 +419,18 @@ fn create_device(
     let enabled = EnabledFeatures {
         pipeline_statistics: supported.pipeline_statistics_query == vk::TRUE,
         fragment_stores_and_atomics: supported.fragment_stores_and_atomics == vk::TRUE,
+        compute_splat: supported.shader_int64 == vk::TRUE
+            && supported12.shader_buffer_int64_atomics == vk::TRUE,
     };
     let features = vk::PhysicalDeviceFeatures::default()
         .pipeline_statistics_query(enabled.pipeline_statistics)
         .fragment_stores_and_atomics(enabled.fragment_stores_and_atomics)
-        .sample_rate_shading(supported.sample_rate_shading == vk::TRUE);
+        .sample_rate_shading(supported.sample_rate_shading == vk::TRUE)
+        .shader_int64(enabled.compute_splat);
     let mut features13 = crate::features::required_vulkan13_features()
         .synchronization2(supported13.synchronization2 == vk::TRUE);
+    let mut features12 =
+        vk::PhysicalDeviceVulkan12Features::default().shader_buffer_int64_atomics(enabled.compute_splat);
     let priorities = [1.0f32];
     let queues = [vk::DeviceQueueCreateInfo::default()
         .queue_family_index(family)
@@ -426,7 +438,8 @@ fn create_device(
     let create = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
         .enabled_features(&features)
-        .push_next(&mut features13);
+        .push_next(&mut features13)
+        .push_next(&mut features12);
     // SAFETY: every pointer in `create` refers to locals that outlive the call.
     let device = unsafe { instance.create_device(pd, &create, None) }.call("vkCreateDevice")?;
     Ok((device, enabled))
@@ -460,5 +473,6 @@ fn device_info(
         max_storage_buffer_range: props.limits.max_storage_buffer_range,
         pipeline_statistics: enabled.pipeline_statistics,
         fragment_stores_and_atomics: enabled.fragment_stores_and_atomics,
+        compute_splat: enabled.compute_splat,
     }
 }

@@ -78,6 +78,12 @@ pub const MESH_FRAG: FragmentShader = fragment_shader!("mesh.frag");
 /// Oriented-box proxy vertex shader (`box-proxy`).
 #[cfg(feature = "research")]
 pub const BOX_VERT: &[u8] = spirv!("box.vert.spv");
+/// The compute splat: each kept glyph's pixel centres into the visibility buffer.
+pub const SPLAT_COMP: &[u8] = spirv!("splat.comp.spv");
+/// The compute splat's resolve: a triangle over the whole image.
+pub const RESOLVE_VERT: &[u8] = spirv!("resolve.vert.spv");
+/// The compute splat's resolve: shades each pixel's nearest hit once.
+pub const RESOLVE_FRAG: FragmentShader = fragment_shader!("resolve.frag");
 /// The culling pre-pass compute shader.
 pub const CULL_COMP: &[u8] = spirv!("cull.comp.spv");
 

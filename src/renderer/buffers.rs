@@ -29,11 +29,13 @@ pub(crate) enum Binding {
     ShadingRecords = 6,
     /// Set-up records for the vertex stage.
     FootprintRecords = 7,
+    /// The compute splat's nearest hit per pixel.
+    Visibility = 8,
 }
 
 impl Binding {
     /// Every binding, in binding order.
-    pub const ALL: [Binding; 8] = [
+    pub const ALL: [Binding; 9] = [
         Binding::Instances,
         Binding::FragmentCounter,
         Binding::Visible,
@@ -42,6 +44,7 @@ impl Binding {
         Binding::OcclusionTiles,
         Binding::ShadingRecords,
         Binding::FootprintRecords,
+        Binding::Visibility,
     ];
 
     /// The shader stages that read or write the binding.
@@ -53,7 +56,7 @@ impl Binding {
             Binding::IndirectDraw | Binding::CullGroups | Binding::OcclusionTiles => {
                 vk::ShaderStageFlags::COMPUTE
             }
-            Binding::ShadingRecords => {
+            Binding::ShadingRecords | Binding::Visibility => {
                 vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT
             }
         }
@@ -70,13 +73,16 @@ impl Binding {
             Binding::OcclusionTiles => "occlusion tiles",
             Binding::ShadingRecords => "shading set-up",
             Binding::FootprintRecords => "footprint set-up",
+            Binding::Visibility => "visibility buffer",
         }
     }
 
     /// How the buffer is used besides as a storage buffer.
     fn usage(self) -> vk::BufferUsageFlags {
         let extra = match self {
-            Binding::Instances | Binding::OcclusionTiles => vk::BufferUsageFlags::TRANSFER_DST,
+            Binding::Instances | Binding::OcclusionTiles | Binding::Visibility => {
+                vk::BufferUsageFlags::TRANSFER_DST
+            }
             Binding::IndirectDraw => {
                 vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST
             }
@@ -97,7 +103,7 @@ impl Binding {
 /// One buffer per [`Binding`], each made on first need and grown on demand.
 #[derive(Default)]
 pub(crate) struct SceneBuffers {
-    buffers: [Option<GpuBuffer>; 8],
+    buffers: [Option<GpuBuffer>; 9],
     /// A buffer was replaced since the descriptor sets were written.
     pub replaced: bool,
 }

@@ -173,7 +173,7 @@ impl EllipsoidRenderer {
         match renderer
             .pipelines
             .create_layouts(device)
-            .and_then(|_| renderer.size_buffers(device, allocator, 0, (1, 1)))
+            .and_then(|_| renderer.size_buffers(device, allocator, 0, (1, 1), false))
         {
             Ok(()) => Ok(renderer),
             Err(e) => {
@@ -189,6 +189,7 @@ impl EllipsoidRenderer {
     pub fn plan(&self, camera: &Camera) -> Result<FramePlan> {
         camera.validate()?;
         FramePlan::new(PlanInputs {
+            single_chunk: self.chunking().len() == 1,
             scene: &self.scene,
             settings: &self.settings,
             config: self.config,
@@ -285,13 +286,15 @@ impl EllipsoidRenderer {
     }
 
     /// Makes every buffer but the instances' hold a scene of `count` instances in an image
-    /// of `tiles_extent` pixels (the occlusion tiles).
+    /// of `extent` pixels (the occlusion tiles; with `visibility`, the compute splat's
+    /// visibility buffer).
     fn size_buffers(
         &mut self,
         device: &ash::Device,
         allocator: &mut Allocator,
         count: u32,
-        tiles_extent: (u32, u32),
+        extent: (u32, u32),
+        visibility: bool,
     ) -> Result<()> {
         let chunking = Chunking {
             count,
@@ -316,7 +319,15 @@ impl EllipsoidRenderer {
             ),
             (
                 Binding::OcclusionTiles,
-                crate::culling::tiles_bytes(tiles_extent.0, tiles_extent.1),
+                crate::culling::tiles_bytes(extent.0, extent.1),
+            ),
+            (
+                Binding::Visibility,
+                if visibility {
+                    8 * extent.0 as u64 * extent.1 as u64
+                } else {
+                    8
+                },
             ),
             (
                 Binding::ShadingRecords,

@@ -4,7 +4,9 @@ use ash::vk;
 
 use crate::error::{Result, VkCall};
 use crate::gpu_layout::PushConstants;
-use crate::pipeline::{create_cull_pipeline, create_pipeline, CullKey, PipelineKey};
+use crate::pipeline::{
+    create_cull_pipeline, create_pipeline, create_splat_pipeline, CullKey, PipelineKey, SplatKey,
+};
 use crate::target::Target;
 
 use super::descriptors::create_set_layout;
@@ -26,6 +28,7 @@ pub(crate) struct Pipelines {
     pub cull_layout: vk::PipelineLayout,
     draw: Vec<(PipelineKey, vk::Pipeline)>,
     cull: Vec<(CullKey, vk::Pipeline)>,
+    splat: Vec<(SplatKey, vk::Pipeline)>,
 }
 
 impl Pipelines {
@@ -38,6 +41,7 @@ impl Pipelines {
             cull_layout: vk::PipelineLayout::null(),
             draw: Vec::new(),
             cull: Vec::new(),
+            splat: Vec::new(),
         }
     }
 
@@ -90,6 +94,17 @@ impl Pipelines {
         Ok(pipeline)
     }
 
+    /// The compute splat's pipeline for `key`, built now if this is its first use. It shares
+    /// the pre-pass's layout.
+    pub fn splat(&mut self, device: &ash::Device, key: SplatKey) -> Result<vk::Pipeline> {
+        if let Some((_, p)) = self.splat.iter().find(|(k, _)| *k == key) {
+            return Ok(*p);
+        }
+        let pipeline = create_splat_pipeline(device, self.cache, self.cull_layout, key)?;
+        self.splat.push((key, pipeline));
+        Ok(pipeline)
+    }
+
     /// Destroys every object.
     ///
     /// # Safety
@@ -98,7 +113,8 @@ impl Pipelines {
         // SAFETY: created from `device` (or null, which Vulkan ignores); caller contract.
         unsafe {
             let draw = self.draw.drain(..).map(|(_, p)| p);
-            for pipeline in draw.chain(self.cull.drain(..).map(|(_, p)| p)) {
+            let cull = self.cull.drain(..).map(|(_, p)| p);
+            for pipeline in draw.chain(cull).chain(self.splat.drain(..).map(|(_, p)| p)) {
                 device.destroy_pipeline(pipeline, None);
             }
             device.destroy_pipeline_layout(self.draw_layout, None);

@@ -42,6 +42,9 @@ pub struct FramePlan {
     pub spheres: bool,
     /// The fragment stage leaves out the near-plane cap code.
     pub no_caps: bool,
+    /// The glyphs are splatted by a compute pass into a visibility buffer and shaded by a
+    /// full-screen resolve, instead of drawn.
+    pub compute_splat: bool,
     /// The instances are compact records.
     pub compact: bool,
     /// The camera is orthographic.
@@ -56,6 +59,8 @@ pub struct FramePlan {
 
 /// What a plan is made from.
 pub(crate) struct PlanInputs<'a> {
+    /// The scene is drawn in one chunk.
+    pub single_chunk: bool,
     pub scene: &'a UploadedScene,
     pub settings: &'a Settings,
     pub config: DrawConfig,
@@ -69,6 +74,7 @@ impl FramePlan {
     /// draw with this camera.
     pub(crate) fn new(inputs: PlanInputs) -> Result<Self> {
         let PlanInputs {
+            single_chunk,
             scene,
             settings,
             mut config,
@@ -115,7 +121,12 @@ impl FramePlan {
             && config.intersection == Intersection::Stable
             && config.shading != Shading::FlatFill;
         let prepass = draws_through_prepass && scene.count > 0 && (culling.any() || setup_once);
+        // The compute splat takes over where set-up once does (glyphs of a few pixels), for
+        // single-sample targets and scenes of one chunk (the resolve reads one chunk's
+        // records).
+        let compute_splat = settings.compute_splat && setup_once && single && single_chunk;
         Ok(Self {
+            compute_splat,
             config,
             mean_area_px,
             culling,

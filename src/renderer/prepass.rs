@@ -4,10 +4,10 @@ use ash::vk;
 use gpu_allocator::vulkan::Allocator;
 
 use crate::camera::Camera;
-use crate::culling::{self, Prepass, PrepassBuffers};
+use crate::culling::{self, Prepass, PrepassBuffers, SplatStep, SPLAT_GROUP_SIZE};
 use crate::error::Result;
 use crate::gpu_layout::IndirectDraw;
-use crate::pipeline::CullKey;
+use crate::pipeline::{CullKey, SplatKey};
 
 use super::buffers::Binding;
 use super::chunks::SLICE_ALIGN;
@@ -42,14 +42,22 @@ impl EllipsoidRenderer {
             return Ok(());
         }
         self.prepare(device, allocator, &plan)?;
-        if plan.culling.occlusion {
+        if plan.culling.occlusion || plan.compute_splat {
             self.size_buffers(
                 device,
                 allocator,
                 self.scene.count,
                 (camera.width, camera.height),
+                plan.compute_splat,
             )?;
         }
+        let splat = if plan.compute_splat {
+            let pipeline = self.pipelines.splat(device, SplatKey::of(&plan))?;
+            let empty = if plan.reversed_z { 0 } else { u32::MAX };
+            Some((pipeline, self.buffers.handle(Binding::Visibility)?, empty))
+        } else {
+            None
+        };
         let steps = culling::steps(plan.culling)
             .into_iter()
             .map(|step| Ok((step, self.pipelines.cull(device, CullKey::of(&plan, step))?)))
@@ -85,6 +93,11 @@ impl EllipsoidRenderer {
                 groups: culling::dispatch_grid(culling::group_count(count)),
                 clear_tiles: plan.culling.occlusion && k == 0,
                 buffers: PrepassBuffers { ..buffers },
+                splat: splat.map(|(pipeline, visibility, empty)| SplatStep {
+                    pipeline,
+                    groups: culling::dispatch_grid(count.div_ceil(SPLAT_GROUP_SIZE)),
+                    clear: (k == 0).then_some((visibility, empty)),
+                }),
             };
             // SAFETY: `cmd` is recording outside a pass (caller contract); every handle is
             // owned by `self` and lives until the submission completes.

@@ -44,7 +44,7 @@ pub(crate) fn push_constants(
         depth_c: depth.c as f32,
         first_instance,
         radius_unit,
-        unused0: 0,
-        unused1: 0,
+        image_width: camera.width,
+        image_height: camera.height,
     }
 }

@@ -48,7 +48,7 @@ impl EllipsoidRenderer {
         self.buffers.replaced = true; // the chunks and slices change
         let uploaded = UploadedScene::new(scene, &packed, chunk_limit);
         let bytes = packed.records.bytes();
-        self.size_buffers(device, allocator, uploaded.count, (1, 1))?;
+        self.size_buffers(device, allocator, uploaded.count, (1, 1), false)?;
         self.buffers.ensure(
             device,
             allocator,

@@ -1,0 +1,44 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+// The compute splat's resolve, inside the host's pass: each pixel whose visibility key names
+// an instance re-derives that instance's hit with the fragment stage's own function, shades
+// it once and writes colour, normal, ID and the depth in the camera's convention, so host
+// meshes drawn before depth-test against it exactly.
+#define SETUP_ONCE
+#include "ellipsoid_common.glsl"
+#include "shading.glsl"
+#include "fragment_counter.glsl"
+uint v_id;
+#include "impostor_state.glsl"
+
+layout(location = 0) out vec4 out_color;
+#ifdef AUX_OUTPUTS
+layout(location = 1) out vec4 out_normal;
+layout(location = 2) out uint out_id;
+#endif
+
+#include "impostor_hit.glsl"
+#include "visibility.glsl"
+
+void main() {
+    count_fragment();
+    uvec2 p = uvec2(gl_FragCoord.xy);
+    uint64_t key = visibility[p.y * cam.image_width + p.x];
+    if (key == visibility_empty()) {
+        discard;
+    }
+    v_id = visibility_id(key) - cam.first_instance;
+    load_setup();
+    float z;
+    vec3 n;
+    if (!impostor_pixel(gl_FragCoord.xy, z, n)) {
+        discard; // not reached: the splat stored this hit
+    }
+    gl_FragDepth = z;
+    out_color = vec4(shade(n, v_color), 1.0);
+#ifdef AUX_OUTPUTS
+    out_normal = vec4(n, 0.0);
+    out_id = v_id + cam.first_instance;
+#endif
+}

@@ -1,0 +1,158 @@
+//! The compute splat draws exactly what the instanced draw draws: on scenes of glyphs of a
+//! few pixels (where the plan splats them), colour, depth, normal and instance ID are compared
+//! bit for bit with the draw, in perspective and orthographic views, with the near plane
+//! cutting glyphs, in standard and reversed depth, with compact instances, and where glyphs
+//! tie exactly in depth (the lower instance must win, as in the draw).
+
+use ellipsoid_splat::{
+    Camera, DepthConvention, Ellipsoid, InstanceFormat, OffscreenRenderer, Outputs, Projection,
+    Scene, Settings, NO_INSTANCE,
+};
+use ellipsoid_splat_loaders::random_cloud;
+use ellipsoid_splat_reference::testing::{finish_validated, validated_renderer};
+use glam::{DQuat, DVec3};
+
+/// Renders `scene` with and without the compute splat and asserts the frames are identical
+/// and that the splat really ran.
+fn assert_splat_matches_draw(
+    renderer: &mut OffscreenRenderer,
+    name: &str,
+    scene: &Scene,
+    camera: &Camera,
+    format: InstanceFormat,
+) {
+    let settings = |compute_splat| Settings {
+        compute_splat,
+        instance_format: format,
+        ..Settings::default()
+    };
+    renderer.set_settings(settings(false));
+    renderer.upload(scene).expect("upload");
+    let plan = renderer.plan(camera).expect("plan");
+    assert!(plan.setup_once && !plan.compute_splat, "{name}: {plan:?}");
+    let drawn = renderer.render_uploaded(camera, Outputs::ALL).expect("draw").0;
+    renderer.set_settings(settings(true));
+    renderer.upload(scene).expect("upload");
+    let plan = renderer.plan(camera).expect("plan");
+    assert!(plan.compute_splat, "{name}: the plan does not splat: {plan:?}");
+    let splatted = renderer
+        .render_uploaded(camera, Outputs::ALL)
+        .expect("splat")
+        .0;
+    let shown = drawn.id.iter().filter(|&&id| id != NO_INSTANCE).count();
+    assert!(shown > 500, "{name}: only {shown} pixels show a glyph");
+    let differ = |what: &str, count: usize| {
+        assert_eq!(count, 0, "{name}: {count} pixels differ in {what}");
+    };
+    let count = |a: &[u32], b: &[u32]| a.iter().zip(b).filter(|(x, y)| x != y).count();
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let normal_bits =
+        |v: &[[f32; 3]]| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+    differ("ID", count(&drawn.id, &splatted.id));
+    differ("depth", count(&bits(&drawn.depth), &bits(&splatted.depth)));
+    differ(
+        "normal",
+        count(&normal_bits(&drawn.normal), &normal_bits(&splatted.normal)),
+    );
+    let colors = drawn
+        .color
+        .iter()
+        .zip(&splatted.color)
+        .filter(|(a, b)| a != b)
+        .count();
+    differ("colour", colors);
+}
+
+/// 20,000 glyphs of one or two pixels, 320x240.
+fn tiny_glyphs() -> (Scene, Camera) {
+    let camera =
+        Camera::look_at(DVec3::new(2.0, 3.0, 25.0), DVec3::ZERO, 45.0, 1.0, 320, 240).unwrap();
+    (random_cloud(20_000, 21, 10.0, 0.06), camera)
+}
+
+#[test]
+fn splat_matches_the_draw_bit_for_bit() {
+    let mut renderer = validated_renderer();
+    let (scene, camera) = tiny_glyphs();
+    let full = InstanceFormat::Full;
+    assert_splat_matches_draw(&mut renderer, "perspective", &scene, &camera, full);
+    let ortho = Camera {
+        projection: Projection::Orthographic { height: 22.0 },
+        ..camera
+    };
+    assert_splat_matches_draw(&mut renderer, "orthographic", &scene, &ortho, full);
+    for (label, depth) in [
+        ("standard infinite", DepthConvention::STANDARD_INFINITE),
+        (
+            "standard finite",
+            DepthConvention {
+                reversed: false,
+                far: Some(40.0),
+            },
+        ),
+        (
+            "reversed finite",
+            DepthConvention {
+                reversed: true,
+                far: Some(40.0),
+            },
+        ),
+    ] {
+        let camera = camera.with_depth(depth).expect("depth convention");
+        assert_splat_matches_draw(&mut renderer, label, &scene, &camera, full);
+    }
+    let compact = InstanceFormat::Compact;
+    assert_splat_matches_draw(&mut renderer, "compact", &scene, &camera, compact);
+    // The eye among the glyphs: the near plane cuts some of them (caps).
+    let inside = Camera::look_at(DVec3::new(0.5, 0.3, 2.0), DVec3::ZERO, 60.0, 0.05, 320, 240)
+        .expect("camera");
+    let small = random_cloud(20_000, 22, 3.0, 0.02);
+    assert!(
+        small
+            .ellipsoids
+            .iter()
+            .any(|e| inside.view_depth(e.center) < inside.near + e.radii.max_element()),
+        "no glyph reaches the near plane"
+    );
+    assert_splat_matches_draw(&mut renderer, "near-plane cut", &small, &inside, full);
+    finish_validated(renderer);
+}
+
+#[test]
+fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
+    // Every glyph twice, the copy later in instance order and in another colour: both have
+    // the very same depth at every pixel, and the draw shows the first.
+    let (scene, camera) = tiny_glyphs();
+    let mut tied = Vec::with_capacity(2 * scene.len());
+    for e in scene.ellipsoids.iter().take(10_000) {
+        tied.push(*e);
+        tied.push(Ellipsoid { color: [0.1, 0.9, 0.1], ..*e });
+    }
+    let tied = Scene::new(tied);
+    let mut renderer = validated_renderer();
+    assert_splat_matches_draw(&mut renderer, "ties", &tied, &camera, InstanceFormat::Full);
+    let standard = camera
+        .with_depth(DepthConvention::STANDARD_INFINITE)
+        .expect("depth convention");
+    assert_splat_matches_draw(
+        &mut renderer,
+        "ties, standard depth",
+        &tied,
+        &standard,
+        InstanceFormat::Full,
+    );
+    // The copies never show: every visible ID is even.
+    renderer.set_settings(Settings {
+        compute_splat: true,
+        ..Settings::default()
+    });
+    let frame = renderer.render(&tied, &camera, Outputs::ALL).expect("render");
+    let odd = frame
+        .id
+        .iter()
+        .filter(|&&id| id != NO_INSTANCE && id % 2 == 1)
+        .count();
+    assert_eq!(odd, 0, "{odd} pixels show the later copy of a tied pair");
+    finish_validated(renderer);
+    let _ = DQuat::IDENTITY;
+}
