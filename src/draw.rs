@@ -155,6 +155,9 @@ pub enum Method {
     /// The shipped impostor reading 32-byte compact instances (float16 semi-axes, snorm16
     /// rotation) instead of 48-byte float32 ones.
     ImpostorCompact,
+    /// The shipped impostor with the compute splat on (`Settings::compute_splat`): glyphs of
+    /// a few pixels are splatted by a compute pass and shaded by a full-screen resolve.
+    ImpostorCompute,
     /// Oriented bounding box, ray-cast inside.
     BoxProxy,
     /// Instanced icosphere of the given level.
@@ -166,7 +169,7 @@ pub enum Method {
 #[cfg(feature = "research")]
 impl Method {
     /// Every method, in the order of the tables.
-    pub const ALL: [Method; 17] = [
+    pub const ALL: [Method; 18] = [
         Method::Impostor,
         Method::ImpostorOrientedRect,
         Method::ImpostorWorldQuad,
@@ -177,6 +180,7 @@ impl Method {
         Method::ImpostorFastNormal,
         Method::ImpostorFlatDepth,
         Method::ImpostorCompact,
+        Method::ImpostorCompute,
         Method::BoxProxy,
         Method::Mesh(0),
         Method::Mesh(1),
@@ -199,17 +203,27 @@ impl Method {
             Method::ImpostorFastNormal => "impostor-fast-normal".into(),
             Method::ImpostorFlatDepth => "impostor-flat-depth".into(),
             Method::ImpostorCompact => "impostor-compact".into(),
+            Method::ImpostorCompute => "impostor-compute".into(),
             Method::BoxProxy => "box-proxy".into(),
             Method::Mesh(level) => format!("mesh-L{level}"),
             Method::FlatFill => "flat-fill".into(),
         }
     }
 
-    /// How the method stores its instances.
-    pub fn instance_format(self) -> crate::instances::InstanceFormat {
+    /// The renderer settings of the method: the shipped ones, with compact instances or the
+    /// compute splat for the methods that measure them.
+    pub fn settings(self) -> crate::Settings {
+        let shipped = crate::Settings::default();
         match self {
-            Method::ImpostorCompact => crate::instances::InstanceFormat::Compact,
-            _ => crate::instances::InstanceFormat::Full,
+            Method::ImpostorCompact => crate::Settings {
+                instance_format: crate::instances::InstanceFormat::Compact,
+                ..shipped
+            },
+            Method::ImpostorCompute => crate::Settings {
+                compute_splat: true,
+                ..shipped
+            },
+            _ => shipped,
         }
     }
 
@@ -217,7 +231,7 @@ impl Method {
     pub fn config(self) -> DrawConfig {
         let base = DrawConfig::default();
         match self {
-            Method::Impostor | Method::ImpostorCompact => base,
+            Method::Impostor | Method::ImpostorCompact | Method::ImpostorCompute => base,
             Method::ImpostorWorldQuad => DrawConfig {
                 footprint: Footprint::WorldQuad,
                 ..base

@@ -30,11 +30,17 @@ fn assert_splat_matches_draw(
     renderer.upload(scene).expect("upload");
     let plan = renderer.plan(camera).expect("plan");
     assert!(plan.setup_once && !plan.compute_splat, "{name}: {plan:?}");
-    let drawn = renderer.render_uploaded(camera, Outputs::ALL).expect("draw").0;
+    let drawn = renderer
+        .render_uploaded(camera, Outputs::ALL)
+        .expect("draw")
+        .0;
     renderer.set_settings(settings(true));
     renderer.upload(scene).expect("upload");
     let plan = renderer.plan(camera).expect("plan");
-    assert!(plan.compute_splat, "{name}: the plan does not splat: {plan:?}");
+    assert!(
+        plan.compute_splat,
+        "{name}: the plan does not splat: {plan:?}"
+    );
     let splatted = renderer
         .render_uploaded(camera, Outputs::ALL)
         .expect("splat")
@@ -46,8 +52,7 @@ fn assert_splat_matches_draw(
     };
     let count = |a: &[u32], b: &[u32]| a.iter().zip(b).filter(|(x, y)| x != y).count();
     let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    let normal_bits =
-        |v: &[[f32; 3]]| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let normal_bits = |v: &[[f32; 3]]| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
     differ("ID", count(&drawn.id, &splatted.id));
     differ("depth", count(&bits(&drawn.depth), &bits(&splatted.depth)));
     differ(
@@ -126,7 +131,10 @@ fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
     let mut tied = Vec::with_capacity(2 * scene.len());
     for e in scene.ellipsoids.iter().take(10_000) {
         tied.push(*e);
-        tied.push(Ellipsoid { color: [0.1, 0.9, 0.1], ..*e });
+        tied.push(Ellipsoid {
+            color: [0.1, 0.9, 0.1],
+            ..*e
+        });
     }
     let tied = Scene::new(tied);
     let mut renderer = validated_renderer();
@@ -146,7 +154,9 @@ fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
         compute_splat: true,
         ..Settings::default()
     });
-    let frame = renderer.render(&tied, &camera, Outputs::ALL).expect("render");
+    let frame = renderer
+        .render(&tied, &camera, Outputs::ALL)
+        .expect("render");
     let odd = frame
         .id
         .iter()

@@ -251,6 +251,7 @@ struct CaseSettings {
     sphere_path: bool,
     cap_free_path: bool,
     max_chunk_instances: u32,
+    compute_splat: bool,
 }
 
 impl CaseSettings {
@@ -265,6 +266,7 @@ impl CaseSettings {
             sphere_path: true,
             cap_free_path: true,
             max_chunk_instances: u32::MAX,
+            compute_splat: false,
         }
     }
 
@@ -287,6 +289,7 @@ impl CaseSettings {
             sphere_path: self.sphere_path,
             cap_free_path: self.cap_free_path,
             max_chunk_instances: self.max_chunk_instances,
+            compute_splat: self.compute_splat,
             ..Settings::default()
         });
     }
@@ -364,6 +367,26 @@ fn cases() -> Vec<Case> {
             "tiny-glyphs-ortho",
             tiny_glyphs_ortho,
             shipped,
+            setup_once(true),
+        ),
+        // The compute splat must give the draw's very bits (the expected lines are the draw's,
+        // recorded before the splat existed).
+        case(
+            "tiny-glyphs-compute",
+            tiny_glyphs,
+            CaseSettings {
+                compute_splat: true,
+                ..shipped
+            },
+            setup_once(true),
+        ),
+        case(
+            "tiny-glyphs-ortho-compute",
+            tiny_glyphs_ortho,
+            CaseSettings {
+                compute_splat: true,
+                ..shipped
+            },
             setup_once(true),
         ),
         case("spheres", spheres, shipped, variants(true, true)),
@@ -520,7 +543,8 @@ fn cases() -> Vec<Case> {
             cloud_300,
             CaseSettings {
                 config: method.config(),
-                format: method.instance_format(),
+                format: method.settings().instance_format,
+                compute_splat: method.settings().compute_splat,
                 ..shipped
             },
             none,

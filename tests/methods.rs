@@ -1,7 +1,7 @@
 //! Every `bench` method renders under validation, and each is as accurate as its design
 //! allows: the exact impostors match the reference, the approximations err where expected.
 
-use ellipsoid_splat::{Outputs, Settings};
+use ellipsoid_splat::Outputs;
 use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
@@ -30,10 +30,7 @@ fn every_method_renders_what_it_promises() {
     let mut mesh_mismatch = Vec::new();
     for method in Method::ALL {
         renderer.set_draw_config(method.config());
-        renderer.set_settings(Settings {
-            instance_format: method.instance_format(),
-            ..*renderer.settings()
-        });
+        renderer.set_settings(method.settings());
         let frame = renderer
             .render(&scene, &camera, Outputs::ALL)
             .expect("render");
@@ -48,7 +45,8 @@ fn every_method_renders_what_it_promises() {
             | Method::ImpostorAxisRect
             | Method::ImpostorHexagon
             | Method::ImpostorOctagon
-            | Method::ImpostorFastNormal => {
+            | Method::ImpostorFastNormal
+            | Method::ImpostorCompute => {
                 assert_eq!(
                     stats.check(&Bounds::STRICT),
                     Ok(()),

@@ -429,8 +429,8 @@ fn create_device(
         .shader_int64(enabled.compute_splat);
     let mut features13 = crate::features::required_vulkan13_features()
         .synchronization2(supported13.synchronization2 == vk::TRUE);
-    let mut features12 =
-        vk::PhysicalDeviceVulkan12Features::default().shader_buffer_int64_atomics(enabled.compute_splat);
+    let mut features12 = vk::PhysicalDeviceVulkan12Features::default()
+        .shader_buffer_int64_atomics(enabled.compute_splat);
     let priorities = [1.0f32];
     let queues = [vk::DeviceQueueCreateInfo::default()
         .queue_family_index(family)

@@ -18,7 +18,6 @@ use ellipsoid_splat::camera::{Camera, Projection};
 use ellipsoid_splat::draw::{Geometry, Method};
 use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::offscreen::OffscreenRenderer;
-use ellipsoid_splat::InstanceFormat;
 use ellipsoid_splat::{Outputs, Scene, Settings};
 use ellipsoid_splat_loaders::{random_cloud, tensor_field, Progress};
 use ellipsoid_splat_reference::render_reference;
@@ -251,9 +250,9 @@ pub fn run(
         let reference = render_reference(&bench.scene, &bench.camera)?;
         let silhouette_pixels = reference.silhouette_pixels();
         let mut measured: Vec<Measured> = Vec::new();
-        let mut format = InstanceFormat::Full;
+        let mut settings = Settings::default();
         for &method in &active {
-            use_method(renderer, method, &mut format, &bench.scene)?;
+            use_method(renderer, method, &mut settings, &bench.scene)?;
             let (frame, timing) = renderer.render_uploaded(&bench.camera, Outputs::ALL)?;
             let stats = compare(&frame, &reference)?;
             // The exact pixel count comes from the counting build of the same shaders.
@@ -287,7 +286,7 @@ pub fn run(
             }
             for &k in &order {
                 let entry = &mut measured[k];
-                use_method(renderer, entry.method, &mut format, &bench.scene)?;
+                use_method(renderer, entry.method, &mut settings, &bench.scene)?;
                 let timing = renderer.render_timed(&bench.camera, Outputs::COLOR_DEPTH)?;
                 entry.wall.push(timing.gpu_wall.as_secs_f64() * 1e3);
                 entry.gpu.push(timing.gpu.gpu_ms);
@@ -654,20 +653,17 @@ pub fn write_report(results: &[BenchResult], dir: &Path) -> Result<(String, Stri
     Ok((format_table(&header, &table), markdown))
 }
 
-/// Sets up `renderer` for `method`: its draw configuration, and its instance format (the scene
-/// is uploaded again when the format changes; uploads are outside the timed frames).
+/// Sets up `renderer` for `method`: its draw configuration and its settings (the scene is
+/// uploaded again when they change; uploads are outside the timed frames).
 fn use_method(
     renderer: &mut OffscreenRenderer,
     method: Method,
-    format: &mut InstanceFormat,
+    settings: &mut Settings,
     scene: &Scene,
 ) -> Result<()> {
-    if method.instance_format() != *format {
-        *format = method.instance_format();
-        renderer.set_settings(Settings {
-            instance_format: *format,
-            ..Settings::default()
-        });
+    if method.settings() != *settings {
+        *settings = method.settings();
+        renderer.set_settings(*settings);
         renderer.upload(scene)?;
     }
     renderer.set_draw_config(method.config());
