@@ -155,9 +155,13 @@ pub enum Method {
     /// The shipped impostor reading 32-byte compact instances (float16 semi-axes, snorm16
     /// rotation) instead of 48-byte float32 ones.
     ImpostorCompact,
-    /// The shipped impostor with the compute splat on (`Settings::compute_splat`): glyphs of
-    /// a few pixels are splatted by a compute pass and shaded by a full-screen resolve.
+    /// The shipped impostor with the compute splat wherever it can run, however few the
+    /// glyphs (`Settings::compute_splat_min_glyphs` 0): glyphs of a few pixels are splatted
+    /// by a compute pass and shaded by a full-screen resolve.
     ImpostorCompute,
+    /// The shipped impostor always drawn through the rasterizer (`Settings::compute_splat`
+    /// off).
+    ImpostorDraw,
     /// Oriented bounding box, ray-cast inside.
     BoxProxy,
     /// Instanced icosphere of the given level.
@@ -169,7 +173,7 @@ pub enum Method {
 #[cfg(feature = "research")]
 impl Method {
     /// Every method, in the order of the tables.
-    pub const ALL: [Method; 18] = [
+    pub const ALL: [Method; 19] = [
         Method::Impostor,
         Method::ImpostorOrientedRect,
         Method::ImpostorWorldQuad,
@@ -181,6 +185,7 @@ impl Method {
         Method::ImpostorFlatDepth,
         Method::ImpostorCompact,
         Method::ImpostorCompute,
+        Method::ImpostorDraw,
         Method::BoxProxy,
         Method::Mesh(0),
         Method::Mesh(1),
@@ -204,6 +209,7 @@ impl Method {
             Method::ImpostorFlatDepth => "impostor-flat-depth".into(),
             Method::ImpostorCompact => "impostor-compact".into(),
             Method::ImpostorCompute => "impostor-compute".into(),
+            Method::ImpostorDraw => "impostor-draw".into(),
             Method::BoxProxy => "box-proxy".into(),
             Method::Mesh(level) => format!("mesh-L{level}"),
             Method::FlatFill => "flat-fill".into(),
@@ -221,6 +227,11 @@ impl Method {
             },
             Method::ImpostorCompute => crate::Settings {
                 compute_splat: true,
+                compute_splat_min_glyphs: 0,
+                ..shipped
+            },
+            Method::ImpostorDraw => crate::Settings {
+                compute_splat: false,
                 ..shipped
             },
             _ => shipped,
@@ -231,7 +242,10 @@ impl Method {
     pub fn config(self) -> DrawConfig {
         let base = DrawConfig::default();
         match self {
-            Method::Impostor | Method::ImpostorCompact | Method::ImpostorCompute => base,
+            Method::Impostor
+            | Method::ImpostorCompact
+            | Method::ImpostorCompute
+            | Method::ImpostorDraw => base,
             Method::ImpostorWorldQuad => DrawConfig {
                 footprint: Footprint::WorldQuad,
                 ..base

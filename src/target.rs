@@ -176,6 +176,9 @@ pub struct RendererOptions {
     pub frames_in_flight: u32,
     /// The material and the work-skipping the renderer does.
     pub settings: Settings,
+    /// The host enabled [`crate::features::compute_splat_features`] on the device: the
+    /// compute splat may run (see [`Settings::compute_splat`]).
+    pub compute_splat_features: bool,
     /// The host's pipeline cache, used for every pipeline the renderer builds (borrowed; null
     /// for none).
     pub pipeline_cache: vk::PipelineCache,
@@ -189,6 +192,7 @@ impl RendererOptions {
             frames_in_flight: 1,
             pipeline_cache: vk::PipelineCache::null(),
             settings: Settings::default(),
+            compute_splat_features: false,
         }
     }
 }

@@ -23,6 +23,7 @@ fn assert_splat_matches_draw(
 ) {
     let settings = |compute_splat| Settings {
         compute_splat,
+        compute_splat_min_glyphs: 0,
         instance_format: format,
         ..Settings::default()
     };
@@ -152,6 +153,7 @@ fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
     // The copies never show: every visible ID is even.
     renderer.set_settings(Settings {
         compute_splat: true,
+        compute_splat_min_glyphs: 0,
         ..Settings::default()
     });
     let frame = renderer

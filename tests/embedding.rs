@@ -216,6 +216,7 @@ fn render(
             },
             ..Settings::default()
         },
+        compute_splat_features: false,
     };
     let handles = host.handles();
     let host_device = HostDevice {

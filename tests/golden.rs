@@ -252,6 +252,7 @@ struct CaseSettings {
     cap_free_path: bool,
     max_chunk_instances: u32,
     compute_splat: bool,
+    compute_splat_min_glyphs: u32,
 }
 
 impl CaseSettings {
@@ -267,6 +268,7 @@ impl CaseSettings {
             cap_free_path: true,
             max_chunk_instances: u32::MAX,
             compute_splat: false,
+            compute_splat_min_glyphs: 0,
         }
     }
 
@@ -290,6 +292,7 @@ impl CaseSettings {
             cap_free_path: self.cap_free_path,
             max_chunk_instances: self.max_chunk_instances,
             compute_splat: self.compute_splat,
+            compute_splat_min_glyphs: self.compute_splat_min_glyphs,
             ..Settings::default()
         });
     }
@@ -545,6 +548,7 @@ fn cases() -> Vec<Case> {
                 config: method.config(),
                 format: method.settings().instance_format,
                 compute_splat: method.settings().compute_splat,
+                compute_splat_min_glyphs: method.settings().compute_splat_min_glyphs,
                 ..shipped
             },
             none,

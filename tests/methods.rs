@@ -46,7 +46,8 @@ fn every_method_renders_what_it_promises() {
             | Method::ImpostorHexagon
             | Method::ImpostorOctagon
             | Method::ImpostorFastNormal
-            | Method::ImpostorCompute => {
+            | Method::ImpostorCompute
+            | Method::ImpostorDraw => {
                 assert_eq!(
                     stats.check(&Bounds::STRICT),
                     Ok(()),

@@ -120,6 +120,8 @@ fn renderer_for(
         frames_in_flight: FRAMES_IN_FLIGHT,
         pipeline_cache,
         settings: Default::default(),
+        // This host does not enable the 64-bit atomics the compute splat needs.
+        compute_splat_features: false,
     };
     // SAFETY: the host's handles belong together, its device enables the features of
     // `ellipsoid_splat::features::required_device_features`, and the render pass and pipeline

@@ -112,10 +112,14 @@ impl OffscreenRenderer {
             device: &device,
             queue_family_index: family,
         };
+        let options = RendererOptions {
+            compute_splat_features: self.context.info().compute_splat,
+            ..RendererOptions::new(target(true))
+        };
         let (_, allocator) = self.context.device_and_allocator();
-        // SAFETY: the context's handles belong together and have the required features.
-        let renderer =
-            unsafe { EllipsoidRenderer::new(&host, allocator, RendererOptions::new(target(true))) };
+        // SAFETY: the context's handles belong together and have the required features (and
+        // the compute splat's where `info` says so).
+        let renderer = unsafe { EllipsoidRenderer::new(&host, allocator, options) };
         self.renderer = Some(renderer?);
         let info = self.context.info();
         let (statistics, period) = (info.pipeline_statistics, info.timestamp_period);

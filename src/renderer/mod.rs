@@ -98,6 +98,8 @@ use uploaded::UploadedScene;
 pub struct EllipsoidRenderer {
     caps: DeviceCaps,
     settings: Settings,
+    /// The host enabled the compute splat's device features.
+    compute_splat_features: bool,
     /// Every target drawn into so far; `target` indexes the current one.
     targets: Vec<Target>,
     target: usize,
@@ -151,6 +153,7 @@ impl EllipsoidRenderer {
         let mut renderer = Self {
             caps,
             settings: options.settings,
+            compute_splat_features: options.compute_splat_features,
             targets: vec![options.target],
             target: 0,
             slots: FrameSlots::new(options.frames_in_flight)?,
@@ -190,6 +193,7 @@ impl EllipsoidRenderer {
         camera.validate()?;
         FramePlan::new(PlanInputs {
             single_chunk: self.chunking().len() == 1,
+            compute_splat_features: self.compute_splat_features,
             scene: &self.scene,
             settings: &self.settings,
             config: self.config,

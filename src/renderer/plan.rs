@@ -61,6 +61,8 @@ pub struct FramePlan {
 pub(crate) struct PlanInputs<'a> {
     /// The scene is drawn in one chunk.
     pub single_chunk: bool,
+    /// The device has the compute splat's features enabled.
+    pub compute_splat_features: bool,
     pub scene: &'a UploadedScene,
     pub settings: &'a Settings,
     pub config: DrawConfig,
@@ -75,6 +77,7 @@ impl FramePlan {
     pub(crate) fn new(inputs: PlanInputs) -> Result<Self> {
         let PlanInputs {
             single_chunk,
+            compute_splat_features,
             scene,
             settings,
             mut config,
@@ -121,10 +124,16 @@ impl FramePlan {
             && config.intersection == Intersection::Stable
             && config.shading != Shading::FlatFill;
         let prepass = draws_through_prepass && scene.count > 0 && (culling.any() || setup_once);
-        // The compute splat takes over where set-up once does (glyphs of a few pixels), for
-        // single-sample targets and scenes of one chunk (the resolve reads one chunk's
+        // The compute splat takes over where set-up once does (glyphs of a few pixels) and
+        // there are enough glyphs to pay for its fixed cost, on devices with its features,
+        // for single-sample targets and scenes of one chunk (the resolve reads one chunk's
         // records).
-        let compute_splat = settings.compute_splat && setup_once && single && single_chunk;
+        let compute_splat = settings.compute_splat
+            && compute_splat_features
+            && setup_once
+            && scene.count >= settings.compute_splat_min_glyphs
+            && single
+            && single_chunk;
         Ok(Self {
             compute_splat,
             config,
