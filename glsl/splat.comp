@@ -38,19 +38,22 @@ void main() {
     ivec2 lo = ivec2(0);
     ivec2 hi = size - 1;
     if (!f.screen_polygon) {
-        // The silhouette is centre + cos(t) axis1 + sin(t) axis2 (screen-plane units); its
-        // bounding box in pixels, widened by a pixel: the hit decides every pixel inside.
+        // The silhouette is centre + cos(t) axis1 + sin(t) axis2 (screen-plane units); the
+        // pixel centres within its bounding box, widened by a twentieth of a pixel (more than
+        // float32 moves the bounds of a glyph on screen): the hit decides each of them, and
+        // outside the box no hit can be.
         vec2 half_extent = vec2(length(vec2(f.axis1.x, f.axis2.x)),
                                 length(vec2(f.axis1.y, f.axis2.y)));
         vec2 sxy = vec2(cam.ndc_scale_x, cam.ndc_scale_y);
         vec2 a = (f.centre - half_extent) / sxy, b = (f.centre + half_extent) / sxy;
-        vec2 px_lo = vec2(a.x + 1.0, 1.0 - b.y) * vec2(size) * 0.5;
-        vec2 px_hi = vec2(b.x + 1.0, 1.0 - a.y) * vec2(size) * 0.5;
+        vec2 px_lo = vec2(a.x + 1.0, 1.0 - b.y) * vec2(size) * 0.5 - 0.05;
+        vec2 px_hi = vec2(b.x + 1.0, 1.0 - a.y) * vec2(size) * 0.5 + 0.05;
         if (any(isnan(px_lo)) || any(isnan(px_hi))) {
             return;
         }
-        lo = max(lo, ivec2(floor(clamp(px_lo, vec2(-2.0), vec2(size) + 2.0))) - 1);
-        hi = min(hi, ivec2(ceil(clamp(px_hi, vec2(-2.0), vec2(size) + 2.0))) + 1);
+        // Pixel x's centre is x + 0.5.
+        lo = max(lo, ivec2(ceil(clamp(px_lo, vec2(-2.0), vec2(size) + 2.0) - 0.5)));
+        hi = min(hi, ivec2(floor(clamp(px_hi, vec2(-2.0), vec2(size) + 2.0) - 0.5)));
     }
     uint scene_id = id + cam.first_instance;
     for (int y = lo.y; y <= hi.y; y++) {

