@@ -1,15 +1,17 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
-// The compute splat's resolve, inside the host's pass: each pixel whose visibility key names
-// an instance re-derives that instance's hit with the fragment stage's own function, shades
-// it once and writes colour, normal, ID and the depth in the camera's convention, so host
-// meshes drawn before depth-test against it exactly.
-#define SETUP_ONCE
+// The compute splat's resolve, inside the host's pass, once per chunk: each pixel whose
+// visibility key names an instance of this chunk re-derives that instance's set-up and hit
+// with the vertex and fragment stages' own functions, shades it once and writes colour,
+// normal, ID and the depth in the camera's convention, so host meshes drawn before
+// depth-test against it exactly.
+#define SETUP_HERE
 #include "ellipsoid_common.glsl"
+#include "silhouette_bounds.glsl"
+#include "instance_setup.glsl"
 #include "shading.glsl"
 #include "fragment_counter.glsl"
-uint v_id;
 #include "impostor_state.glsl"
 
 layout(location = 0) out vec4 out_color;
@@ -22,14 +24,16 @@ layout(location = 2) out uint out_id;
 #include "visibility.glsl"
 
 void main() {
-    count_fragment();
     uvec2 p = uvec2(gl_FragCoord.xy);
     uint64_t key = visibility[p.y * cam.image_width + p.x];
-    if (key == visibility_empty()) {
+    // This chunk's instances are the bound slice of the instance buffer.
+    uint chunk = COMPACT ? compact_instances.length() : instances.length();
+    uint id = visibility_id(key) - cam.first_instance;
+    if (key == visibility_empty() || id >= chunk) {
         discard;
     }
-    v_id = visibility_id(key) - cam.first_instance;
-    load_setup();
+    count_fragment();
+    use_setup(setup_instance(load_instance(id)));
     float z;
     vec3 n;
     if (!impostor_pixel(gl_FragCoord.xy, z, n)) {
@@ -39,6 +43,6 @@ void main() {
     out_color = vec4(shade(n, v_color), 1.0);
 #ifdef AUX_OUTPUTS
     out_normal = vec4(n, 0.0);
-    out_id = v_id + cam.first_instance;
+    out_id = id + cam.first_instance;
 #endif
 }

@@ -78,6 +78,8 @@ pub(crate) struct SplatKey {
     pub orthographic: bool,
     pub no_caps: bool,
     pub reversed_z: bool,
+    pub spheres: bool,
+    pub compact: bool,
 }
 
 impl SplatKey {
@@ -87,6 +89,8 @@ impl SplatKey {
             orthographic: plan.orthographic,
             no_caps: plan.no_caps,
             reversed_z: plan.reversed_z,
+            spheres: plan.spheres,
+            compact: plan.compact,
         }
     }
 
@@ -95,6 +99,8 @@ impl SplatKey {
             orthographic: self.orthographic as u32,
             no_caps: self.no_caps as u32,
             reversed_z: self.reversed_z as u32,
+            spheres: self.spheres as u32,
+            compact: self.compact as u32,
             ..SpecConstants::default()
         }
     }

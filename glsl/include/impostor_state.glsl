@@ -1,8 +1,34 @@
-// The impostor's set-up as the hit test reads it: with SETUP_ONCE, globals loaded from the
-// record the pre-pass wrote for instance v_id (the includer declares v_id: a flat varying in
-// the fragment stage, a plain global where a compute or resolve pass chooses the instance);
-// otherwise the flat varyings of the vertex stage (include/instance_setup.glsl).
-#ifdef SETUP_ONCE
+// The impostor's set-up as the hit test reads it, three ways:
+// - SETUP_ONCE: globals loaded from the record the pre-pass wrote for instance v_id (the
+//   includer declares v_id);
+// - SETUP_HERE: globals the includer fills from a Setup it computes itself with use_setup
+//   (the compute splat and its resolve, which need instance_setup.glsl first);
+// - otherwise: the flat varyings of the vertex stage (include/instance_setup.glsl).
+#if defined(SETUP_HERE)
+vec3 v_ray_x, v_ray_y, v_ray_c;
+vec2 v_ray_origin;
+vec4 v_k, v_depth, v_misc;
+mat3 v_to_normal;
+uint v_flags;
+vec3 v_color;
+
+// Takes the set-up `s` as the vertex stage hands it down.
+void use_setup(Setup s) {
+    v_ray_x = s.ray_x;
+    v_ray_y = s.ray_y;
+    v_ray_c = s.ray_c;
+    v_ray_origin = s.ray_origin;
+    v_k = s.k;
+    v_depth = s.depth;
+    v_misc = s.misc;
+    v_to_normal = s.to_normal;
+    v_flags = s.flags;
+    v_color = srgb_to_linear(unpackUnorm4x8(s.color).rgb);
+}
+
+void load_setup() {}
+void load_shading() {}
+#elif defined(SETUP_ONCE)
 #define SETUP_ONCE_FRAGMENT
 #include "setup_records.glsl"
 vec3 v_ray_x, v_ray_y, v_ray_c;

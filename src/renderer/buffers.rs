@@ -51,7 +51,9 @@ impl Binding {
     pub fn stages(self) -> vk::ShaderStageFlags {
         let vertex_and_compute = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
         match self {
-            Binding::Instances | Binding::Visible | Binding::FootprintRecords => vertex_and_compute,
+            // The compute splat's resolve reads the instances in the fragment stage.
+            Binding::Instances => vertex_and_compute | vk::ShaderStageFlags::FRAGMENT,
+            Binding::Visible | Binding::FootprintRecords => vertex_and_compute,
             Binding::FragmentCounter => vk::ShaderStageFlags::FRAGMENT,
             Binding::IndirectDraw | Binding::CullGroups | Binding::OcclusionTiles => {
                 vk::ShaderStageFlags::COMPUTE

@@ -155,8 +155,8 @@ impl EllipsoidRenderer {
                     bytemuck::bytes_of(&push),
                 );
                 match plan.config.geometry {
-                    // The resolve: one triangle over the image shades each pixel's nearest
-                    // hit (one chunk only, see the plan).
+                    // The resolve: one triangle over the image shades the pixels whose nearest
+                    // hit is one of this chunk's glyphs.
                     Geometry::Impostor if plan.compute_splat => device.cmd_draw(cmd, 3, 1, 0, 0),
                     Geometry::Impostor if plan.prepass => {
                         let offset = k as u64 * SLICE_ALIGN;

@@ -192,7 +192,6 @@ impl EllipsoidRenderer {
     pub fn plan(&self, camera: &Camera) -> Result<FramePlan> {
         camera.validate()?;
         FramePlan::new(PlanInputs {
-            single_chunk: self.chunking().len() == 1,
             compute_splat_features: self.compute_splat_features,
             scene: &self.scene,
             settings: &self.settings,

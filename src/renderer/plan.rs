@@ -36,7 +36,8 @@ pub struct FramePlan {
     pub culling: Culling,
     /// The pre-pass runs (to cull, to set up, or both); the draw is then indirect.
     pub prepass: bool,
-    /// The pre-pass computes each impostor's set-up once for the draw.
+    /// The pre-pass computes each impostor's set-up once for the draw (never together with
+    /// the compute splat, which computes the set-up where it needs it).
     pub setup_once: bool,
     /// The shaders take the sphere path.
     pub spheres: bool,
@@ -59,8 +60,6 @@ pub struct FramePlan {
 
 /// What a plan is made from.
 pub(crate) struct PlanInputs<'a> {
-    /// The scene is drawn in one chunk.
-    pub single_chunk: bool,
     /// The device has the compute splat's features enabled.
     pub compute_splat_features: bool,
     pub scene: &'a UploadedScene,
@@ -76,7 +75,6 @@ impl FramePlan {
     /// draw with this camera.
     pub(crate) fn new(inputs: PlanInputs) -> Result<Self> {
         let PlanInputs {
-            single_chunk,
             compute_splat_features,
             scene,
             settings,
@@ -104,11 +102,9 @@ impl FramePlan {
         let exact_impostor = config.geometry == Geometry::Impostor
             && config.intersection == Intersection::Stable
             && matches!(config.shading, Shading::Exact | Shading::FastNormal);
-        let setup_once = settings.setup_once
-            && exact_impostor
+        let small_glyphs = exact_impostor
             && config.footprint != Footprint::WorldQuad
-            && mean_area_px.is_some_and(|area| area <= SETUP_ONCE_MAX_AREA_PX)
-            && (1..=MAX_SETUP_ONCE_INSTANCES).contains(&scene.count);
+            && mean_area_px.is_some_and(|area| area <= SETUP_ONCE_MAX_AREA_PX);
         // Pixel-centre and occlusion culling reason about pixel centres, so multisampled
         // targets (whose samples lie elsewhere) keep frustum culling only; occlusion needs
         // float32 depth (its 1e-4 depth gap must survive the depth buffer's rounding).
@@ -120,20 +116,25 @@ impl FramePlan {
             pixel_centres: settings.culling.pixel_centres && single,
             ..settings.culling
         };
+        // The compute splat takes glyphs of a few pixels when there are enough of them to pay
+        // for its fixed cost, on devices with its features and single-sample targets.
+        let compute_splat = settings.compute_splat
+            && compute_splat_features
+            && small_glyphs
+            && scene.count > 0
+            && scene.count >= settings.compute_splat_min_glyphs
+            && single;
+        // Otherwise such glyphs are set up once by the pre-pass, where the records fit.
+        let setup_once = settings.setup_once
+            && !compute_splat
+            && small_glyphs
+            && (1..=MAX_SETUP_ONCE_INSTANCES).contains(&scene.count);
         let draws_through_prepass = config.geometry == Geometry::Impostor
             && config.intersection == Intersection::Stable
             && config.shading != Shading::FlatFill;
-        let prepass = draws_through_prepass && scene.count > 0 && (culling.any() || setup_once);
-        // The compute splat takes over where set-up once does (glyphs of a few pixels) and
-        // there are enough glyphs to pay for its fixed cost, on devices with its features,
-        // for single-sample targets and scenes of one chunk (the resolve reads one chunk's
-        // records).
-        let compute_splat = settings.compute_splat
-            && compute_splat_features
-            && setup_once
-            && scene.count >= settings.compute_splat_min_glyphs
-            && single
-            && single_chunk;
+        let prepass = draws_through_prepass
+            && scene.count > 0
+            && (culling.any() || setup_once || compute_splat);
         Ok(Self {
             compute_splat,
             config,
