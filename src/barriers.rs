@@ -69,9 +69,10 @@ const fn access(flags: &[vk::AccessFlags]) -> vk::AccessFlags {
 /// Before an upload's copy: earlier shader reads of the instance buffer (draws and pre-passes
 /// already recorded) and earlier copies into it finish first.
 pub const INSTANCES_BEFORE_COPY: Barrier = Barrier {
-    purpose: "earlier vertex/compute reads and copies of the instances -> this copy",
+    purpose: "earlier vertex/fragment/compute reads and copies of the instances -> this copy",
     src_stages: stages(&[
         vk::PipelineStageFlags::VERTEX_SHADER,
+        vk::PipelineStageFlags::FRAGMENT_SHADER,
         vk::PipelineStageFlags::COMPUTE_SHADER,
         vk::PipelineStageFlags::TRANSFER,
     ]),
@@ -82,11 +83,12 @@ pub const INSTANCES_BEFORE_COPY: Barrier = Barrier {
 
 /// After an upload's copy: the pre-pass and the draw read what it wrote.
 pub const INSTANCES_AFTER_COPY: Barrier = Barrier {
-    purpose: "copy into the instances -> pre-pass and vertex reads",
+    purpose: "copy into the instances -> pre-pass, vertex and resolve reads",
     src_stages: vk::PipelineStageFlags::TRANSFER,
     src_access: vk::AccessFlags::TRANSFER_WRITE,
     dst_stages: stages(&[
         vk::PipelineStageFlags::VERTEX_SHADER,
+        vk::PipelineStageFlags::FRAGMENT_SHADER,
         vk::PipelineStageFlags::COMPUTE_SHADER,
     ]),
     dst_access: vk::AccessFlags::SHADER_READ,

@@ -44,7 +44,7 @@ fn every_hazard_is_covered_by_its_barrier() {
     let fragment_read = at(S::FRAGMENT_SHADER, A::SHADER_READ);
     let indirect_read = at(S::DRAW_INDIRECT, A::INDIRECT_COMMAND_READ);
     // (what, first access, later access, the barrier between them)
-    let hazards: [(&str, Access, Access, Barrier); 16] = [
+    let hazards: [(&str, Access, Access, Barrier); 22] = [
         // An upload or update of the instances.
         (
             "copy -> pre-pass reads instances",
@@ -67,6 +67,18 @@ fn every_hazard_is_covered_by_its_barrier() {
         (
             "earlier pre-pass reads -> copy",
             compute_read,
+            copy,
+            barriers::INSTANCES_BEFORE_COPY,
+        ),
+        (
+            "copy -> the compute splat's resolve reads instances",
+            copy,
+            fragment_read,
+            barriers::INSTANCES_AFTER_COPY,
+        ),
+        (
+            "earlier resolve's fragment reads of instances -> copy",
+            fragment_read,
             copy,
             barriers::INSTANCES_BEFORE_COPY,
         ),
@@ -96,6 +108,12 @@ fn every_hazard_is_covered_by_its_barrier() {
             barriers::PREPASS_AFTER_PREVIOUS_FRAME,
         ),
         (
+            "previous resolve's reads of the visibility buffer -> its clear",
+            fragment_read,
+            copy,
+            barriers::PREPASS_AFTER_PREVIOUS_FRAME,
+        ),
+        (
             "previous pre-pass writes -> tile clear",
             compute_write,
             copy,
@@ -115,9 +133,21 @@ fn every_hazard_is_covered_by_its_barrier() {
             barriers::PREPASS_CLEARED,
         ),
         (
+            "visibility clear -> the compute splat's atomics",
+            copy,
+            compute_read_write,
+            barriers::PREPASS_CLEARED,
+        ),
+        (
             "one step -> the next",
             compute_write,
             compute_read_write,
+            barriers::PREPASS_STEP,
+        ),
+        (
+            "kept indices and count -> the compute splat",
+            compute_write,
+            compute_read,
             barriers::PREPASS_STEP,
         ),
         // The pre-pass feeds the draw.
@@ -135,6 +165,12 @@ fn every_hazard_is_covered_by_its_barrier() {
         ),
         (
             "shading records -> fragment stage",
+            compute_write,
+            fragment_read,
+            barriers::PREPASS_TO_DRAW,
+        ),
+        (
+            "the compute splat's atomics -> its resolve",
             compute_write,
             fragment_read,
             barriers::PREPASS_TO_DRAW,

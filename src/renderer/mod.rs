@@ -7,13 +7,14 @@
 //! Everything is recorded for one queue (the `HostDevice::queue_family_index`), in the order
 //! the host records the calls:
 //! - [`EllipsoidRenderer::upload`] and [`EllipsoidRenderer::update`] (outside a pass): a barrier
-//!   from earlier vertex/compute reads of the instance buffer to the transfer write, the copy
-//!   from a staging buffer, and a barrier from the transfer write to vertex and compute shader
-//!   reads.
+//!   from earlier vertex, fragment (the compute splat's resolve) and compute reads of the
+//!   instance buffer to the transfer write, the copy from a staging buffer, and a barrier from
+//!   the transfer write to vertex, fragment and compute shader reads.
 //! - [`EllipsoidRenderer::record_prepass`] (outside a pass): a barrier from the previous draw's
 //!   indirect, vertex, fragment and compute reads to its transfer and compute writes, its
-//!   dispatches with compute-to-compute barriers between them, and a barrier from its compute
-//!   writes to indirect-command, vertex and fragment shader reads.
+//!   dispatches (the culling steps, then the compute splat where the plan has it, after
+//!   clearing its visibility buffer) with compute-to-compute barriers between them, and a
+//!   barrier from its compute writes to indirect-command, vertex and fragment shader reads.
 //! - [`EllipsoidRenderer::record`] (inside the host's pass): binds its pipeline, descriptor set
 //!   and push constants, sets viewport and scissor to the camera's image, and draws. It
 //!   records no barrier and leaves the host's dynamic state other than viewport and scissor
