@@ -152,3 +152,100 @@ impl FramePlan {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::instances::pack_scene;
+    use crate::target::Pass;
+    use crate::{Ellipsoid, Scene};
+    use glam::{DQuat, DVec3};
+
+    /// 60,000 glyphs of about a pixel in a 10-unit cube, seen from 40 units at 640x480.
+    fn tiny_scene() -> (UploadedScene, Camera) {
+        let glyphs = (0..60_000)
+            .map(|k| {
+                let t = k as f64;
+                let centre = DVec3::new(
+                    (t * 0.618_034).fract() * 10.0 - 5.0,
+                    (t * 0.414_214).fract() * 10.0 - 5.0,
+                    (t * 0.732_051).fract() * 10.0 - 5.0,
+                );
+                Ellipsoid::new(centre, DVec3::new(0.02, 0.015, 0.01), DQuat::IDENTITY, None)
+                    .unwrap()
+            })
+            .collect();
+        let scene = Scene::new(glyphs);
+        let packed = pack_scene(&scene, InstanceFormat::Full).unwrap();
+        let camera =
+            Camera::look_at(DVec3::new(0.0, 0.0, 40.0), DVec3::ZERO, 45.0, 1.0, 640, 480).unwrap();
+        (UploadedScene::new(&scene, &packed, u32::MAX), camera)
+    }
+
+    fn plan(
+        scene: &UploadedScene,
+        camera: &Camera,
+        samples: vk::SampleCountFlags,
+        features: bool,
+        settings: &Settings,
+    ) -> FramePlan {
+        let target = Target {
+            pass: Pass::Dynamic {
+                color_formats: vec![vk::Format::R8G8B8A8_SRGB],
+                depth_format: vk::Format::D32_SFLOAT,
+            },
+            samples,
+            aux_outputs: false,
+        };
+        FramePlan::new(PlanInputs {
+            compute_splat_features: features,
+            scene,
+            settings,
+            config: DrawConfig::default(),
+            count_fragments: false,
+            target: (0, &target),
+            camera,
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn the_compute_splat_runs_only_where_it_may_and_pays() {
+        let (scene, camera) = tiny_scene();
+        let shipped = Settings::default();
+        let one = vk::SampleCountFlags::TYPE_1;
+        let splat = plan(&scene, &camera, one, true, &shipped);
+        assert!(
+            splat.mean_area_px.unwrap() <= SETUP_ONCE_MAX_AREA_PX,
+            "{splat:?}"
+        );
+        assert!(
+            splat.compute_splat && splat.prepass && !splat.setup_once,
+            "{splat:?}"
+        );
+        // Without the host's 64-bit atomics: the draw, set up once.
+        let draw = plan(&scene, &camera, one, false, &shipped);
+        assert!(!draw.compute_splat && draw.setup_once, "{draw:?}");
+        // Multisampled targets keep the draw (it is exact per sample; the splat keys pixels).
+        let msaa = plan(
+            &scene,
+            &camera,
+            vk::SampleCountFlags::TYPE_4,
+            true,
+            &shipped,
+        );
+        assert!(!msaa.compute_splat, "{msaa:?}");
+        // Fewer glyphs than pay for the splat's fixed cost: the draw.
+        let few = Settings {
+            compute_splat_min_glyphs: 60_001,
+            ..shipped
+        };
+        assert!(!plan(&scene, &camera, one, true, &few).compute_splat);
+        // Switched off.
+        let off = Settings {
+            compute_splat: false,
+            ..shipped
+        };
+        assert!(!plan(&scene, &camera, one, true, &off).compute_splat);
+    }
+}
