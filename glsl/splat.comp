@@ -2,8 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
-// The compute splat: each glyph the pre-pass kept computes its set-up (instance_setup.glsl,
-// as the vertex stage does), ray casts the pixel centres of its silhouette's bounding box
+// The compute splat: each glyph of the chunk computes its set-up (instance_setup.glsl, as the
+// vertex stage does; it says when the glyph is off screen), ray casts the pixel centres of its silhouette's bounding box
 // with the fragment stage's hit (impostor_hit.glsl) and keeps the nearest hit per pixel in
 // the visibility buffer with a 64-bit atomic. resolve.frag then shades each pixel once. No
 // rasterizer front end (on lavapipe about 0.5 us per instance on one thread), and no set-up
@@ -23,10 +23,12 @@ const uint GROUP = 64u;
 
 void main() {
     uint k = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * GROUP;
-    if (k >= instance_count) {
+    // No culling steps run before: the splat's own set-up and pixel walk skip what the
+    // culling would have dropped, at a fraction of a dispatch's cost.
+    if (k >= total) {
         return;
     }
-    uint id = visible_instances[k];
+    uint id = k;
     Setup f = setup_instance(load_instance(id));
     if (f.culled) {
         return;

@@ -139,7 +139,9 @@ impl FramePlan {
             compute_splat,
             config,
             mean_area_px,
-            culling,
+            // The splat culls as it goes (off-screen glyphs, empty pixel boxes): the culling
+            // steps would only add dispatches.
+            culling: if compute_splat { Culling::OFF } else { culling },
             prepass,
             setup_once,
             spheres: settings.sphere_path && scene.all_spheres,
