@@ -478,3 +478,131 @@ fn an_upload_between_pre_pass_and_draw_is_refused() {
     let messages = host.messages();
     assert!(messages.is_empty(), "validation: {messages:?}");
 }
+
+/// Renders many glyphs of about a pixel crossing the host's mesh plane, with or without the
+/// compute splat, into a single-sample host target; returns the RGBA8 pixels and whether the
+/// frame splatted.
+fn render_small_glyphs(
+    host: &mut Host,
+    kind: TargetKind,
+    depth: DepthKind,
+    compute_splat: bool,
+) -> (Vec<u8>, bool) {
+    let setup = Setup::new([1.0, 0.0, 0.0]);
+    let samples = vk::SampleCountFlags::TYPE_1;
+    let target = HostTarget::new(host, kind, depth, samples, WIDTH, HEIGHT).unwrap();
+    let plane = host::tilted_plane(setup.plane_point, setup.plane_normal, 60.0, [0.0, 1.0, 0.0]);
+    let mesh = MeshPipeline::new(host, &target, &plane).unwrap();
+    let (view, projection) = (setup.view(), setup.projection(depth));
+    let camera = Camera::from_view_projection(view, projection, WIDTH, HEIGHT).unwrap();
+    let pass = match kind {
+        TargetKind::Dynamic => Pass::Dynamic {
+            color_formats: vec![HostTarget::COLOR_FORMAT],
+            depth_format: HostTarget::DEPTH_FORMAT,
+        },
+        TargetKind::RenderPass => Pass::RenderPass {
+            render_pass: target.render_pass(),
+            subpass: 0,
+            color_attachment_count: 1,
+            depth_format: HostTarget::DEPTH_FORMAT,
+        },
+    };
+    let options = RendererOptions {
+        settings: Settings {
+            compute_splat,
+            compute_splat_min_glyphs: 0,
+            ..Settings::default()
+        },
+        compute_splat_features: host.int64_atomics(),
+        ..RendererOptions::new(Target {
+            pass,
+            samples,
+            aux_outputs: false,
+        })
+    };
+    // 20,000 glyphs of about a pixel in a slab around the plane, many cutting through it.
+    let glyphs = (0..20_000)
+        .map(|k| {
+            let t = k as f64;
+            let centre = DVec3::new(
+                (t * 0.618_034).fract() * 6.0 - 3.0,
+                (t * 0.414_214).fract() * 4.0 - 2.0,
+                (t * 0.732_051).fract() * 1.2 - 0.5,
+            );
+            let radii = DVec3::new(0.05, 0.035, 0.025);
+            let color = [(t * 0.3).fract() as f32, 0.0, 1.0];
+            Ellipsoid::new(centre, radii, DQuat::from_rotation_z(t), Some(color)).unwrap()
+        })
+        .collect();
+    let scene = Scene::new(glyphs);
+    let handles = host.handles();
+    let host_device = HostDevice {
+        instance: handles.instance,
+        physical_device: handles.physical_device,
+        device: handles.device,
+        queue_family_index: handles.queue_family,
+    };
+    // SAFETY: the host's handles belong together and enable the required features (and the
+    // splat's where `int64_atomics` says so).
+    let mut renderer =
+        unsafe { EllipsoidRenderer::new(&host_device, handles.allocator, options) }.unwrap();
+    let cmd = host.begin().unwrap();
+    let (device, allocator) = host.device_and_allocator();
+    // SAFETY: `cmd` is recording; upload and pre-pass outside the pass, the draw (or resolve)
+    // inside it after the host's mesh; waited for before the renderer is destroyed.
+    let splatted = unsafe {
+        renderer.begin_frame(device, allocator, 0).unwrap();
+        renderer.upload(device, allocator, cmd, &scene).unwrap();
+        let splatted = renderer.plan(&camera).unwrap().compute_splat;
+        renderer
+            .record_prepass(device, allocator, cmd, &camera)
+            .unwrap();
+        target.begin_pass(device, cmd);
+        mesh.record(device, cmd, projection * view);
+        renderer.record(device, allocator, cmd, &camera).unwrap();
+        target.end_pass(device, cmd);
+        splatted
+    };
+    host.submit_and_wait().unwrap();
+    let rgba = target.read_rgba().unwrap();
+    let (device, allocator) = host.device_and_allocator();
+    // SAFETY: the submission completed.
+    unsafe { renderer.destroy(device, allocator) };
+    mesh.destroy(host);
+    target.destroy(host);
+    (rgba, splatted)
+}
+
+/// The compute splat composites with a host's mesh exactly as the draw does: glyphs cutting
+/// through the mesh plane show the same pixels, in both target kinds and depth conventions.
+#[test]
+fn the_compute_splat_intersects_host_meshes_like_the_draw() {
+    let mut host = Host::new(true).unwrap();
+    assert!(
+        host.int64_atomics(),
+        "the device lacks 64-bit buffer atomics: nothing to compare"
+    );
+    for kind in [TargetKind::Dynamic, TargetKind::RenderPass] {
+        for depth in [DepthKind::ReversedInfinite, DepthKind::StandardFinite] {
+            let (drawn, drawn_splatted) = render_small_glyphs(&mut host, kind, depth, false);
+            let (splat, splatted) = render_small_glyphs(&mut host, kind, depth, true);
+            assert!(!drawn_splatted && splatted, "{kind:?} {depth:?}: plans");
+            let glyph_pixels = (0..drawn.len() / 4)
+                .filter(|k| drawn[4 * k + 2] > 0)
+                .count();
+            let plane_pixels = (0..drawn.len() / 4)
+                .filter(|k| drawn[4 * k + 1] > 0)
+                .count();
+            assert!(
+                glyph_pixels > 2_000 && plane_pixels > 2_000,
+                "{kind:?} {depth:?}: {glyph_pixels} glyph and {plane_pixels} plane pixels"
+            );
+            let differ = (0..drawn.len() / 4)
+                .filter(|k| drawn[4 * k..4 * k + 4] != splat[4 * k..4 * k + 4])
+                .count();
+            assert_eq!(differ, 0, "{kind:?} {depth:?}: {differ} pixels differ");
+        }
+    }
+    let messages = host.messages();
+    assert!(messages.is_empty(), "validation: {messages:?}");
+}

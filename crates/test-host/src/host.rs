@@ -16,6 +16,8 @@ pub struct Host {
     device: ash::Device,
     queue: vk::Queue,
     queue_family: u32,
+    /// The device has 64-bit buffer atomics enabled (what the renderer's compute splat needs).
+    int64_atomics: bool,
     /// `Some` until drop: dropped before the device is destroyed.
     allocator: Option<Allocator>,
     command_pool: vk::CommandPool,
@@ -45,7 +47,8 @@ impl Host {
     /// (read them with [`Host::messages`]).
     pub fn new(validation: bool) -> HostResult<Host> {
         let instance = HostInstance::new(validation)?;
-        let (physical_device, queue_family, device) = create_device(instance.instance())?;
+        let (physical_device, queue_family, device, int64_atomics) =
+            create_device(instance.instance())?;
         // SAFETY: the device was created with one queue in `queue_family`.
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
 
@@ -55,6 +58,7 @@ impl Host {
             device,
             queue,
             queue_family,
+            int64_atomics,
             allocator: None,
             command_pool: vk::CommandPool::null(),
             command_buffer: vk::CommandBuffer::null(),
@@ -113,6 +117,12 @@ impl Host {
     /// The index of the queue's family.
     pub fn queue_family(&self) -> u32 {
         self.queue_family
+    }
+
+    /// Whether the device was created with `shaderInt64` and `shaderBufferInt64Atomics`
+    /// (enabled wherever the device has them).
+    pub fn int64_atomics(&self) -> bool {
+        self.int64_atomics
     }
 
     /// The host's memory allocator.
@@ -248,7 +258,9 @@ fn has_features(
 
 /// Picks the first Vulkan 1.3 physical device with [`FEATURES`] and a GRAPHICS | COMPUTE
 /// queue family, and creates a device with one queue and those features.
-fn create_device(instance: &ash::Instance) -> HostResult<(vk::PhysicalDevice, u32, ash::Device)> {
+fn create_device(
+    instance: &ash::Instance,
+) -> HostResult<(vk::PhysicalDevice, u32, ash::Device, bool)> {
     // SAFETY: valid instance.
     let devices = unsafe { instance.enumerate_physical_devices() }
         .map_err(fail("vkEnumeratePhysicalDevices"))?;
@@ -256,8 +268,10 @@ fn create_device(instance: &ash::Instance) -> HostResult<(vk::PhysicalDevice, u3
     for physical_device in devices {
         match suitable_queue_family(instance, physical_device) {
             Ok(family) => {
-                let device = create_logical_device(instance, physical_device, family)?;
-                return Ok((physical_device, family, device));
+                let int64_atomics = has_int64_atomics(instance, physical_device);
+                let device =
+                    create_logical_device(instance, physical_device, family, int64_atomics)?;
+                return Ok((physical_device, family, device, int64_atomics));
             }
             Err(why) => rejected.push(why),
         }
@@ -312,11 +326,22 @@ fn suitable_queue_family(
         .ok_or_else(|| format!("{name}: no GRAPHICS|COMPUTE queue family"))
 }
 
-/// A device with one queue in `family` and [`FEATURES`] enabled.
+/// Whether the device has `shaderInt64` and `shaderBufferInt64Atomics`.
+fn has_int64_atomics(instance: &ash::Instance, physical_device: vk::PhysicalDevice) -> bool {
+    let mut vulkan12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut supported = vk::PhysicalDeviceFeatures2::default().push_next(&mut vulkan12);
+    // SAFETY: `physical_device` was enumerated from `instance`; the chain points at locals.
+    unsafe { instance.get_physical_device_features2(physical_device, &mut supported) };
+    supported.features.shader_int64 == vk::TRUE && vulkan12.shader_buffer_int64_atomics == vk::TRUE
+}
+
+/// A device with one queue in `family` and [`FEATURES`] enabled, plus 64-bit buffer atomics
+/// with `int64_atomics`.
 fn create_logical_device(
     instance: &ash::Instance,
     physical_device: vk::PhysicalDevice,
     family: u32,
+    int64_atomics: bool,
 ) -> HostResult<ash::Device> {
     let priorities = [1.0];
     let queue_infos = [vk::DeviceQueueCreateInfo::default()
@@ -326,9 +351,15 @@ fn create_logical_device(
         .dynamic_rendering(true)
         .maintenance4(true)
         .synchronization2(true);
+    let mut features12 =
+        vk::PhysicalDeviceVulkan12Features::default().shader_buffer_int64_atomics(int64_atomics);
+    let core = vk::PhysicalDeviceFeatures::default()
+        .sample_rate_shading(true)
+        .shader_int64(int64_atomics);
     let mut features2 = vk::PhysicalDeviceFeatures2::default()
-        .features(vk::PhysicalDeviceFeatures::default().sample_rate_shading(true))
-        .push_next(&mut features13);
+        .features(core)
+        .push_next(&mut features13)
+        .push_next(&mut features12);
     let device_info = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queue_infos)
         .push_next(&mut features2);
