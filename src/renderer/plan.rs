@@ -20,6 +20,11 @@ use super::uploaded::UploadedScene;
 /// varyings they replace once glyphs cover more than a few pixels (README, `bench --skip`).
 pub const SETUP_ONCE_MAX_AREA_PX: f64 = 12.0;
 
+/// The largest glyph (square pixels on screen, in the size sample) a splatted frame may hold:
+/// one invocation walks each glyph's pixels, so a glyph much larger than the rest would hold
+/// up its whole workgroup (4,096 pixels: about a millisecond on lavapipe).
+pub const SPLAT_MAX_GLYPH_AREA_PX: f64 = 4096.0;
+
 /// The most instances whose set-up records fit the 128 MiB storage-buffer range every Vulkan
 /// device supports; larger scenes set up in the vertex stage.
 pub const MAX_SETUP_ONCE_INSTANCES: u32 = (1 << 27) / size_of::<ShadingRecord>() as u32;
@@ -90,7 +95,8 @@ impl FramePlan {
                 format!("{:?} supports perspective cameras only", config.geometry),
             ));
         }
-        let mean_area_px = scene.mean_projected_area(camera);
+        let areas = scene.projected_areas(camera);
+        let mean_area_px = areas.map(|a| a.mean);
         if config.footprint == Footprint::Auto {
             config.footprint = match Footprint::for_area(mean_area_px.unwrap_or(0.0)) {
                 Footprint::Triangle if !settings.small_glyph_triangles => Footprint::OrientedRect,
@@ -121,6 +127,7 @@ impl FramePlan {
         let compute_splat = settings.compute_splat
             && compute_splat_features
             && small_glyphs
+            && areas.is_some_and(|a| a.largest <= SPLAT_MAX_GLYPH_AREA_PX)
             && scene.count > 0
             && scene.count >= settings.compute_splat_min_glyphs
             && single;
@@ -163,9 +170,10 @@ mod tests {
     use crate::{Ellipsoid, Scene};
     use glam::{DQuat, DVec3};
 
-    /// 60,000 glyphs of about a pixel in a 10-unit cube, seen from 40 units at 640x480.
-    fn tiny_scene() -> (UploadedScene, Camera) {
-        let glyphs = (0..60_000)
+    /// 60,000 glyphs of about a pixel in a 10-unit cube, seen from 40 units at 640x480;
+    /// with `big`, the first is a sphere of radius 4 (about 10,000 pixels).
+    fn tiny_scene(big: bool) -> (UploadedScene, Camera) {
+        let mut glyphs: Vec<Ellipsoid> = (0..60_000)
             .map(|k| {
                 let t = k as f64;
                 let centre = DVec3::new(
@@ -177,6 +185,10 @@ mod tests {
                     .unwrap()
             })
             .collect();
+        if big {
+            glyphs[0] =
+                Ellipsoid::new(DVec3::ZERO, DVec3::splat(4.0), DQuat::IDENTITY, None).unwrap();
+        }
         let scene = Scene::new(glyphs);
         let packed = pack_scene(&scene, InstanceFormat::Full).unwrap();
         let camera =
@@ -213,7 +225,7 @@ mod tests {
 
     #[test]
     fn the_compute_splat_runs_only_where_it_may_and_pays() {
-        let (scene, camera) = tiny_scene();
+        let (scene, camera) = tiny_scene(false);
         let shipped = Settings::default();
         let one = vk::SampleCountFlags::TYPE_1;
         let splat = plan(&scene, &camera, one, true, &shipped);
@@ -249,5 +261,13 @@ mod tests {
             ..shipped
         };
         assert!(!plan(&scene, &camera, one, true, &off).compute_splat);
+        // One glyph of thousands of pixels among them: one invocation would walk them all.
+        let (big, camera) = tiny_scene(true);
+        let mixed = plan(&big, &camera, one, true, &shipped);
+        assert!(
+            mixed.mean_area_px.unwrap() <= SETUP_ONCE_MAX_AREA_PX,
+            "{mixed:?}"
+        );
+        assert!(!mixed.compute_splat, "{mixed:?}");
     }
 }
