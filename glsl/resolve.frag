@@ -37,9 +37,12 @@ void main() {
     float z;
     vec3 n;
     if (!impostor_pixel(gl_FragCoord.xy, z, n)) {
-        discard; // not reached: the splat stored this hit
+        // Not reached where the stages compute the hit alike (lavapipe: tested bit for bit);
+        // a driver that rounds differently gets a lit pixel, never a hole.
+        n = -cam.forward;
     }
-    gl_FragDepth = z;
+    // The depth the splat kept, which decided this pixel.
+    gl_FragDepth = uintBitsToFloat(uint(key >> 32));
     out_color = vec4(shade(n, v_color), 1.0);
 #ifdef AUX_OUTPUTS
     out_normal = vec4(n, 0.0);

@@ -37,7 +37,7 @@ void main() {
     ivec2 size = ivec2(cam.image_width, cam.image_height);
     ivec2 lo = ivec2(0);
     ivec2 hi = size - 1;
-    if (!f.screen_polygon) {
+    if (f.bounded) {
         // The silhouette is centre + cos(t) axis1 + sin(t) axis2 (screen-plane units); the
         // pixel centres within its bounding box, widened by a twentieth of a pixel (more than
         // float32 moves the bounds of a glyph on screen): the hit decides each of them, and

@@ -131,8 +131,8 @@ pub(crate) struct SplatStep {
     pub pipeline: vk::Pipeline,
     /// The dispatch grid over the chunk's instances, 64 per workgroup.
     pub groups: (u32, u32),
-    /// Clear the visibility buffer first (the first chunk), to this word.
-    pub clear: Option<(vk::Buffer, u32)>,
+    /// Clear the visibility buffer first (the first chunk): its first bytes, to this word.
+    pub clear: Option<(vk::Buffer, u64, u32)>,
 }
 
 /// Instances per workgroup of the compute splat (`local_size_x` of `splat.comp`).
@@ -163,9 +163,9 @@ impl Prepass {
                 // +inf: no surface known in front of any tile yet.
                 device.cmd_fill_buffer(cmd, b.tiles, 0, vk::WHOLE_SIZE, f32::INFINITY.to_bits());
             }
-            if let Some((visibility, word)) = self.splat.as_ref().and_then(|s| s.clear) {
-                // Nothing hit yet: every 64-bit key holds the empty value.
-                device.cmd_fill_buffer(cmd, visibility, 0, vk::WHOLE_SIZE, word);
+            if let Some((visibility, bytes, word)) = self.splat.as_ref().and_then(|s| s.clear) {
+                // Nothing hit yet: every 64-bit key of the image holds the empty value.
+                device.cmd_fill_buffer(cmd, visibility, 0, bytes, word);
             }
             barriers::PREPASS_CLEARED.record(device, cmd);
             device.cmd_bind_descriptor_sets(

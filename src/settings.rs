@@ -60,13 +60,16 @@ pub struct Settings {
     /// Draw frames of many glyphs of a few pixels without the rasterizer: a compute pass ray
     /// casts each glyph's pixel centres and keeps the nearest hit per pixel with a 64-bit
     /// atomic, and a full-screen pass inside the host's pass shades each pixel once. The same
-    /// pixels, depths and IDs as the draw. On by default, but it runs only where the host
-    /// enabled [`crate::features::compute_splat_features`] (and says so in
-    /// [`crate::RendererOptions::compute_splat_features`]), on single-sample targets, and for
-    /// at least `compute_splat_min_glyphs` glyphs.
+    /// pixels, depths and IDs as the draw (bit for bit where the driver compiles the shared
+    /// set-up and hit alike in every stage, as lavapipe does). On by default, but it runs only
+    /// where the host enabled [`crate::features::compute_splat_features`] (and says so in
+    /// [`crate::RendererOptions::compute_splat_features`]), on single-sample targets with
+    /// float32 depth, for glyphs of at most `SETUP_ONCE_MAX_AREA_PX` on average and none
+    /// above `SPLAT_MAX_GLYPH_AREA_PX` or reaching the eye plane (in the size sample), for at
+    /// most `MAX_SPLAT_CHUNKS` chunks and for at least `compute_splat_min_glyphs` glyphs.
     pub compute_splat: bool,
     /// The fewest glyphs for which the compute splat pays: it has a fixed cost (clearing and
-    /// resolving a whole-image visibility buffer, about 23 ms at 1920x1080 on lavapipe) and
+    /// resolving a whole-image visibility buffer, about 25-30 ms at 1920x1080 on lavapipe) and
     /// saves about 0.45 us per glyph; measured with `bench`, the two meet near 50,000.
     pub compute_splat_min_glyphs: u32,
     /// The most instances drawn with one descriptor set; the device's

@@ -140,7 +140,9 @@ impl EllipsoidRenderer {
     /// # Safety
     /// `host`'s handles are valid and belong together (the device was created from
     /// `physical_device`, which comes from `instance`), the device has the features of
-    /// [`crate::features::required_device_features`] enabled, `allocator` allocates from
+    /// [`crate::features::required_device_features`] enabled (and those of
+    /// [`crate::features::compute_splat_features`] if `options.compute_splat_features` says
+    /// so: the renderer trusts it), `allocator` allocates from
     /// that device, and `options.target`'s render pass (if any) and `options.pipeline_cache`
     /// outlive the renderer.
     pub unsafe fn new(
@@ -194,6 +196,8 @@ impl EllipsoidRenderer {
         camera.validate()?;
         FramePlan::new(PlanInputs {
             compute_splat_features: self.compute_splat_features,
+            max_storage_buffer_range: self.caps.limits.max_storage_buffer_range,
+            chunks: self.chunking().len(),
             scene: &self.scene,
             settings: &self.settings,
             config: self.config,

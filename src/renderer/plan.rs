@@ -25,6 +25,9 @@ pub const SETUP_ONCE_MAX_AREA_PX: f64 = 12.0;
 /// up its whole workgroup (4,096 pixels: about a millisecond on lavapipe).
 pub const SPLAT_MAX_GLYPH_AREA_PX: f64 = 4096.0;
 
+/// The most chunks a splatted frame may have: each chunk resolves over the whole image.
+pub const MAX_SPLAT_CHUNKS: u32 = 8;
+
 /// The most instances whose set-up records fit the 128 MiB storage-buffer range every Vulkan
 /// device supports; larger scenes set up in the vertex stage.
 pub const MAX_SETUP_ONCE_INSTANCES: u32 = (1 << 27) / size_of::<ShadingRecord>() as u32;
@@ -67,6 +70,10 @@ pub struct FramePlan {
 pub(crate) struct PlanInputs<'a> {
     /// The device has the compute splat's features enabled.
     pub compute_splat_features: bool,
+    /// The device's `maxStorageBufferRange` (the visibility buffer is one binding).
+    pub max_storage_buffer_range: u32,
+    /// Chunks the scene is drawn in (the splat resolves once per chunk).
+    pub chunks: u32,
     pub scene: &'a UploadedScene,
     pub settings: &'a Settings,
     pub config: DrawConfig,
@@ -81,6 +88,8 @@ impl FramePlan {
     pub(crate) fn new(inputs: PlanInputs) -> Result<Self> {
         let PlanInputs {
             compute_splat_features,
+            max_storage_buffer_range,
+            chunks,
             scene,
             settings,
             mut config,
@@ -128,6 +137,14 @@ impl FramePlan {
             && compute_splat_features
             && small_glyphs
             && areas.is_some_and(|a| a.largest <= SPLAT_MAX_GLYPH_AREA_PX)
+            // Its keys order float32 depths: the draw's test compares them in the attachment's
+            // format, which must then be float32 too to break ties the same way.
+            && matches!(
+                target.depth_format(),
+                vk::Format::D32_SFLOAT | vk::Format::D32_SFLOAT_S8_UINT
+            )
+            && 8 * camera.width as u64 * camera.height as u64 <= max_storage_buffer_range as u64
+            && chunks <= MAX_SPLAT_CHUNKS
             && scene.count > 0
             && scene.count >= settings.compute_splat_min_glyphs
             && single;
@@ -213,6 +230,8 @@ mod tests {
         };
         FramePlan::new(PlanInputs {
             compute_splat_features: features,
+            max_storage_buffer_range: 1 << 27,
+            chunks: 1,
             scene,
             settings,
             config: DrawConfig::default(),

@@ -96,7 +96,11 @@ impl EllipsoidRenderer {
                 splat: splat.map(|(pipeline, visibility, empty)| SplatStep {
                     pipeline,
                     groups: culling::dispatch_grid(count.div_ceil(SPLAT_GROUP_SIZE)),
-                    clear: (k == 0).then_some((visibility, empty)),
+                    clear: (k == 0).then_some((
+                        visibility,
+                        8 * camera.width as u64 * camera.height as u64,
+                        empty,
+                    )),
                 }),
             };
             // SAFETY: `cmd` is recording outside a pass (caller contract); every handle is

@@ -12,7 +12,7 @@ use crate::scene::Scene;
 pub(crate) struct ProjectedAreas {
     /// The mean over the sampled glyphs beyond the near plane.
     pub mean: f64,
-    /// The largest (the whole screen for one that may hold the eye).
+    /// The largest (the whole screen for one that may reach the eye plane).
     pub largest: f64,
 }
 
@@ -77,8 +77,8 @@ impl UploadedScene {
     }
 
     /// Mean and largest projected area in square pixels of the sampled glyphs on screen
-    /// beyond the near plane (a glyph whose bounding sphere holds the eye counts as the whole
-    /// screen for the largest); `None` when no sampled glyph is on screen beyond the near
+    /// beyond the near plane (a glyph whose bounding sphere reaches the eye plane counts as the
+    /// whole screen for the largest); `None` when no sampled glyph is on screen beyond the near
     /// plane.
     pub fn projected_areas(&self, camera: &Camera) -> Option<ProjectedAreas> {
         let (sx, sy) = camera.ndc_scale();
@@ -88,8 +88,9 @@ impl UploadedScene {
         let (mut sum, mut n, mut largest) = (0.0, 0usize, 0.0f64);
         for &(center, radius, area) in &self.size_sample {
             let depth = camera.view_depth(center);
-            if (center - camera.eye).length() <= radius {
-                largest = screen; // it may hold the eye: its footprint is the whole screen
+            if depth <= radius {
+                // It may reach the eye plane: its footprint is the whole screen.
+                largest = screen;
             }
             if depth <= camera.near {
                 continue;
