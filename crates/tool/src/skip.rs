@@ -51,11 +51,14 @@ pub enum Feature {
     /// Instances uploaded sorted front to back by nearest depth (for early depth rejection on
     /// hardware that has it; lavapipe has none when the shader writes depth).
     FrontToBack,
+    /// Many glyphs of a few pixels splatted by a compute pass and resolved once per pixel,
+    /// instead of drawn through the rasterizer (the other features are measured on the draw).
+    ComputeSplat,
 }
 
 impl Feature {
     /// Every feature measured.
-    pub const ALL: [Feature; 9] = [
+    pub const ALL: [Feature; 10] = [
         Feature::FrustumCulling,
         Feature::PixelCentreCulling,
         Feature::OcclusionCulling,
@@ -65,6 +68,7 @@ impl Feature {
         Feature::SmallGlyphTriangles,
         Feature::AuxOutputsOnDemand,
         Feature::FrontToBack,
+        Feature::ComputeSplat,
     ];
 
     /// Name in the `feature` column.
@@ -79,6 +83,7 @@ impl Feature {
             Feature::SmallGlyphTriangles => "small-glyph-triangles",
             Feature::AuxOutputsOnDemand => "aux-outputs-on-demand",
             Feature::FrontToBack => "front-to-back",
+            Feature::ComputeSplat => "compute-splat",
         }
     }
 
@@ -94,6 +99,7 @@ impl Feature {
             Feature::SmallGlyphTriangles => "tiny-visible",
             Feature::AuxOutputsOnDemand => "molecule",
             Feature::FrontToBack => "heavy-overlap",
+            Feature::ComputeSplat => "tiny-visible",
         }
     }
 
@@ -111,7 +117,11 @@ impl Feature {
     /// Puts the renderer in the feature's on or off state (everything else as shipped);
     /// returns the outputs timed frames draw.
     fn apply(self, renderer: &mut OffscreenRenderer, on: bool) -> Outputs {
-        let mut settings = Settings::default();
+        // The draw's features are measured on the draw: the splat would take their frames.
+        let mut settings = Settings {
+            compute_splat: false,
+            ..Settings::default()
+        };
         let mut timed = Outputs::COLOR_DEPTH;
         match self {
             Feature::FrustumCulling => settings.culling.frustum = on,
@@ -121,6 +131,7 @@ impl Feature {
             Feature::SpherePath => settings.sphere_path = on,
             Feature::CapFreePath => settings.cap_free_path = on,
             Feature::SmallGlyphTriangles => settings.small_glyph_triangles = on,
+            Feature::ComputeSplat => settings.compute_splat = on,
             Feature::AuxOutputsOnDemand if !on => timed = Outputs::ALL,
             Feature::AuxOutputsOnDemand | Feature::FrontToBack => {}
         }
