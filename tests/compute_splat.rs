@@ -169,3 +169,52 @@ fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
     finish_validated(renderer);
     let _ = DQuat::IDENTITY;
 }
+
+#[test]
+fn splat_over_several_chunks_matches_the_draw() {
+    // 1,500 tiny glyphs in 6 chunks of 256: each chunk splats into the shared visibility
+    // buffer and resolves its own pixels; ties and overlaps across chunks resolve as in one
+    // draw.
+    let (scene, camera) = tiny_glyphs();
+    let scene = Scene::new(scene.ellipsoids[..1_500].to_vec());
+    let mut renderer = validated_renderer();
+    let render = |renderer: &mut OffscreenRenderer, compute_splat: bool, chunk: u32| {
+        renderer.set_settings(Settings {
+            compute_splat,
+            compute_splat_min_glyphs: 0,
+            max_chunk_instances: chunk,
+            ..Settings::default()
+        });
+        renderer.upload(&scene).expect("upload");
+        let plan = renderer.plan(&camera).expect("plan");
+        assert_eq!(plan.compute_splat, compute_splat, "{plan:?}");
+        renderer
+            .render_uploaded(&camera, Outputs::ALL)
+            .expect("render")
+            .0
+    };
+    let drawn = render(&mut renderer, false, u32::MAX);
+    let chunked = render(&mut renderer, true, 256);
+    let whole = render(&mut renderer, true, u32::MAX);
+    let shown = drawn.id.iter().filter(|&&id| id != NO_INSTANCE).count();
+    let late = drawn
+        .id
+        .iter()
+        .filter(|&&id| id != NO_INSTANCE && id >= 256)
+        .count();
+    assert!(
+        shown > 300 && late > 200,
+        "{shown} shown, {late} from later chunks"
+    );
+    for (label, frame) in [("six chunks", &chunked), ("one chunk", &whole)] {
+        assert_eq!(frame.id, drawn.id, "{label}: IDs differ");
+        assert_eq!(frame.color, drawn.color, "{label}: colours differ");
+        let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(
+            bits(&frame.depth),
+            bits(&drawn.depth),
+            "{label}: depths differ"
+        );
+    }
+    finish_validated(renderer);
+}
