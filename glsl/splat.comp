@@ -29,6 +29,14 @@ void main() {
         return;
     }
     uint id = k;
+    if (SPLAT_FLOOR == SPLAT_FLOOR_MEMORY) {
+        // Every instance read once, nothing computed (the store never happens: radii > 0).
+        Instance inst = load_instance(id);
+        if (inst.radii.x + inst.center.x + float(inst.color) < -1e30) {
+            visibility[0] = 1ul;
+        }
+        return;
+    }
     Setup f = setup_instance(load_instance(id));
     if (f.culled) {
         return;
@@ -66,7 +74,12 @@ void main() {
             }
             uint at = uint(y) * cam.image_width + uint(x);
             uint64_t key = visibility_key(z, scene_id);
-            if (REVERSED_Z) {
+            if (SPLAT_FLOOR == SPLAT_FLOOR_ARITHMETIC) {
+                // The ray cast without the atomic (a store no key can make).
+                if (key == 0x5eed5eed5eed5eedul) {
+                    visibility[at] = key;
+                }
+            } else if (REVERSED_Z) {
                 atomicMax(visibility[at], key);
             } else {
                 atomicMin(visibility[at], key);

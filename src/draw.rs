@@ -162,6 +162,12 @@ pub enum Method {
     /// The shipped impostor always drawn through the rasterizer (`Settings::compute_splat`
     /// off).
     ImpostorDraw,
+    /// The roofline's memory floor: a compute pass that only reads every instance (frames
+    /// that would splat; nothing is drawn).
+    FloorMemory,
+    /// The roofline's arithmetic floor: the compute splat's ray casts of every pixel centre
+    /// without its atomics (frames that would splat; nothing is drawn).
+    FloorArithmetic,
     /// Oriented bounding box, ray-cast inside.
     BoxProxy,
     /// Instanced icosphere of the given level.
@@ -173,7 +179,7 @@ pub enum Method {
 #[cfg(feature = "research")]
 impl Method {
     /// Every method, in the order of the tables.
-    pub const ALL: [Method; 19] = [
+    pub const ALL: [Method; 21] = [
         Method::Impostor,
         Method::ImpostorOrientedRect,
         Method::ImpostorWorldQuad,
@@ -186,6 +192,8 @@ impl Method {
         Method::ImpostorCompact,
         Method::ImpostorCompute,
         Method::ImpostorDraw,
+        Method::FloorMemory,
+        Method::FloorArithmetic,
         Method::BoxProxy,
         Method::Mesh(0),
         Method::Mesh(1),
@@ -194,6 +202,15 @@ impl Method {
         Method::Mesh(4),
         Method::FlatFill,
     ];
+
+    /// The compute splat's floor the method measures (see `set_splat_floor`; 0: none).
+    pub fn splat_floor(self) -> u32 {
+        match self {
+            Method::FloorMemory => 1,
+            Method::FloorArithmetic => 2,
+            _ => 0,
+        }
+    }
 
     /// The name in `results.csv`.
     pub fn name(self) -> String {
@@ -210,6 +227,8 @@ impl Method {
             Method::ImpostorCompact => "impostor-compact".into(),
             Method::ImpostorCompute => "impostor-compute".into(),
             Method::ImpostorDraw => "impostor-draw".into(),
+            Method::FloorMemory => "floor-memory".into(),
+            Method::FloorArithmetic => "floor-arithmetic".into(),
             Method::BoxProxy => "box-proxy".into(),
             Method::Mesh(level) => format!("mesh-L{level}"),
             Method::FlatFill => "flat-fill".into(),
@@ -225,11 +244,13 @@ impl Method {
                 instance_format: crate::instances::InstanceFormat::Compact,
                 ..shipped
             },
-            Method::ImpostorCompute => crate::Settings {
-                compute_splat: true,
-                compute_splat_min_glyphs: 0,
-                ..shipped
-            },
+            Method::ImpostorCompute | Method::FloorMemory | Method::FloorArithmetic => {
+                crate::Settings {
+                    compute_splat: true,
+                    compute_splat_min_glyphs: 0,
+                    ..shipped
+                }
+            }
             Method::ImpostorDraw => crate::Settings {
                 compute_splat: false,
                 ..shipped
@@ -245,7 +266,9 @@ impl Method {
             Method::Impostor
             | Method::ImpostorCompact
             | Method::ImpostorCompute
-            | Method::ImpostorDraw => base,
+            | Method::ImpostorDraw
+            | Method::FloorMemory
+            | Method::FloorArithmetic => base,
             Method::ImpostorWorldQuad => DrawConfig {
                 footprint: Footprint::WorldQuad,
                 ..base

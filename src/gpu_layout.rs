@@ -198,6 +198,9 @@ pub struct SpecConstants {
     pub compact: vk::Bool32,
     /// `REVERSED_Z` (16): larger depth is nearer (the compute splat keeps the largest).
     pub reversed_z: vk::Bool32,
+    /// `SPLAT_FLOOR` (17): 0 the compute splat; the benchmark's floors: 1 only reads every
+    /// instance (memory), 2 ray casts every pixel centre without keeping hits (arithmetic).
+    pub splat_floor: u32,
 }
 
 impl Default for SpecConstants {
@@ -219,13 +222,14 @@ impl Default for SpecConstants {
             no_caps: 0,
             compact: 0,
             reversed_z: 1,
+            splat_floor: 0,
         }
     }
 }
 
 impl SpecConstants {
     /// `(constant_id, byte offset)` of every field.
-    pub const IDS: [(u32, usize); 15] = [
+    pub const IDS: [(u32, usize); 16] = [
         (0, offset_of!(SpecConstants, orthographic)),
         (2, offset_of!(SpecConstants, textbook)),
         (3, offset_of!(SpecConstants, bounds)),
@@ -241,11 +245,12 @@ impl SpecConstants {
         (14, offset_of!(SpecConstants, no_caps)),
         (15, offset_of!(SpecConstants, compact)),
         (16, offset_of!(SpecConstants, reversed_z)),
+        (17, offset_of!(SpecConstants, splat_floor)),
     ];
 
     /// The map entries of [`SpecConstants::IDS`], for a `VkSpecializationInfo` over
     /// `bytemuck::bytes_of(self)`.
-    pub fn map_entries() -> [vk::SpecializationMapEntry; 15] {
+    pub fn map_entries() -> [vk::SpecializationMapEntry; 16] {
         Self::IDS.map(|(constant_id, offset)| vk::SpecializationMapEntry {
             constant_id,
             offset: offset as u32,
@@ -279,5 +284,5 @@ const _: () = {
     assert!(offset_of!(ShadingRecord, ray_c) == 48);
     assert!(offset_of!(ShadingRecord, depth_gradient) == 64);
     assert!(offset_of!(ShadingRecord, to_normal_x) == 80);
-    assert!(size_of::<SpecConstants>() == 60);
+    assert!(size_of::<SpecConstants>() == 64);
 };

@@ -80,6 +80,8 @@ pub(crate) struct SplatKey {
     pub reversed_z: bool,
     pub spheres: bool,
     pub compact: bool,
+    /// The benchmark's floors (`SPLAT_FLOOR`; 0 the splat itself).
+    pub floor: u32,
 }
 
 impl SplatKey {
@@ -91,6 +93,7 @@ impl SplatKey {
             reversed_z: plan.reversed_z,
             spheres: plan.spheres,
             compact: plan.compact,
+            floor: 0,
         }
     }
 
@@ -101,6 +104,7 @@ impl SplatKey {
             reversed_z: self.reversed_z as u32,
             spheres: self.spheres as u32,
             compact: self.compact as u32,
+            splat_floor: self.floor,
             ..SpecConstants::default()
         }
     }

@@ -103,6 +103,12 @@ layout(constant_id = 13) const bool SPHERES = false;
 layout(constant_id = 14) const bool NO_CAPS = false;       // nothing reaches the near plane
 layout(constant_id = 15) const bool COMPACT = false;       // instances are CompactInstance
 layout(constant_id = 16) const bool REVERSED_Z = true;     // larger depth is nearer
+// The benchmark's floors of the compute splat: 1 reads every instance and nothing else, 2 ray
+// casts every pixel centre but keeps no hit.
+const int SPLAT_FLOOR_NONE = 0;
+const int SPLAT_FLOOR_MEMORY = 1;
+const int SPLAT_FLOOR_ARITHMETIC = 2;
+layout(constant_id = 17) const int SPLAT_FLOOR = SPLAT_FLOOR_NONE;
 
 #if defined(CULL_PASS) || defined(SPLAT_PASS)
 // The culled draw's `VkDrawIndirectCommand` followed by the number of instances in the chunk

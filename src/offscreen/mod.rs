@@ -164,6 +164,13 @@ impl OffscreenRenderer {
         self.renderer_mut().set_draw_config(config);
     }
 
+    /// Replaces the compute splat by one of its floors (see
+    /// [`EllipsoidRenderer::set_splat_floor`]).
+    #[cfg(feature = "research")]
+    pub fn set_splat_floor(&mut self, floor: u32) {
+        self.renderer_mut().set_splat_floor(floor);
+    }
+
     /// With `true`, read-back frames run the counting shader builds and report
     /// `FrameTiming::shaded_fragments` (needs `fragmentStoresAndAtomics`).
     #[cfg(feature = "research")]

@@ -117,6 +117,8 @@ pub struct EllipsoidRenderer {
     config: DrawConfig,
     /// Fragment shaders count shaded pixels (the benchmark's measuring aid).
     count_fragments: bool,
+    /// The benchmark's floor of the compute splat (0: the splat itself).
+    splat_floor: u32,
     #[cfg(feature = "research")]
     meshes: research::Meshes,
     /// `destroy` ran (a renderer dropped without it leaks its Vulkan objects, and says so).
@@ -171,6 +173,7 @@ impl EllipsoidRenderer {
             prepared: None,
             config: DrawConfig::default(),
             count_fragments: false,
+            splat_floor: 0,
             #[cfg(feature = "research")]
             meshes: research::Meshes::default(),
             destroyed: false,

@@ -52,7 +52,11 @@ impl EllipsoidRenderer {
             )?;
         }
         let splat = if plan.compute_splat {
-            let pipeline = self.pipelines.splat(device, SplatKey::of(&plan))?;
+            let key = SplatKey {
+                floor: self.splat_floor,
+                ..SplatKey::of(&plan)
+            };
+            let pipeline = self.pipelines.splat(device, key)?;
             let empty = if plan.reversed_z { 0 } else { u32::MAX };
             Some((pipeline, self.buffers.handle(Binding::Visibility)?, empty))
         } else {

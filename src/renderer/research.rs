@@ -27,6 +27,13 @@ impl EllipsoidRenderer {
         self.config
     }
 
+    /// Replaces the compute splat by one of its floors, for the benchmark's roofline: 1 reads
+    /// every instance and nothing else, 2 ray casts every pixel centre without the atomics
+    /// (and neither resolves); 0 is the splat itself. Frames that do not splat are unchanged.
+    pub fn set_splat_floor(&mut self, floor: u32) {
+        self.splat_floor = floor.min(2);
+    }
+
     /// Counts shaded pixels with an atomic in separate builds of the fragment shaders (needs
     /// `fragmentStoresAndAtomics`); their arithmetic may round differently from the shipped
     /// ones.

@@ -500,6 +500,40 @@ pub fn check_targets(results: &[BenchResult]) -> Vec<TargetCheck> {
         },
         holds: !flat_ratio.is_empty() && flat_ratio.iter().all(|f| f.1 >= 0.5),
     });
+    // The roofline: the shipped renderer against the compute splat's floors on the 2 px
+    // clouds (a pass that only reads every instance; the ray casts without the atomics).
+    let floor_of = |method: Method, r: &BenchResult| {
+        results
+            .iter()
+            .find(|f| f.method == method && f.scene == r.scene && f.count == r.count)
+            .map(|f| r.wall_ms / f.wall_ms)
+    };
+    let roofline: Vec<(String, f64, f64)> = results
+        .iter()
+        .filter(|r| r.method == Method::Impostor && r.size_px == 2.0)
+        .filter_map(|r| {
+            let memory = floor_of(Method::FloorMemory, r)?;
+            let arithmetic = floor_of(Method::FloorArithmetic, r)?;
+            Some((format!("{} ({})", r.scene, r.count), memory, arithmetic))
+        })
+        .collect();
+    checks.push(TargetCheck {
+        target: "impostor within 3x of the arithmetic floor on 2 px clouds of 1e5 and more".into(),
+        measured: if roofline.is_empty() {
+            "floors not measured".into()
+        } else {
+            roofline
+                .iter()
+                .map(|(s, m, a)| format!("{s}: {a:.2}x arithmetic, {m:.2}x memory floor"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        },
+        holds: roofline
+            .iter()
+            .filter(|(s, _, _)| !s.ends_with("(1000)") && !s.ends_with("(10000)"))
+            .all(|(_, _, a)| *a <= 3.0)
+            && !roofline.is_empty(),
+    });
     // At most linear scaling: time per ellipsoid at the largest count at most 2x that at the
     // smallest count >= 1e4 (below that, fixed per-frame costs dominate). Less is better:
     // the shipped mix switches to the compute splat for many small glyphs.
@@ -674,6 +708,7 @@ fn use_method(
         renderer.upload(scene)?;
     }
     renderer.set_draw_config(method.config());
+    renderer.set_splat_floor(method.splat_floor());
     Ok(())
 }
 
