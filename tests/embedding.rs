@@ -173,16 +173,24 @@ struct SecondFrame {
     update: Ellipsoid,
 }
 
-/// Renders the setup into a host target and returns the resolved RGBA8 pixels. With `second`,
-/// the same command buffer then records a second frame, whose picture is returned.
-fn render(
+/// The host's side of a test frame: its target, the mesh plane's pipeline, the matrices, the
+/// camera they make and the pass the renderer draws into.
+struct HostScene {
+    target: HostTarget,
+    mesh: MeshPipeline,
+    view: DMat4,
+    projection: DMat4,
+    camera: Camera,
+    pass: Pass,
+}
+
+fn host_scene(
     host: &mut Host,
     setup: &Setup,
     kind: TargetKind,
     depth: DepthKind,
     samples: vk::SampleCountFlags,
-    second: Option<&SecondFrame>,
-) -> (Vec<u8>, Camera) {
+) -> HostScene {
     let target = HostTarget::new(host, kind, depth, samples, WIDTH, HEIGHT).unwrap();
     let plane = host::tilted_plane(setup.plane_point, setup.plane_normal, 60.0, [0.0, 1.0, 0.0]);
     let mesh = MeshPipeline::new(host, &target, &plane).unwrap();
@@ -200,6 +208,34 @@ fn render(
             depth_format: HostTarget::DEPTH_FORMAT,
         },
     };
+    HostScene {
+        target,
+        mesh,
+        view,
+        projection,
+        camera,
+        pass,
+    }
+}
+
+/// Renders the setup into a host target and returns the resolved RGBA8 pixels. With `second`,
+/// the same command buffer then records a second frame, whose picture is returned.
+fn render(
+    host: &mut Host,
+    setup: &Setup,
+    kind: TargetKind,
+    depth: DepthKind,
+    samples: vk::SampleCountFlags,
+    second: Option<&SecondFrame>,
+) -> (Vec<u8>, Camera) {
+    let HostScene {
+        target,
+        mesh,
+        view,
+        projection,
+        camera,
+        pass,
+    } = host_scene(host, setup, kind, depth, samples);
     let options = RendererOptions {
         target: Target {
             pass,
@@ -490,23 +526,14 @@ fn render_small_glyphs(
 ) -> (Vec<u8>, bool) {
     let setup = Setup::new([1.0, 0.0, 0.0]);
     let samples = vk::SampleCountFlags::TYPE_1;
-    let target = HostTarget::new(host, kind, depth, samples, WIDTH, HEIGHT).unwrap();
-    let plane = host::tilted_plane(setup.plane_point, setup.plane_normal, 60.0, [0.0, 1.0, 0.0]);
-    let mesh = MeshPipeline::new(host, &target, &plane).unwrap();
-    let (view, projection) = (setup.view(), setup.projection(depth));
-    let camera = Camera::from_view_projection(view, projection, WIDTH, HEIGHT).unwrap();
-    let pass = match kind {
-        TargetKind::Dynamic => Pass::Dynamic {
-            color_formats: vec![HostTarget::COLOR_FORMAT],
-            depth_format: HostTarget::DEPTH_FORMAT,
-        },
-        TargetKind::RenderPass => Pass::RenderPass {
-            render_pass: target.render_pass(),
-            subpass: 0,
-            color_attachment_count: 1,
-            depth_format: HostTarget::DEPTH_FORMAT,
-        },
-    };
+    let HostScene {
+        target,
+        mesh,
+        view,
+        projection,
+        camera,
+        pass,
+    } = host_scene(host, &setup, kind, depth, samples);
     let options = RendererOptions {
         settings: Settings {
             compute_splat,

@@ -4,26 +4,19 @@
 // - SETUP_HERE: globals the includer fills from a Setup it computes itself with use_setup
 //   (the compute splat and its resolve, which need instance_setup.glsl first);
 // - otherwise: the flat varyings of the vertex stage (include/instance_setup.glsl).
-#if defined(SETUP_HERE)
+#if defined(SETUP_HERE) || defined(SETUP_ONCE)
 vec3 v_ray_x, v_ray_y, v_ray_c;
 vec2 v_ray_origin;
 vec4 v_k, v_depth, v_misc;
 mat3 v_to_normal;
 uint v_flags;
 vec3 v_color;
+#endif
 
+#if defined(SETUP_HERE)
 // Takes the set-up `s` as the vertex stage hands it down.
 void use_setup(Setup s) {
-    v_ray_x = s.ray_x;
-    v_ray_y = s.ray_y;
-    v_ray_c = s.ray_c;
-    v_ray_origin = s.ray_origin;
-    v_k = s.k;
-    v_depth = s.depth;
-    v_misc = s.misc;
-    v_to_normal = s.to_normal;
-    v_flags = s.flags;
-    v_color = srgb_to_linear(unpackUnorm4x8(s.color).rgb);
+    HAND_DOWN_SETUP(s);
 }
 
 void load_setup() {}
@@ -31,12 +24,6 @@ void load_shading() {}
 #elif defined(SETUP_ONCE)
 #define SETUP_ONCE_FRAGMENT
 #include "setup_records.glsl"
-vec3 v_ray_x, v_ray_y, v_ray_c;
-vec2 v_ray_origin;
-vec4 v_k, v_depth, v_misc;
-mat3 v_to_normal;
-uint v_flags;
-vec3 v_color;
 
 // What the hit test needs (see store_setup for the layout and the derived values).
 void load_setup() {

@@ -35,15 +35,6 @@ void main() {
 #else
     Setup s = setup_instance(load_instance(id));
     gl_Position = corner_position(s, gl_VertexIndex);
-    v_ray_x = s.ray_x;
-    v_ray_y = s.ray_y;
-    v_ray_c = s.ray_c;
-    v_ray_origin = s.ray_origin;
-    v_k = s.k;
-    v_depth = s.depth;
-    v_misc = s.misc;
-    v_to_normal = s.to_normal;
-    v_flags = s.flags;
-    v_color = srgb_to_linear(unpackUnorm4x8(s.color).rgb);
+    HAND_DOWN_SETUP(s);
 #endif
 }

@@ -35,6 +35,20 @@ struct Setup {
     uint color;          // sRGB-encoded RGBA8
 };
 
+// Hands `s` down to the v_* variables the hit reads (flat varyings in the vertex stage,
+// globals where a pass computes the set-up itself): one list for both.
+#define HAND_DOWN_SETUP(s) \
+    v_ray_x = s.ray_x; \
+    v_ray_y = s.ray_y; \
+    v_ray_c = s.ray_c; \
+    v_ray_origin = s.ray_origin; \
+    v_k = s.k; \
+    v_depth = s.depth; \
+    v_misc = s.misc; \
+    v_to_normal = s.to_normal; \
+    v_flags = s.flags; \
+    v_color = srgb_to_linear(unpackUnorm4x8(s.color).rgb)
+
 // Orthonormal basis with the given unit z (Duff et al. 2017, branchless).
 void frame_from_z(vec3 z, out vec3 x, out vec3 y) {
     float s = z.z >= 0.0 ? 1.0 : -1.0;
