@@ -95,7 +95,7 @@ fn main() -> Result<()> {
     // 2. A device with a graphics+compute queue and the renderer's features.
     // SAFETY: queries of a live instance about a device it enumerated.
     let (physical, families) = unsafe {
-        let physical = instance.enumerate_physical_devices()?[0];
+        let physical = *instance.enumerate_physical_devices()?.first().ok_or("no Vulkan device")?;
         (physical, instance.get_physical_device_queue_family_properties(physical))
     };
     let wanted = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;

@@ -194,7 +194,10 @@ impl Prepass {
                 }
             }
             if let Some(splat) = &self.splat {
-                barriers::PREPASS_STEP.record(device, cmd);
+                // After culling steps (none run in splat frames today) their writes first.
+                if !self.steps.is_empty() {
+                    barriers::PREPASS_STEP.record(device, cmd);
+                }
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, splat.pipeline);
                 device.cmd_dispatch(cmd, splat.groups.0, splat.groups.1, 1);
             }

@@ -173,6 +173,20 @@ struct SecondFrame {
     update: Ellipsoid,
 }
 
+/// The renderer on the host's device with `options`.
+fn new_renderer(host: &mut Host, options: RendererOptions) -> EllipsoidRenderer {
+    let handles = host.handles();
+    let host_device = HostDevice {
+        instance: handles.instance,
+        physical_device: handles.physical_device,
+        device: handles.device,
+        queue_family_index: handles.queue_family,
+    };
+    // SAFETY: the host's handles belong together and enable the required features (and the
+    // compute splat's where `Host::int64_atomics` says so, which the options then declare).
+    unsafe { EllipsoidRenderer::new(&host_device, handles.allocator, options) }.unwrap()
+}
+
 /// The host's side of a test frame: its target, the mesh plane's pipeline, the matrices, the
 /// camera they make and the pass the renderer draws into.
 struct HostScene {
@@ -254,16 +268,7 @@ fn render(
         },
         compute_splat_features: false,
     };
-    let handles = host.handles();
-    let host_device = HostDevice {
-        instance: handles.instance,
-        physical_device: handles.physical_device,
-        device: handles.device,
-        queue_family_index: handles.queue_family,
-    };
-    // SAFETY: the host's handles belong together and enable the required features.
-    let mut renderer =
-        unsafe { EllipsoidRenderer::new(&host_device, handles.allocator, options) }.unwrap();
+    let mut renderer = new_renderer(host, options);
     let scene = Scene::new(vec![setup.glyph]);
     let cmd = host.begin().unwrap();
     let (device, allocator) = host.device_and_allocator();
@@ -477,16 +482,7 @@ fn an_upload_between_pre_pass_and_draw_is_refused() {
         vk::Format::R8G8B8A8_SRGB,
         HostTarget::DEPTH_FORMAT,
     ));
-    let handles = host.handles();
-    let host_device = HostDevice {
-        instance: handles.instance,
-        physical_device: handles.physical_device,
-        device: handles.device,
-        queue_family_index: handles.queue_family,
-    };
-    // SAFETY: the host's handles belong together and enable the required features.
-    let mut renderer =
-        unsafe { EllipsoidRenderer::new(&host_device, handles.allocator, options) }.unwrap();
+    let mut renderer = new_renderer(&mut host, options);
     let setup = Setup::new([1.0, 0.0, 0.0]);
     let scene = Scene::new(vec![setup.glyph]);
     let camera =
@@ -562,17 +558,7 @@ fn render_small_glyphs(
         })
         .collect();
     let scene = Scene::new(glyphs);
-    let handles = host.handles();
-    let host_device = HostDevice {
-        instance: handles.instance,
-        physical_device: handles.physical_device,
-        device: handles.device,
-        queue_family_index: handles.queue_family,
-    };
-    // SAFETY: the host's handles belong together and enable the required features (and the
-    // splat's where `int64_atomics` says so).
-    let mut renderer =
-        unsafe { EllipsoidRenderer::new(&host_device, handles.allocator, options) }.unwrap();
+    let mut renderer = new_renderer(host, options);
     let cmd = host.begin().unwrap();
     let (device, allocator) = host.device_and_allocator();
     // SAFETY: `cmd` is recording; upload and pre-pass outside the pass, the draw (or resolve)

@@ -279,12 +279,12 @@ impl OffscreenRenderer {
         let counting =
             readback && self.count_fragments && self.context.info().fragment_stores_and_atomics;
         {
-            // Pipelines and meshes are made before recording, never inside a timed frame.
+            // Recording builds any pipeline the frame needs (the plan decides once, in
+            // `record_prepass`); the timed part is submit to fence.
             let renderer = self
                 .renderer
                 .as_mut()
                 .expect("renderer exists after construction");
-            let (device, allocator) = self.context.device_and_allocator();
             // SAFETY: the offscreen targets are dynamic rendering: no render pass to outlive.
             unsafe { renderer.set_target(target(outputs.aux()))? };
             #[cfg(feature = "research")]
@@ -292,8 +292,6 @@ impl OffscreenRenderer {
                 renderer.set_count_fragments(counting);
                 renderer.reset_fragment_counter()?;
             }
-            // SAFETY: the renderer was made on this context's device and allocator.
-            unsafe { renderer.prepare_for(device, allocator, camera)? };
         }
         self.record(camera, extent, outputs, readback)?;
         let start = Instant::now();

@@ -16,14 +16,14 @@ use super::push::push_constants;
 use super::EllipsoidRenderer;
 
 impl EllipsoidRenderer {
-    /// Creates what a frame with `plan` draws with (the pipeline, and a baseline's mesh)
-    /// ahead of `record`, so recording itself allocates nothing.
+    /// Creates what a frame with `plan` draws with (the pipeline, and a baseline's mesh),
+    /// or finds it made; returns the draw's pipeline.
     pub(crate) fn prepare(
         &mut self,
         device: &ash::Device,
         allocator: &mut Allocator,
         plan: &FramePlan,
-    ) -> Result<()> {
+    ) -> Result<vk::Pipeline> {
         #[cfg(feature = "research")]
         if let Geometry::Mesh(level) = plan.config.geometry {
             self.meshes.ensure(device, allocator, level)?;
@@ -31,9 +31,7 @@ impl EllipsoidRenderer {
         #[cfg(not(feature = "research"))]
         let _ = allocator;
         let target = &self.targets[plan.target];
-        self.pipelines
-            .draw(device, PipelineKey::of(plan), target)
-            .map(|_| ())
+        self.pipelines.draw(device, PipelineKey::of(plan), target)
     }
 
     /// Creates the pipeline of a frame with `camera` now, so the first `record` with it
@@ -48,7 +46,7 @@ impl EllipsoidRenderer {
         camera: &Camera,
     ) -> Result<()> {
         let plan = self.plan(camera)?;
-        self.prepare(device, allocator, &plan)
+        self.prepare(device, allocator, &plan).map(|_| ())
     }
 
     /// Records the draw into `cmd`, inside the host's pass. Sets viewport and scissor to the
@@ -98,11 +96,7 @@ impl EllipsoidRenderer {
                 plan
             }
         };
-        self.prepare(device, allocator, &plan)?;
-        let key = PipelineKey::of(&plan);
-        let pipeline = self
-            .pipelines
-            .draw(device, key, &self.targets[plan.target])?;
+        let pipeline = self.prepare(device, allocator, &plan)?;
         let sets = self.descriptor_sets(device)?;
         let viewport = vk::Viewport {
             x: 0.0,
