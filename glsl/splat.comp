@@ -64,6 +64,7 @@ void main() {
         hi = min(hi, ivec2(floor(clamp(px_hi, vec2(-2.0), vec2(size) + 2.0) - 0.5)));
     }
     uint scene_id = id + cam.first_instance;
+    bool any_hit = false;
     for (int y = lo.y; y <= hi.y; y++) {
         for (int x = lo.x; x <= hi.x; x++) {
             float z;
@@ -72,6 +73,7 @@ void main() {
             if (!impostor_depth(vec2(float(x) + 0.5, float(y) + 0.5), z, normal, cap)) {
                 continue;
             }
+            any_hit = true;
             uint at = uint(y) * cam.image_width + uint(x);
             uint64_t key = visibility_key(z, scene_id);
             if (SPLAT_FLOOR == SPLAT_FLOOR_ARITHMETIC) {
@@ -83,6 +85,16 @@ void main() {
                 atomicMax(visibility[at], key);
             } else {
                 atomicMin(visibility[at], key);
+            }
+        }
+    }
+    if (any_hit && SPLAT_FLOOR == SPLAT_FLOOR_NONE) {
+        // The tiles the glyph's box touches get resolved (any glyph marking one writes the
+        // same word, so plain stores suffice).
+        uvec2 t_lo = uvec2(lo) / RESOLVE_TILE, t_hi = uvec2(hi) / RESOLVE_TILE;
+        for (uint ty = t_lo.y; ty <= t_hi.y; ty++) {
+            for (uint tx = t_lo.x; tx <= t_hi.x; tx++) {
+                visibility[resolve_tile_word(ty * resolve_tiles_x() + tx)] = ~visibility_empty();
             }
         }
     }

@@ -163,6 +163,23 @@ pub struct ShadingRecord {
     pub color_b: f32,
 }
 
+/// Side in pixels of the compute splat's resolve tiles (GLSL `RESOLVE_TILE`): the resolve
+/// draws one square per tile that a splatted glyph touched, so the pixels no glyph covers
+/// cost nothing.
+pub const RESOLVE_TILE: u32 = 32;
+
+/// Bytes of the compute splat's visibility buffer for a `width` x `height` image (GLSL
+/// `Visibility`): one 64-bit key per pixel, row-major, then one 64-bit word per resolve tile,
+/// row-major, saying whether a glyph touched it.
+pub fn visibility_bytes(width: u32, height: u32) -> u64 {
+    8 * (width as u64 * height as u64 + resolve_tiles(width, height) as u64)
+}
+
+/// Resolve tiles of a `width` x `height` image (the resolve draws one instance per tile).
+pub fn resolve_tiles(width: u32, height: u32) -> u32 {
+    width.div_ceil(RESOLVE_TILE) * height.div_ceil(RESOLVE_TILE)
+}
+
 /// The specialization constants of every pipeline (GLSL `layout(constant_id = N)` in
 /// `gpu_layout.glsl`; ids in [`SpecConstants::IDS`]). Each stage reads those it declares.
 #[repr(C)]

@@ -1,5 +1,5 @@
 //! The compute splat draws exactly what the instanced draw draws: on scenes of glyphs of a
-//! few pixels (where the plan splats them), colour, depth, normal and instance ID are compared
+//! few pixels and of tens to hundreds of pixels many layers deep, colour, depth, normal and instance ID are compared
 //! bit for bit with the draw, in perspective and orthographic views, with the near plane
 //! cutting glyphs, in standard and reversed depth, with compact instances, and where glyphs
 //! tie exactly in depth (the lower instance must win, as in the draw).
@@ -30,7 +30,7 @@ fn assert_splat_matches_draw(
     renderer.set_settings(settings(false));
     renderer.upload(scene).expect("upload");
     let plan = renderer.plan(camera).expect("plan");
-    assert!(plan.setup_once && !plan.compute_splat, "{name}: {plan:?}");
+    assert!(!plan.compute_splat, "{name}: {plan:?}");
     let drawn = renderer
         .render_uploaded(camera, Outputs::ALL)
         .expect("draw")
@@ -122,6 +122,58 @@ fn splat_matches_the_draw_bit_for_bit() {
         "no glyph reaches the near plane"
     );
     assert_splat_matches_draw(&mut renderer, "near-plane cut", &small, &inside, full);
+    finish_validated(renderer);
+}
+
+/// Glyphs of tens to hundreds of pixels, many layers deep, in an image whose sides are no
+/// multiple of the resolve tile (its last row and column of tiles are partial): the splat,
+/// not set up once, still matches the draw bit for bit.
+#[test]
+fn medium_glyphs_many_layers_deep_match_the_draw_bit_for_bit() {
+    let mut renderer = validated_renderer();
+    let camera = Camera::look_at(
+        DVec3::new(3.0, -2.0, 24.0),
+        DVec3::ZERO,
+        45.0,
+        1.0,
+        333,
+        250,
+    )
+    .unwrap();
+    let scene = random_cloud(6_000, 23, 10.0, 0.5);
+    renderer.upload(&scene).expect("upload");
+    let plan = renderer.plan(&camera).expect("plan");
+    let area = plan.mean_area_px.expect("glyphs on screen");
+    assert!(area > 50.0, "mean glyph area {area} px");
+    assert!(!plan.setup_once, "{plan:?}");
+    let full = InstanceFormat::Full;
+    assert_splat_matches_draw(&mut renderer, "medium perspective", &scene, &camera, full);
+    let ortho = Camera {
+        projection: Projection::Orthographic { height: 20.0 },
+        ..camera
+    };
+    assert_splat_matches_draw(&mut renderer, "medium orthographic", &scene, &ortho, full);
+    let standard = camera
+        .with_depth(DepthConvention::STANDARD_INFINITE)
+        .expect("depth convention");
+    assert_splat_matches_draw(
+        &mut renderer,
+        "medium standard depth",
+        &scene,
+        &standard,
+        full,
+    );
+    // The near plane cuts the nearest glyphs.
+    let inside = Camera::look_at(DVec3::new(0.5, 0.2, 7.0), DVec3::ZERO, 60.0, 5.5, 333, 250)
+        .expect("camera");
+    let cut = random_cloud(6_000, 24, 5.0, 0.25);
+    assert!(
+        cut.ellipsoids
+            .iter()
+            .any(|e| inside.view_depth(e.center) < inside.near + e.radii.max_element()),
+        "no glyph reaches the near plane"
+    );
+    assert_splat_matches_draw(&mut renderer, "medium near-plane cut", &cut, &inside, full);
     finish_validated(renderer);
 }
 

@@ -1,5 +1,7 @@
-// The compute splat's visibility buffer (binding 8): per pixel, row-major, the nearest hit as
-// one 64-bit key, the depth-buffer value's bits above the instance's. Depth values in [0, 1]
+// The compute splat's visibility buffer (binding 8, `visibility_bytes` in src/gpu_layout.rs):
+// per pixel, row-major, the nearest hit as one 64-bit key, the depth-buffer value's bits above
+// the instance's; then per RESOLVE_TILE-pixel square tile, row-major, a word that is empty
+// until a glyph with a hit in the tile marks it (the resolve draws marked tiles only). Depth values in [0, 1]
 // order like their bits, so the nearest hit has the largest key under reversed Z (atomicMax
 // from 0) and the smallest under standard Z (atomicMin from all ones). The instance bits are
 // inverted under reversed Z, so of two equal depths the lower instance wins, as in the draw
@@ -16,6 +18,9 @@ layout(std430, set = 0, binding = 8) VISIBILITY_ACCESS buffer Visibility {
     uint64_t visibility[];
 };
 
+// Side of a resolve tile in pixels (`RESOLVE_TILE` in src/gpu_layout.rs).
+const uint RESOLVE_TILE = 32u;
+
 // The key of a pixel no instance shows (the clear value).
 uint64_t visibility_empty() {
     return REVERSED_Z ? 0ul : ~0ul;
@@ -30,4 +35,14 @@ uint64_t visibility_key(float z, uint id) {
 uint visibility_id(uint64_t key) {
     uint low = uint(key);
     return REVERSED_Z ? ~low : low;
+}
+
+// Resolve tiles per row of the image.
+uint resolve_tiles_x() {
+    return (cam.image_width + RESOLVE_TILE - 1u) / RESOLVE_TILE;
+}
+
+// Where tile `t` (row-major) keeps its word.
+uint resolve_tile_word(uint t) {
+    return cam.image_width * cam.image_height + t;
 }

@@ -58,9 +58,11 @@ impl Binding {
             Binding::IndirectDraw | Binding::CullGroups | Binding::OcclusionTiles => {
                 vk::ShaderStageFlags::COMPUTE
             }
-            Binding::ShadingRecords | Binding::Visibility => {
+            Binding::ShadingRecords => {
                 vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT
             }
+            // The resolve's vertex stage reads the tile words, its fragment stage the keys.
+            Binding::Visibility => vertex_and_compute | vk::ShaderStageFlags::FRAGMENT,
         }
     }
 

@@ -6,6 +6,7 @@ use gpu_allocator::vulkan::Allocator;
 use crate::camera::Camera;
 use crate::draw::Geometry;
 use crate::error::{Error, Result};
+use crate::gpu_layout::resolve_tiles;
 use crate::pipeline::PipelineKey;
 
 use super::buffers::Binding;
@@ -149,11 +150,14 @@ impl EllipsoidRenderer {
                     bytemuck::bytes_of(&push),
                 );
                 match plan.config.geometry {
-                    // The resolve: one triangle over the image shades the pixels whose nearest
-                    // hit is one of this chunk's glyphs.
+                    // The resolve: a square per resolve tile shades the pixels whose nearest
+                    // hit is one of this chunk's glyphs (the tiles no glyph marked are empty).
                     // (The benchmark's floors measure the splat alone: no resolve.)
                     Geometry::Impostor if plan.compute_splat && self.splat_floor != 0 => {}
-                    Geometry::Impostor if plan.compute_splat => device.cmd_draw(cmd, 3, 1, 0, 0),
+                    Geometry::Impostor if plan.compute_splat => {
+                        let tiles = resolve_tiles(camera.width, camera.height);
+                        device.cmd_draw(cmd, 6, tiles, 0, 0)
+                    }
                     Geometry::Impostor if plan.prepass => {
                         let offset = k as u64 * SLICE_ALIGN;
                         let stride = size_of::<vk::DrawIndirectCommand>() as u32;

@@ -335,7 +335,7 @@ impl EllipsoidRenderer {
             (
                 Binding::Visibility,
                 if visibility {
-                    8 * extent.0 as u64 * extent.1 as u64
+                    crate::gpu_layout::visibility_bytes(extent.0, extent.1)
                 } else {
                     8
                 },

@@ -8,7 +8,7 @@ use crate::camera::Camera;
 use crate::culling::Culling;
 use crate::draw::{DrawConfig, Footprint, Geometry, Intersection, Shading};
 use crate::error::{Error, Result};
-use crate::gpu_layout::ShadingRecord;
+use crate::gpu_layout::{visibility_bytes, ShadingRecord};
 use crate::instances::InstanceFormat;
 use crate::settings::Settings;
 use crate::target::Target;
@@ -106,7 +106,9 @@ impl FramePlan {
         }
         let areas = scene.projected_areas(camera);
         let mean_area_px = areas.map(|a| a.mean);
-        if config.footprint == Footprint::Auto {
+        // The benchmark's footprint variants measure the draw: only the shipped choice splats.
+        let auto_footprint = config.footprint == Footprint::Auto;
+        if auto_footprint {
             config.footprint = match Footprint::for_area(mean_area_px.unwrap_or(0.0)) {
                 Footprint::Triangle if !settings.small_glyph_triangles => Footprint::OrientedRect,
                 chosen => chosen,
@@ -131,11 +133,13 @@ impl FramePlan {
             pixel_centres: settings.culling.pixel_centres && single,
             ..settings.culling
         };
-        // The compute splat takes glyphs of a few pixels when there are enough of them to pay
-        // for its fixed cost, on devices with its features and single-sample targets.
+        // The compute splat takes scenes of many glyphs, none large, on devices with its
+        // features and single-sample targets: enough glyphs pay for its fixed cost (clearing
+        // and resolving), and it beats the draw at every glyph size up to its limit (README).
         let compute_splat = settings.compute_splat
             && compute_splat_features
-            && small_glyphs
+            && exact_impostor
+            && auto_footprint
             && areas.is_some_and(|a| a.largest <= SPLAT_MAX_GLYPH_AREA_PX)
             // Its keys order float32 depths: the draw's test compares them in the attachment's
             // format, which must then be float32 too to break ties the same way.
@@ -143,7 +147,7 @@ impl FramePlan {
                 target.depth_format(),
                 vk::Format::D32_SFLOAT | vk::Format::D32_SFLOAT_S8_UINT
             )
-            && 8 * camera.width as u64 * camera.height as u64 <= max_storage_buffer_range as u64
+            && visibility_bytes(camera.width, camera.height) <= max_storage_buffer_range as u64
             && chunks <= MAX_SPLAT_CHUNKS
             && scene.count > 0
             && scene.count >= settings.compute_splat_min_glyphs
@@ -190,6 +194,11 @@ mod tests {
     /// 60,000 glyphs of about a pixel in a 10-unit cube, seen from 40 units at 640x480;
     /// with `big`, the first is a sphere of radius 4 (about 10,000 pixels).
     fn tiny_scene(big: bool) -> (UploadedScene, Camera) {
+        scene_of(big, 1.0)
+    }
+
+    /// As `tiny_scene`, with semi-axes `scale` times larger.
+    fn scene_of(big: bool, scale: f64) -> (UploadedScene, Camera) {
         let mut glyphs: Vec<Ellipsoid> = (0..60_000)
             .map(|k| {
                 let t = k as f64;
@@ -198,8 +207,8 @@ mod tests {
                     (t * 0.414_214).fract() * 10.0 - 5.0,
                     (t * 0.732_051).fract() * 10.0 - 5.0,
                 );
-                Ellipsoid::new(centre, DVec3::new(0.02, 0.015, 0.01), DQuat::IDENTITY, None)
-                    .unwrap()
+                let radii = DVec3::new(0.02, 0.015, 0.01) * scale;
+                Ellipsoid::new(centre, radii, DQuat::IDENTITY, None).unwrap()
             })
             .collect();
         if big {
@@ -288,5 +297,39 @@ mod tests {
             "{mixed:?}"
         );
         assert!(!mixed.compute_splat, "{mixed:?}");
+        // Glyphs of tens of pixels splat too (never set up once)...
+        let (medium, camera) = scene_of(false, 20.0);
+        let plan_medium = plan(&medium, &camera, one, true, &shipped);
+        let area = plan_medium.mean_area_px.unwrap();
+        assert!(area > 4.0 * SETUP_ONCE_MAX_AREA_PX, "{plan_medium:?}");
+        assert!(
+            plan_medium.compute_splat && !plan_medium.setup_once,
+            "{plan_medium:?}"
+        );
+        // ...but not when a benchmark variant picks the footprint: that measures the draw.
+        let target = Target {
+            pass: Pass::Dynamic {
+                color_formats: vec![vk::Format::R8G8B8A8_SRGB],
+                depth_format: vk::Format::D32_SFLOAT,
+            },
+            samples: one,
+            aux_outputs: false,
+        };
+        let hexagon = FramePlan::new(PlanInputs {
+            compute_splat_features: true,
+            max_storage_buffer_range: 1 << 27,
+            chunks: 1,
+            scene: &medium,
+            settings: &shipped,
+            config: DrawConfig {
+                footprint: Footprint::Hexagon,
+                ..DrawConfig::default()
+            },
+            count_fragments: false,
+            target: (0, &target),
+            camera: &camera,
+        })
+        .unwrap();
+        assert!(!hexagon.compute_splat, "{hexagon:?}");
     }
 }

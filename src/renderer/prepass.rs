@@ -6,7 +6,7 @@ use gpu_allocator::vulkan::Allocator;
 use crate::camera::Camera;
 use crate::culling::{self, Prepass, PrepassBuffers, SplatStep, SPLAT_GROUP_SIZE};
 use crate::error::Result;
-use crate::gpu_layout::IndirectDraw;
+use crate::gpu_layout::{visibility_bytes, IndirectDraw};
 use crate::pipeline::{CullKey, SplatKey};
 
 use super::buffers::Binding;
@@ -102,7 +102,7 @@ impl EllipsoidRenderer {
                     groups: culling::dispatch_grid(count.div_ceil(SPLAT_GROUP_SIZE)),
                     clear: (k == 0).then_some((
                         visibility,
-                        8 * camera.width as u64 * camera.height as u64,
+                        visibility_bytes(camera.width, camera.height),
                         empty,
                     )),
                 }),
