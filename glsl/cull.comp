@@ -21,10 +21,12 @@
 #include "setup_records.glsl"
 #include "occlusion_tiles.glsl"
 
+#include "cull_groups.glsl"
+
 // The workgroup size, named here rather than read from gl_WorkGroupSize (a built-in SPIR-V
-// 1.6 deprecates).
+// 1.6 deprecates): one group of instances.
 layout(local_size_x = 256) in;
-const uint GROUP = 256u;
+const uint GROUP = CULL_GROUP;
 
 // CLASSIFY also computes each kept instance's set-up for the SETUP_ONCE impostor stages.
 const int STEP_OCCLUDERS = 0;
@@ -35,11 +37,6 @@ const int STEP_SCATTER = 3;
 layout(std430, set = 0, binding = 2) writeonly buffer Visible {
     uint visible[];
 };
-// Per group of 256 instances: 8 words of keep bits, then (after all groups' bits) the
-// group's count, which SCAN replaces by its first output slot.
-layout(std430, set = 0, binding = 4) buffer Groups {
-    uint groups[];
-};
 // Rectangles of more tiles than this are not tested (kept): few instances are that large.
 const int MAX_TESTED_TILES = 256;
 // An occluder writes at most this many tiles across (a subset of its tiles stays exact).
@@ -47,9 +44,6 @@ const int MAX_WRITTEN_TILES = 64;
 
 uint group_index() {
     return gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
-}
-uint group_count() {
-    return (total + GROUP - 1u) / GROUP;
 }
 
 // The pixel centres inside an NDC rectangle with y up: (first column, first row, last column,

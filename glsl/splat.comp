@@ -17,9 +17,14 @@
 #include "impostor_state.glsl"
 #include "impostor_hit.glsl"
 #include "visibility.glsl"
+#include "cull_groups.glsl"
 
 layout(local_size_x = 64) in;
 const uint GROUP = 64u;
+
+// The most pixel centres a glyph's box may hold for the splat to walk it (4,096: about a
+// millisecond on lavapipe); larger glyphs are drawn.
+const int SPLAT_MAX_BOX_PIXELS = 4096;
 
 void main() {
     uint k = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * GROUP;
@@ -45,6 +50,7 @@ void main() {
     ivec2 size = ivec2(cam.image_width, cam.image_height);
     ivec2 lo = ivec2(0);
     ivec2 hi = size - 1;
+    bool bounds_known = f.bounded;
     if (f.bounded) {
         // The silhouette is centre + cos(t) axis1 + sin(t) axis2 (screen-plane units); the
         // pixel centres within its bounding box, widened by a twentieth of a pixel (more than
@@ -56,12 +62,22 @@ void main() {
         vec2 a = (f.centre - half_extent) / sxy, b = (f.centre + half_extent) / sxy;
         vec2 px_lo = vec2(a.x + 1.0, 1.0 - b.y) * vec2(size) * 0.5 - 0.05;
         vec2 px_hi = vec2(b.x + 1.0, 1.0 - a.y) * vec2(size) * 0.5 + 0.05;
-        if (any(isnan(px_lo)) || any(isnan(px_hi))) {
-            return;
-        }
+        bounds_known = !any(isnan(px_lo)) && !any(isnan(px_hi));
         // Pixel x's centre is x + 0.5.
         lo = max(lo, ivec2(ceil(clamp(px_lo, vec2(-2.0), vec2(size) + 2.0) - 0.5)));
         hi = min(hi, ivec2(floor(clamp(px_hi, vec2(-2.0), vec2(size) + 2.0) - 0.5)));
+    }
+    if (any(greaterThan(lo, hi)) && bounds_known) {
+        return; // no pixel centre in the box
+    }
+    ivec2 box = hi - lo + 1;
+    if (!bounds_known || box.x * box.y > SPLAT_MAX_BOX_PIXELS) {
+        // Too large for one invocation to walk (it would hold up its workgroup), or reaching
+        // the eye plane: left to the draw, through the culling's own compaction, in instance
+        // order.
+        atomicOr(groups[k / CULL_GROUP * 8u + k % CULL_GROUP / 32u], 1u << (k % 32u));
+        atomicAdd(groups[group_count() * 8u + k / CULL_GROUP], 1u);
+        return;
     }
     uint scene_id = id + cam.first_instance;
     bool any_hit = false;

@@ -90,6 +90,10 @@ pub(crate) fn dispatch_grid(groups: u32) -> (u32, u32) {
 }
 
 /// The steps a frame runs, in order.
+/// The steps after the compute splat: it writes the keep bits and counts of the glyphs it
+/// leaves to the draw, and these compact them in instance order.
+pub(crate) const SPLAT_STEPS: [CullStep; 2] = [CullStep::Scan, CullStep::Scatter];
+
 pub(crate) fn steps(culling: Culling) -> Vec<CullStep> {
     let mut steps = Vec::with_capacity(4);
     if culling.occlusion {
@@ -104,6 +108,18 @@ pub(crate) fn steps(culling: Culling) -> Vec<CullStep> {
 pub(crate) struct PrepassBuffers {
     pub indirect: vk::Buffer,
     pub tiles: vk::Buffer,
+}
+
+/// The compute splat's dispatch at the start of a pre-pass (`glsl/splat.comp`).
+pub(crate) struct SplatStep {
+    pub pipeline: vk::Pipeline,
+    /// The dispatch grid over the chunk's instances, 64 per workgroup.
+    pub groups: (u32, u32),
+    /// Clear the visibility buffer first (the first chunk): its first bytes, to this word.
+    pub clear: Option<(vk::Buffer, u64, u32)>,
+    /// The chunk's keep bits and counts (buffer, offset, bytes), zeroed before the splat
+    /// sets those of the glyphs it leaves to the draw.
+    pub keep: (vk::Buffer, u64, u64),
 }
 
 /// One frame's pre-pass, ready to record.
@@ -122,17 +138,8 @@ pub(crate) struct Prepass {
     /// Occlusion runs: reset the tiles first.
     pub clear_tiles: bool,
     pub buffers: PrepassBuffers,
-    /// The compute splat, after the steps.
+    /// The compute splat, before the steps.
     pub splat: Option<SplatStep>,
-}
-
-/// The compute splat's dispatch at the end of a pre-pass (`glsl/splat.comp`).
-pub(crate) struct SplatStep {
-    pub pipeline: vk::Pipeline,
-    /// The dispatch grid over the chunk's instances, 64 per workgroup.
-    pub groups: (u32, u32),
-    /// Clear the visibility buffer first (the first chunk): its first bytes, to this word.
-    pub clear: Option<(vk::Buffer, u64, u32)>,
 }
 
 /// Instances per workgroup of the compute splat (`local_size_x` of `splat.comp`).
@@ -163,9 +170,13 @@ impl Prepass {
                 // +inf: no surface known in front of any tile yet.
                 device.cmd_fill_buffer(cmd, b.tiles, 0, vk::WHOLE_SIZE, f32::INFINITY.to_bits());
             }
-            if let Some((visibility, bytes, word)) = self.splat.as_ref().and_then(|s| s.clear) {
-                // Nothing hit yet: every 64-bit key of the image holds the empty value.
-                device.cmd_fill_buffer(cmd, visibility, 0, bytes, word);
+            if let Some(splat) = &self.splat {
+                if let Some((visibility, bytes, word)) = splat.clear {
+                    // Nothing hit yet: every 64-bit key of the image holds the empty value.
+                    device.cmd_fill_buffer(cmd, visibility, 0, bytes, word);
+                }
+                let (groups, offset, bytes) = splat.keep;
+                device.cmd_fill_buffer(cmd, groups, offset, bytes, 0);
             }
             barriers::PREPASS_CLEARED.record(device, cmd);
             device.cmd_bind_descriptor_sets(
@@ -183,8 +194,12 @@ impl Prepass {
                 0,
                 bytemuck::bytes_of(&self.push),
             );
+            if let Some(splat) = &self.splat {
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, splat.pipeline);
+                device.cmd_dispatch(cmd, splat.groups.0, splat.groups.1, 1);
+            }
             for (k, &(step, pipeline)) in self.steps.iter().enumerate() {
-                if k > 0 {
+                if k > 0 || self.splat.is_some() {
                     barriers::PREPASS_STEP.record(device, cmd);
                 }
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
@@ -192,14 +207,6 @@ impl Prepass {
                     CullStep::Scan => device.cmd_dispatch(cmd, 1, 1, 1),
                     _ => device.cmd_dispatch(cmd, self.groups.0, self.groups.1, 1),
                 }
-            }
-            if let Some(splat) = &self.splat {
-                // After culling steps (none run in splat frames today) their writes first.
-                if !self.steps.is_empty() {
-                    barriers::PREPASS_STEP.record(device, cmd);
-                }
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, splat.pipeline);
-                device.cmd_dispatch(cmd, splat.groups.0, splat.groups.1, 1);
             }
             barriers::PREPASS_TO_DRAW.record(device, cmd);
         }

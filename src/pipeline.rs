@@ -37,7 +37,17 @@ pub(crate) struct PipelineKey {
 }
 
 impl PipelineKey {
-    /// The draw pipeline `plan` needs.
+    /// The compute splat's resolve that `plan` needs, if it splats.
+    pub fn resolve(plan: &FramePlan) -> Option<Self> {
+        plan.compute_splat.then_some(Self {
+            compute_splat: true,
+            culled: false,
+            ..Self::of(plan)
+        })
+    }
+
+    /// The draw pipeline `plan` needs (in a splatted frame, for the glyphs the splat leaves
+    /// to the draw).
     pub fn of(plan: &FramePlan) -> Self {
         Self {
             orthographic: plan.orthographic,
@@ -50,7 +60,7 @@ impl PipelineKey {
             spheres: plan.spheres,
             compact: plan.compact,
             no_caps: plan.no_caps,
-            compute_splat: plan.compute_splat,
+            compute_splat: false,
         }
     }
 

@@ -177,6 +177,73 @@ fn medium_glyphs_many_layers_deep_match_the_draw_bit_for_bit() {
     finish_validated(renderer);
 }
 
+/// Tiny glyphs with a few of thousands of pixels among them and two that reach the eye plane:
+/// the splat leaves those to the draw, which depth-tests them against the resolve, and the
+/// frame matches the draw bit for bit.
+#[test]
+fn glyphs_too_large_to_splat_are_drawn_in_the_same_frame() {
+    let (scene, camera) = tiny_glyphs();
+    let mut glyphs = scene.ellipsoids;
+    // Glyphs of about 100 x 70 px (boxes beyond the splat's 4,096 pixel centres) at
+    // instances 100, 200, ..., overlapping small ones in front and behind.
+    for k in 1..=12 {
+        let t = k as f64;
+        glyphs[100 * k] = Ellipsoid::new(
+            DVec3::new(
+                7.0 * (t * 0.9).sin(),
+                5.0 * (t * 1.7).cos(),
+                4.0 * (t * 0.6).sin(),
+            ),
+            DVec3::new(5.0, 3.5, 2.0),
+            DQuat::from_rotation_z(t),
+            Some([0.9, 0.3, 0.2]),
+        )
+        .expect("large glyph");
+    }
+    // Beside the eye and crossing its plane: shown at the image's edge.
+    let eye = DVec3::new(2.0, 3.0, 25.0);
+    let towards = (DVec3::ZERO - eye).normalize();
+    let side = towards.cross(DVec3::Y).normalize();
+    for (k, s) in [(5_000, 1.0), (5_001, -1.0)] {
+        glyphs[k] = Ellipsoid::new(
+            eye + side * (2.0 * s) + towards * 0.5,
+            DVec3::new(1.8, 6.0, 3.0),
+            DQuat::IDENTITY,
+            Some([0.2, 0.4, 0.9]),
+        )
+        .expect("eye-plane glyph");
+    }
+    let scene = Scene::new(glyphs);
+    let mut renderer = validated_renderer();
+    let full = InstanceFormat::Full;
+    assert_splat_matches_draw(&mut renderer, "mixed sizes", &scene, &camera, full);
+    let standard = camera
+        .with_depth(DepthConvention::STANDARD_INFINITE)
+        .expect("depth convention");
+    assert_splat_matches_draw(
+        &mut renderer,
+        "mixed sizes, standard",
+        &scene,
+        &standard,
+        full,
+    );
+    // The eye-plane glyphs and most large ones really show.
+    let frame = renderer
+        .render(&scene, &camera, Outputs::ALL)
+        .expect("render");
+    let pixels = |id: u32| frame.id.iter().filter(|&&shown| shown == id).count();
+    for id in [5_000, 5_001] {
+        assert!(
+            pixels(id) > 200,
+            "glyph {id} shows on {} pixels",
+            pixels(id)
+        );
+    }
+    let large = (1..=12).filter(|k| pixels(100 * k) > 200).count();
+    assert!(large >= 6, "only {large} of 12 large glyphs show");
+    finish_validated(renderer);
+}
+
 #[test]
 fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
     // Every glyph twice, the copy later in instance order and in another colour: both have

@@ -84,9 +84,11 @@ impl Binding {
     /// How the buffer is used besides as a storage buffer.
     fn usage(self) -> vk::BufferUsageFlags {
         let extra = match self {
-            Binding::Instances | Binding::OcclusionTiles | Binding::Visibility => {
-                vk::BufferUsageFlags::TRANSFER_DST
-            }
+            // Filled with vkCmdFillBuffer (the compute splat zeroes the keep bits).
+            Binding::Instances
+            | Binding::OcclusionTiles
+            | Binding::Visibility
+            | Binding::CullGroups => vk::BufferUsageFlags::TRANSFER_DST,
             Binding::IndirectDraw => {
                 vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST
             }

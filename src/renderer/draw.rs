@@ -17,14 +17,15 @@ use super::push::push_constants;
 use super::EllipsoidRenderer;
 
 impl EllipsoidRenderer {
-    /// Creates what a frame with `plan` draws with (the pipeline, and a baseline's mesh),
-    /// or finds it made; returns the draw's pipeline.
+    /// Creates what a frame with `plan` draws with (the pipelines, and a baseline's mesh),
+    /// or finds it made; returns the draw's pipeline and, in a splatted frame, the
+    /// resolve's.
     pub(crate) fn prepare(
         &mut self,
         device: &ash::Device,
         allocator: &mut Allocator,
         plan: &FramePlan,
-    ) -> Result<vk::Pipeline> {
+    ) -> Result<(vk::Pipeline, Option<vk::Pipeline>)> {
         #[cfg(feature = "research")]
         if let Geometry::Mesh(level) = plan.config.geometry {
             self.meshes.ensure(device, allocator, level)?;
@@ -32,7 +33,14 @@ impl EllipsoidRenderer {
         #[cfg(not(feature = "research"))]
         let _ = allocator;
         let target = &self.targets[plan.target];
-        self.pipelines.draw(device, PipelineKey::of(plan), target)
+        let resolve = match PipelineKey::resolve(plan) {
+            Some(key) => Some(self.pipelines.draw(device, key, target)?),
+            None => None,
+        };
+        Ok((
+            self.pipelines.draw(device, PipelineKey::of(plan), target)?,
+            resolve,
+        ))
     }
 
     /// Creates the pipeline of a frame with `camera` now, so the first `record` with it
@@ -97,7 +105,7 @@ impl EllipsoidRenderer {
                 plan
             }
         };
-        let pipeline = self.prepare(device, allocator, &plan)?;
+        let (pipeline, resolve) = self.prepare(device, allocator, &plan)?;
         let sets = self.descriptor_sets(device)?;
         let viewport = vk::Viewport {
             x: 0.0,
@@ -149,15 +157,21 @@ impl EllipsoidRenderer {
                     0,
                     bytemuck::bytes_of(&push),
                 );
-                match plan.config.geometry {
+                // The benchmark's floors measure the splat alone: nothing drawn.
+                if plan.compute_splat && self.splat_floor != 0 {
+                    continue;
+                }
+                if let Some(resolve) = resolve {
                     // The resolve: a square per resolve tile shades the pixels whose nearest
-                    // hit is one of this chunk's glyphs (the tiles no glyph marked are empty).
-                    // (The benchmark's floors measure the splat alone: no resolve.)
-                    Geometry::Impostor if plan.compute_splat && self.splat_floor != 0 => {}
-                    Geometry::Impostor if plan.compute_splat => {
-                        let tiles = resolve_tiles(camera.width, camera.height);
-                        device.cmd_draw(cmd, 6, tiles, 0, 0)
-                    }
+                    // hit is one of this chunk's glyphs (the tiles no glyph marked are
+                    // empty); then the glyphs the splat left to the draw, depth-tested
+                    // against it.
+                    let tiles = resolve_tiles(camera.width, camera.height);
+                    device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, resolve);
+                    device.cmd_draw(cmd, 6, tiles, 0, 0);
+                    device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                }
+                match plan.config.geometry {
                     Geometry::Impostor if plan.prepass => {
                         let offset = k as u64 * SLICE_ALIGN;
                         let stride = size_of::<vk::DrawIndirectCommand>() as u32;

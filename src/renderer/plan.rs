@@ -20,10 +20,11 @@ use super::uploaded::UploadedScene;
 /// varyings they replace once glyphs cover more than a few pixels (README, `bench --skip`).
 pub const SETUP_ONCE_MAX_AREA_PX: f64 = 12.0;
 
-/// The largest glyph (square pixels on screen, in the size sample) a splatted frame may hold:
-/// one invocation walks each glyph's pixels, so a glyph much larger than the rest would hold
-/// up its whole workgroup (4,096 pixels: about a millisecond on lavapipe).
-pub const SPLAT_MAX_GLYPH_AREA_PX: f64 = 4096.0;
+/// The largest mean projected glyph area (square pixels) for which the compute splat takes
+/// the frame. Each glyph whose pixel box holds more than 4,096 pixel centres, or that reaches
+/// the eye plane, is drawn instead (`glsl/splat.comp`), and splat frames run no culling
+/// steps: scenes of mostly large glyphs keep the draw with its occlusion culling.
+pub const SPLAT_MAX_MEAN_AREA_PX: f64 = 1024.0;
 
 /// The most chunks a splatted frame may have: each chunk resolves over the whole image.
 pub const MAX_SPLAT_CHUNKS: u32 = 8;
@@ -140,7 +141,7 @@ impl FramePlan {
             && compute_splat_features
             && exact_impostor
             && auto_footprint
-            && areas.is_some_and(|a| a.largest <= SPLAT_MAX_GLYPH_AREA_PX)
+            && mean_area_px.is_some_and(|area| area <= SPLAT_MAX_MEAN_AREA_PX)
             // Its keys order float32 depths: the draw's test compares them in the attachment's
             // format, which must then be float32 too to break ties the same way.
             && matches!(
@@ -289,14 +290,23 @@ mod tests {
             ..shipped
         };
         assert!(!plan(&scene, &camera, one, true, &off).compute_splat);
-        // One glyph of thousands of pixels among them: one invocation would walk them all.
+        // One glyph of thousands of pixels among them: splatted all the same (the splat
+        // leaves that one to the draw).
         let (big, camera) = tiny_scene(true);
         let mixed = plan(&big, &camera, one, true, &shipped);
         assert!(
             mixed.mean_area_px.unwrap() <= SETUP_ONCE_MAX_AREA_PX,
             "{mixed:?}"
         );
-        assert!(!mixed.compute_splat, "{mixed:?}");
+        assert!(mixed.compute_splat, "{mixed:?}");
+        // Glyphs of thousands of pixels on average: the draw, with its culling.
+        let (large, camera) = scene_of(false, 150.0);
+        let plan_large = plan(&large, &camera, one, true, &shipped);
+        assert!(
+            plan_large.mean_area_px.unwrap() > SPLAT_MAX_MEAN_AREA_PX,
+            "{plan_large:?}"
+        );
+        assert!(!plan_large.compute_splat, "{plan_large:?}");
         // Glyphs of tens of pixels splat too (never set up once)...
         let (medium, camera) = scene_of(false, 20.0);
         let plan_medium = plan(&medium, &camera, one, true, &shipped);

@@ -62,7 +62,12 @@ impl EllipsoidRenderer {
         } else {
             None
         };
-        let steps = culling::steps(plan.culling)
+        let steps = if plan.compute_splat {
+            culling::SPLAT_STEPS.to_vec()
+        } else {
+            culling::steps(plan.culling)
+        };
+        let steps = steps
             .into_iter()
             .map(|step| Ok((step, self.pipelines.cull(device, CullKey::of(&plan, step))?)))
             .collect::<Result<Vec<_>>>()?;
@@ -71,6 +76,8 @@ impl EllipsoidRenderer {
             tiles: self.buffers.handle(Binding::OcclusionTiles)?,
         };
         let sets = self.descriptor_sets(device)?;
+        let groups = self.buffers.handle(Binding::CullGroups)?;
+        let groups_slice = self.chunking().groups_slice();
         // Each chunk culls its own instances into its own indirect command; the occlusion
         // tiles are cleared once and shared, so later chunks also see earlier occluders.
         let chunks: Vec<(u32, u32)> = self.chunking().chunks().collect();
@@ -105,6 +112,11 @@ impl EllipsoidRenderer {
                         visibility_bytes(camera.width, camera.height),
                         empty,
                     )),
+                    keep: (
+                        groups,
+                        k as u64 * groups_slice,
+                        culling::groups_bytes(count),
+                    ),
                 }),
             };
             // SAFETY: `cmd` is recording outside a pass (caller contract); every handle is
