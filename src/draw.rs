@@ -157,7 +157,7 @@ pub enum Method {
     ImpostorCompact,
     /// The shipped impostor with the compute splat wherever it can run, however few the
     /// glyphs (`Settings::compute_splat_min_glyphs` 0): glyphs of a few pixels are splatted
-    /// by a compute pass and shaded by a full-screen resolve.
+    /// by a compute pass and shaded by a resolve over the tiles they touch.
     ImpostorCompute,
     /// The shipped impostor always drawn through the rasterizer (`Settings::compute_splat`
     /// off).

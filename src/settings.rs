@@ -57,20 +57,23 @@ pub struct Settings {
     /// How `upload` stores instances: full float32 (default) or the compact 32-byte records,
     /// a third less memory at a measured accuracy cost.
     pub instance_format: InstanceFormat,
-    /// Draw frames of many glyphs of a few pixels without the rasterizer: a compute pass ray
+    /// Draw frames of many small and medium glyphs without the rasterizer: a compute pass ray
     /// casts each glyph's pixel centres and keeps the nearest hit per pixel with a 64-bit
-    /// atomic, and a full-screen pass inside the host's pass shades each pixel once. The same
-    /// pixels, depths and IDs as the draw (bit for bit where the driver compiles the shared
-    /// set-up and hit alike in every stage, as lavapipe does). On by default, but it runs only
-    /// where the host enabled [`crate::features::compute_splat_features`] (and says so in
+    /// atomic, and a pass inside the host's pass shades each covered pixel once; glyphs too
+    /// large for it (a box of more than 4,096 pixel centres, or reaching the eye plane) are
+    /// drawn in the same frame. The same pixels, depths and IDs as the draw (bit for bit where
+    /// the driver compiles the shared set-up and hit alike in every stage, as lavapipe does).
+    /// On by default, but it runs only where the host enabled
+    /// [`crate::features::compute_splat_features`] (and says so in
     /// [`crate::RendererOptions::compute_splat_features`]), on single-sample targets with
-    /// float32 depth, for glyphs of at most `SETUP_ONCE_MAX_AREA_PX` on average and none
-    /// above `SPLAT_MAX_GLYPH_AREA_PX` or reaching the eye plane (in the size sample), for at
-    /// most `MAX_SPLAT_CHUNKS` chunks and for at least `compute_splat_min_glyphs` glyphs.
+    /// float32 depth, for glyphs of at most `SPLAT_MAX_MEAN_AREA_PX` on average (in the size
+    /// sample), for at most `MAX_SPLAT_CHUNKS` chunks and for at least
+    /// `compute_splat_min_glyphs` glyphs.
     pub compute_splat: bool,
-    /// The fewest glyphs for which the compute splat pays: it has a fixed cost (clearing and
-    /// resolving a whole-image visibility buffer, about 25-30 ms at 1920x1080 on lavapipe) and
-    /// saves about 0.45 us per glyph; measured with `bench`, the two meet near 50,000.
+    /// The fewest glyphs for which the compute splat pays: it has a fixed cost (clearing the
+    /// visibility buffer and resolving the tiles its glyphs touch, about 30 ms when they
+    /// spread over a whole 1920x1080 image on lavapipe) and saves about 0.45 us per glyph;
+    /// measured with `bench`, the two meet between 10,000 and 100,000.
     pub compute_splat_min_glyphs: u32,
     /// The most instances drawn with one descriptor set; the device's
     /// `maxStorageBufferRange` caps it anyway. Larger scenes are drawn in chunks, each with

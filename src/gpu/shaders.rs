@@ -80,7 +80,7 @@ pub const MESH_FRAG: FragmentShader = fragment_shader!("mesh.frag");
 pub const BOX_VERT: &[u8] = spirv!("box.vert.spv");
 /// The compute splat: each kept glyph's pixel centres into the visibility buffer.
 pub const SPLAT_COMP: &[u8] = spirv!("splat.comp.spv");
-/// The compute splat's resolve: a triangle over the whole image.
+/// The compute splat's resolve: a square per resolve tile a splatted glyph touched.
 pub const RESOLVE_VERT: &[u8] = spirv!("resolve.vert.spv");
 /// The compute splat's resolve: shades each pixel's nearest hit once.
 pub const RESOLVE_FRAG: FragmentShader = fragment_shader!("resolve.frag");

@@ -12,11 +12,13 @@
 //!   the transfer write to vertex, fragment and compute shader reads.
 //! - [`EllipsoidRenderer::record_prepass`] (outside a pass): a barrier from the previous draw's
 //!   indirect, vertex, fragment and compute reads to its transfer and compute writes, its
-//!   dispatches (the culling steps, then the compute splat where the plan has it, after
-//!   clearing its visibility buffer) with compute-to-compute barriers between them, and a
+//!   dispatches (the culling steps; or, where the plan splats, the compute splat after
+//!   clearing its visibility buffer and keep bits, then the steps that compact the glyphs it
+//!   leaves to the draw) with compute-to-compute barriers between them, and a
 //!   barrier from its compute writes to indirect-command, vertex and fragment shader reads.
-//! - [`EllipsoidRenderer::record`] (inside the host's pass): binds its pipeline, descriptor set
-//!   and push constants, sets viewport and scissor to the camera's image, and draws. It
+//! - [`EllipsoidRenderer::record`] (inside the host's pass): binds its pipeline (in a
+//!   splatted frame the resolve's, then the draw's), descriptor set and push constants, sets
+//!   viewport and scissor to the camera's image, and draws. It
 //!   records no barrier and leaves the host's dynamic state other than viewport and scissor
 //!   as it was; the host rebinds its own pipeline afterwards.
 //!

@@ -26,7 +26,7 @@ pub const SETUP_ONCE_MAX_AREA_PX: f64 = 12.0;
 /// steps: scenes of mostly large glyphs keep the draw with its occlusion culling.
 pub const SPLAT_MAX_MEAN_AREA_PX: f64 = 1024.0;
 
-/// The most chunks a splatted frame may have: each chunk resolves over the whole image.
+/// The most chunks a splatted frame may have: each chunk resolves over every marked tile.
 pub const MAX_SPLAT_CHUNKS: u32 = 8;
 
 /// The most instances whose set-up records fit the 128 MiB storage-buffer range every Vulkan
@@ -53,7 +53,8 @@ pub struct FramePlan {
     /// The fragment stage leaves out the near-plane cap code.
     pub no_caps: bool,
     /// The glyphs are splatted by a compute pass into a visibility buffer and shaded by a
-    /// full-screen resolve, instead of drawn.
+    /// resolve over the tiles they touch, instead of drawn (those too large to splat are
+    /// drawn in the same frame).
     pub compute_splat: bool,
     /// The instances are compact records.
     pub compact: bool,
@@ -105,8 +106,7 @@ impl FramePlan {
                 format!("{:?} supports perspective cameras only", config.geometry),
             ));
         }
-        let areas = scene.projected_areas(camera);
-        let mean_area_px = areas.map(|a| a.mean);
+        let mean_area_px = scene.mean_projected_area(camera);
         // The benchmark's footprint variants measure the draw: only the shipped choice splats.
         let auto_footprint = config.footprint == Footprint::Auto;
         if auto_footprint {

@@ -7,15 +7,6 @@ use crate::camera::{Camera, Projection};
 use crate::instances::{InstanceFormat, PackedInstances};
 use crate::scene::Scene;
 
-/// How large the sampled glyphs are on screen, in square pixels.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct ProjectedAreas {
-    /// The mean over the sampled glyphs beyond the near plane.
-    pub mean: f64,
-    /// The largest (the whole screen for one that may reach the eye plane).
-    pub largest: f64,
-}
-
 /// How many instances the footprint and set-up choice looks at.
 const SIZE_SAMPLE: usize = 4096;
 
@@ -76,22 +67,16 @@ impl UploadedScene {
         }
     }
 
-    /// Mean and largest projected area in square pixels of the sampled glyphs on screen
-    /// beyond the near plane (a glyph whose bounding sphere reaches the eye plane counts as the
-    /// whole screen for the largest); `None` when no sampled glyph is on screen beyond the near
-    /// plane.
-    pub fn projected_areas(&self, camera: &Camera) -> Option<ProjectedAreas> {
+    /// Mean projected area in square pixels of the sampled glyphs on screen beyond the near
+    /// plane; `None` when no sampled glyph is on screen beyond the near plane.
+    pub fn mean_projected_area(&self, camera: &Camera) -> Option<f64> {
         let (sx, sy) = camera.ndc_scale();
         let pixels_per_unit = camera.height as f64 / (2.0 * sy);
         let screen = camera.width as f64 * camera.height as f64;
         let basis = camera.basis();
-        let (mut sum, mut n, mut largest) = (0.0, 0usize, 0.0f64);
+        let (mut sum, mut n) = (0.0, 0usize);
         for &(center, radius, area) in &self.size_sample {
             let depth = camera.view_depth(center);
-            if depth <= radius {
-                // It may reach the eye plane: its footprint is the whole screen.
-                largest = screen;
-            }
             if depth <= camera.near {
                 continue;
             }
@@ -108,13 +93,9 @@ impl UploadedScene {
             }
             let on_screen = (area * scale * scale).min(screen);
             sum += on_screen;
-            largest = largest.max(on_screen);
             n += 1;
         }
-        (n > 0).then(|| ProjectedAreas {
-            mean: sum / n as f64,
-            largest,
-        })
+        (n > 0).then(|| sum / n as f64)
     }
 
     /// Whether the box holding every ellipsoid lies wholly beyond the near plane of `camera`
