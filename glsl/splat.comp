@@ -4,7 +4,7 @@
 #extension GL_EXT_shader_atomic_int64 : require
 // The compute splat: each glyph of the chunk computes its set-up (instance_setup.glsl, as the
 // vertex stage does; it says when the glyph is off screen), ray casts the pixel centres of its
-// silhouette's bounding box with the fragment stage's hit (impostor_hit.glsl), keeps the
+// silhouette ellipse, row by row, with the fragment stage's hit (impostor_hit.glsl), keeps the
 // nearest hit per pixel in the visibility buffer with a 64-bit atomic and marks the resolve
 // tiles it touched. resolve.vert/.frag then shade each pixel of the marked tiles once. No
 // rasterizer front end (on lavapipe about 0.5 us per instance on one thread), and no set-up
@@ -128,12 +128,12 @@ void main() {
         visibility[0] = 1ul;
     }
     if (any_hit && SPLAT_FLOOR == SPLAT_FLOOR_NONE) {
-        // The tiles the glyph's box touches get resolved (any glyph marking one writes the
-        // same word, so plain stores suffice).
+        // The tiles the glyph's box touches get resolved (every glyph marking one writes the
+        // same word; atomically, so the writes do not race).
         uvec2 t_lo = uvec2(lo) / RESOLVE_TILE, t_hi = uvec2(hi) / RESOLVE_TILE;
         for (uint ty = t_lo.y; ty <= t_hi.y; ty++) {
             for (uint tx = t_lo.x; tx <= t_hi.x; tx++) {
-                visibility[resolve_tile_word(ty * resolve_tiles_x() + tx)] = ~visibility_empty();
+                atomicExchange(visibility[resolve_tile_word(ty * resolve_tiles_x() + tx)], ~visibility_empty());
             }
         }
     }

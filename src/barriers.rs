@@ -118,7 +118,8 @@ pub const PREPASS_AFTER_PREVIOUS_FRAME: Barrier = Barrier {
 
 /// After the pre-pass resets the indirect command and clears the occlusion tiles.
 pub const PREPASS_CLEARED: Barrier = Barrier {
-    purpose: "indirect-command reset and tile clear -> culling dispatches",
+    purpose:
+        "indirect-command reset and the tile, visibility and keep-bit clears -> the dispatches",
     src_stages: vk::PipelineStageFlags::TRANSFER,
     src_access: vk::AccessFlags::TRANSFER_WRITE,
     dst_stages: vk::PipelineStageFlags::COMPUTE_SHADER,
@@ -127,7 +128,7 @@ pub const PREPASS_CLEARED: Barrier = Barrier {
 
 /// Between two culling dispatches.
 pub const PREPASS_STEP: Barrier = Barrier {
-    purpose: "one culling step's writes -> the next step",
+    purpose: "one step's writes (the compute splat's included) -> the next step",
     src_stages: vk::PipelineStageFlags::COMPUTE_SHADER,
     src_access: vk::AccessFlags::SHADER_WRITE,
     dst_stages: vk::PipelineStageFlags::COMPUTE_SHADER,

@@ -89,11 +89,11 @@ pub(crate) fn dispatch_grid(groups: u32) -> (u32, u32) {
     (x, groups.div_ceil(x).max(1))
 }
 
-/// The steps a frame runs, in order.
 /// The steps after the compute splat: it writes the keep bits and counts of the glyphs it
 /// leaves to the draw, and these compact them in instance order.
 pub(crate) const SPLAT_STEPS: [CullStep; 2] = [CullStep::Scan, CullStep::Scatter];
 
+/// The steps a culling frame runs, in order.
 pub(crate) fn steps(culling: Culling) -> Vec<CullStep> {
     let mut steps = Vec::with_capacity(4);
     if culling.occlusion {

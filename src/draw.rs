@@ -156,7 +156,7 @@ pub enum Method {
     /// rotation) instead of 48-byte float32 ones.
     ImpostorCompact,
     /// The shipped impostor with the compute splat wherever it can run, however few the
-    /// glyphs (`Settings::compute_splat_min_glyphs` 0): glyphs of a few pixels are splatted
+    /// glyphs (`Settings::compute_splat_min_glyphs` 0): small and medium glyphs are splatted
     /// by a compute pass and shaded by a resolve over the tiles they touch.
     ImpostorCompute,
     /// The shipped impostor always drawn through the rasterizer (`Settings::compute_splat`

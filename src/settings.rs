@@ -62,8 +62,10 @@ pub struct Settings {
     /// atomic, and a pass inside the host's pass shades each covered pixel once; glyphs too
     /// large for it (a box of more than 4,096 pixel centres, or reaching the eye plane) are
     /// drawn in the same frame. The same pixels, depths and IDs as the draw (bit for bit where
-    /// the driver compiles the shared set-up and hit alike in every stage, as lavapipe does).
-    /// On by default, but it runs only where the host enabled
+    /// the driver compiles the shared set-up and hit alike in every stage, as lavapipe does;
+    /// only where a splatted and a drawn glyph lie at exactly the same depth does the
+    /// splatted one show rather than the lower instance). On by default for the shipped
+    /// impostor with the automatic footprint, but it runs only where the host enabled
     /// [`crate::features::compute_splat_features`] (and says so in
     /// [`crate::RendererOptions::compute_splat_features`]), on single-sample targets with
     /// float32 depth, for glyphs of at most `SPLAT_MAX_MEAN_AREA_PX` on average (in the size

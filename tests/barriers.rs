@@ -44,7 +44,7 @@ fn every_hazard_is_covered_by_its_barrier() {
     let fragment_read = at(S::FRAGMENT_SHADER, A::SHADER_READ);
     let indirect_read = at(S::DRAW_INDIRECT, A::INDIRECT_COMMAND_READ);
     // (what, first access, later access, the barrier between them)
-    let hazards: [(&str, Access, Access, Barrier); 22] = [
+    let hazards: [(&str, Access, Access, Barrier); 25] = [
         // An upload or update of the instances.
         (
             "copy -> pre-pass reads instances",
@@ -114,6 +114,12 @@ fn every_hazard_is_covered_by_its_barrier() {
             barriers::PREPASS_AFTER_PREVIOUS_FRAME,
         ),
         (
+            "previous resolve's vertex reads of the tile marks -> their clear",
+            vertex_read,
+            copy,
+            barriers::PREPASS_AFTER_PREVIOUS_FRAME,
+        ),
+        (
             "previous pre-pass writes -> tile clear",
             compute_write,
             copy,
@@ -145,9 +151,15 @@ fn every_hazard_is_covered_by_its_barrier() {
             barriers::PREPASS_STEP,
         ),
         (
-            "kept indices and count -> the compute splat",
+            "keep-bit clear -> the compute splat's atomics",
+            copy,
+            compute_read_write,
+            barriers::PREPASS_CLEARED,
+        ),
+        (
+            "the compute splat's keep bits -> the compaction that follows it",
             compute_write,
-            compute_read,
+            compute_read_write,
             barriers::PREPASS_STEP,
         ),
         // The pre-pass feeds the draw.
@@ -173,6 +185,12 @@ fn every_hazard_is_covered_by_its_barrier() {
             "the compute splat's atomics -> its resolve",
             compute_write,
             fragment_read,
+            barriers::PREPASS_TO_DRAW,
+        ),
+        (
+            "the compute splat's tile marks -> its resolve's vertex stage",
+            compute_write,
+            vertex_read,
             barriers::PREPASS_TO_DRAW,
         ),
         // Bench's fragment counter.

@@ -109,8 +109,7 @@ fn splat_matches_the_draw_bit_for_bit() {
     }
     let compact = InstanceFormat::Compact;
     assert_splat_matches_draw(&mut renderer, "compact", &scene, &camera, compact);
-    // The near plane inside the cloud cuts glyphs (caps), none of which reaches the eye plane
-    // (the plan would not splat a glyph whose footprint is the whole screen).
+    // The near plane inside the cloud cuts glyphs (caps), none of which reaches the eye plane.
     let inside = Camera::look_at(DVec3::new(0.3, 0.2, 6.0), DVec3::ZERO, 60.0, 4.5, 320, 240)
         .expect("camera");
     let small = random_cloud(20_000, 22, 3.0, 0.02);
@@ -286,17 +285,50 @@ fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
         .count();
     assert_eq!(odd, 0, "{odd} pixels show the later copy of a tied pair");
     finish_validated(renderer);
-    let _ = DQuat::IDENTITY;
 }
 
 #[test]
 fn splat_over_several_chunks_matches_the_draw() {
     // 1,500 tiny glyphs in 6 chunks of 256: each chunk splats into the shared visibility
     // buffer and resolves its own pixels; ties and overlaps across chunks resolve as in one
-    // draw.
+    // draw. Then with large glyphs in every chunk, which each chunk's own keep bits,
+    // compaction and indirect command leave to the draw; in both depth conventions.
     let (scene, camera) = tiny_glyphs();
-    let scene = Scene::new(scene.ellipsoids[..1_500].to_vec());
+    let tiny = Scene::new(scene.ellipsoids[..1_500].to_vec());
+    let mut mixed = tiny.ellipsoids.clone();
+    for k in 0..6 {
+        let t = k as f64;
+        mixed[150 + 220 * k] = Ellipsoid::new(
+            DVec3::new(6.0 * (t * 1.3).sin(), 4.0 * (t * 0.7).cos(), 3.0 * t - 7.0),
+            DVec3::new(4.5, 3.0, 2.0),
+            DQuat::from_rotation_z(t),
+            Some([0.9, 0.5, 0.1]),
+        )
+        .expect("large glyph");
+    }
+    let mixed = Scene::new(mixed);
+    let standard = camera
+        .with_depth(DepthConvention::STANDARD_INFINITE)
+        .expect("depth convention");
     let mut renderer = validated_renderer();
+    for (name, scene, camera) in [
+        ("tiny", &tiny, camera),
+        ("with large glyphs", &mixed, camera),
+        ("with large glyphs, standard depth", &mixed, standard),
+    ] {
+        chunked_splat_matches_the_draw(&mut renderer, name, scene, &camera);
+    }
+    finish_validated(renderer);
+}
+
+/// Renders `scene` drawn whole, splatted in chunks of 256 and splatted whole, and asserts
+/// the three frames are identical.
+fn chunked_splat_matches_the_draw(
+    renderer: &mut OffscreenRenderer,
+    name: &str,
+    scene: &Scene,
+    camera: &Camera,
+) {
     let render = |renderer: &mut OffscreenRenderer, compute_splat: bool, chunk: u32| {
         renderer.set_settings(Settings {
             compute_splat,
@@ -304,17 +336,17 @@ fn splat_over_several_chunks_matches_the_draw() {
             max_chunk_instances: chunk,
             ..Settings::default()
         });
-        renderer.upload(&scene).expect("upload");
-        let plan = renderer.plan(&camera).expect("plan");
-        assert_eq!(plan.compute_splat, compute_splat, "{plan:?}");
+        renderer.upload(scene).expect("upload");
+        let plan = renderer.plan(camera).expect("plan");
+        assert_eq!(plan.compute_splat, compute_splat, "{name}: {plan:?}");
         renderer
-            .render_uploaded(&camera, Outputs::ALL)
+            .render_uploaded(camera, Outputs::ALL)
             .expect("render")
             .0
     };
-    let drawn = render(&mut renderer, false, u32::MAX);
-    let chunked = render(&mut renderer, true, 256);
-    let whole = render(&mut renderer, true, u32::MAX);
+    let drawn = render(renderer, false, u32::MAX);
+    let chunked = render(renderer, true, 256);
+    let whole = render(renderer, true, u32::MAX);
     let shown = drawn.id.iter().filter(|&&id| id != NO_INSTANCE).count();
     let late = drawn
         .id
@@ -323,17 +355,16 @@ fn splat_over_several_chunks_matches_the_draw() {
         .count();
     assert!(
         shown > 300 && late > 200,
-        "{shown} shown, {late} from later chunks"
+        "{name}: {shown} shown, {late} from later chunks"
     );
     for (label, frame) in [("six chunks", &chunked), ("one chunk", &whole)] {
-        assert_eq!(frame.id, drawn.id, "{label}: IDs differ");
-        assert_eq!(frame.color, drawn.color, "{label}: colours differ");
+        assert_eq!(frame.id, drawn.id, "{name}, {label}: IDs differ");
+        assert_eq!(frame.color, drawn.color, "{name}, {label}: colours differ");
         let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(
             bits(&frame.depth),
             bits(&drawn.depth),
-            "{label}: depths differ"
+            "{name}, {label}: depths differ"
         );
     }
-    finish_validated(renderer);
 }

@@ -168,7 +168,7 @@ impl EllipsoidRenderer {
                     // against it.
                     let tiles = resolve_tiles(camera.width, camera.height);
                     device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, resolve);
-                    device.cmd_draw(cmd, 6, tiles, 0, 0);
+                    device.cmd_draw(cmd, 4, tiles, 0, 0);
                     device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
                 }
                 match plan.config.geometry {

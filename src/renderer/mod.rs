@@ -16,9 +16,9 @@
 //!   clearing its visibility buffer and keep bits, then the steps that compact the glyphs it
 //!   leaves to the draw) with compute-to-compute barriers between them, and a
 //!   barrier from its compute writes to indirect-command, vertex and fragment shader reads.
-//! - [`EllipsoidRenderer::record`] (inside the host's pass): binds its pipeline (in a
-//!   splatted frame the resolve's, then the draw's), descriptor set and push constants, sets
-//!   viewport and scissor to the camera's image, and draws. It
+//! - [`EllipsoidRenderer::record`] (inside the host's pass): binds its pipeline, descriptor set
+//!   and push constants, sets viewport and scissor to the camera's image, and draws (in a
+//!   splatted frame, per chunk, the resolve and then the glyphs left to the draw). It
 //!   records no barrier and leaves the host's dynamic state other than viewport and scissor
 //!   as it was; the host rebinds its own pipeline afterwards.
 //!

@@ -134,9 +134,10 @@ impl FramePlan {
             pixel_centres: settings.culling.pixel_centres && single,
             ..settings.culling
         };
-        // The compute splat takes scenes of many glyphs, none large, on devices with its
+        // The compute splat takes scenes of many glyphs, small on average, on devices with its
         // features and single-sample targets: enough glyphs pay for its fixed cost (clearing
-        // and resolving), and it beats the draw at every glyph size up to its limit (README).
+        // and resolving), it beats the draw up to its mean size (README), and the glyphs too
+        // large for it are drawn in the same frame.
         let compute_splat = settings.compute_splat
             && compute_splat_features
             && exact_impostor

@@ -15,7 +15,7 @@ use crate::report::{
     Series,
 };
 use ellipsoid_splat::camera::{Camera, Projection};
-use ellipsoid_splat::draw::{Footprint, Geometry, Method};
+use ellipsoid_splat::draw::{DrawConfig, Geometry, Method};
 use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::offscreen::OffscreenRenderer;
 use ellipsoid_splat::{Outputs, Scene, Settings};
@@ -212,12 +212,15 @@ pub fn cloud_specs(quick: bool) -> Vec<(usize, f64)> {
 }
 
 /// Vertices a method pushes per instance of a scene of `count` (for the skip budget): none
-/// where its settings splat so many glyphs (the shipped mix on small glyphs).
-fn vertices_per_instance(method: Method, count: usize) -> f64 {
+/// where it may splat so many glyphs (the shipped impostor's configuration with the splat on,
+/// on a device that has it; the plan may still draw large glyphs, which the budget then
+/// does not cover).
+fn vertices_per_instance(method: Method, count: usize, splat_capable: bool) -> f64 {
     let settings = method.settings();
-    let splats = settings.compute_splat
+    let splats = splat_capable
+        && settings.compute_splat
         && count >= settings.compute_splat_min_glyphs as usize
-        && method.config().footprint == Footprint::Auto;
+        && method.config() == DrawConfig::default();
     match method.config().geometry {
         Geometry::Impostor if splats => 0.0,
         Geometry::Impostor => method.config().footprint.vertices() as f64,
@@ -237,6 +240,7 @@ pub fn run(
     skipped: &mut Vec<String>,
 ) -> Result<Vec<BenchResult>> {
     let progress = Progress::new(scene_count as u64, "bench");
+    let splat_capable = renderer.context().info().compute_splat;
     let mut results = Vec::new();
     for bench in scenes {
         progress.inc(&bench.name);
@@ -245,7 +249,8 @@ pub fn run(
             .iter()
             .copied()
             .filter(|&m| {
-                let keep = count as f64 * vertices_per_instance(m, count) <= VERTEX_BUDGET;
+                let vertices = vertices_per_instance(m, count, splat_capable);
+                let keep = count as f64 * vertices <= VERTEX_BUDGET;
                 if !keep {
                     skipped.push(format!("{} on {} ({count})", m.name(), bench.name));
                 }
