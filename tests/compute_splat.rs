@@ -240,6 +240,46 @@ fn glyphs_too_large_to_splat_are_drawn_in_the_same_frame() {
     }
     let large = (1..=12).filter(|k| pixels(100 * k) > 200).count();
     assert!(large >= 6, "only {large} of 12 large glyphs show");
+    // And they took the draw: the splatted frame shades at least the drawn footprints of the
+    // 14 (counted in a frame that draws them alone) plus, in the resolve, every pixel a tiny
+    // glyph shows; had the splat taken the large ones, it would shade at most one fragment
+    // per pixel besides the eye-plane glyphs' footprints.
+    #[cfg(feature = "research")]
+    {
+        let overflow: Vec<u32> = (1..=12).map(|k| 100 * k).chain([5_000, 5_001]).collect();
+        let count = |renderer: &mut OffscreenRenderer, scene: &Scene, splat: bool| {
+            renderer.set_settings(Settings {
+                compute_splat: splat,
+                compute_splat_min_glyphs: 0,
+                ..Settings::default()
+            });
+            renderer.upload(scene).expect("upload");
+            renderer.set_count_fragments(true);
+            let (frame, timing) = renderer
+                .render_uploaded(&camera, Outputs::ALL)
+                .expect("counted render");
+            renderer.set_count_fragments(false);
+            (frame, timing.shaded_fragments.expect("fragment count"))
+        };
+        let alone = Scene::new(
+            overflow
+                .iter()
+                .map(|&k| scene.ellipsoids[k as usize])
+                .collect(),
+        );
+        let (_, drawn_alone) = count(&mut renderer, &alone, false);
+        let (frame, shaded) = count(&mut renderer, &scene, true);
+        let tiny_shown = frame
+            .id
+            .iter()
+            .filter(|&&id| id != NO_INSTANCE && !overflow.contains(&id))
+            .count() as u64;
+        assert!(
+            shaded >= drawn_alone + tiny_shown,
+            "{shaded} fragments shaded, fewer than the {drawn_alone} of the large glyphs' \
+             footprints and {tiny_shown} tiny glyphs' pixels: the splat took large glyphs"
+        );
+    }
     finish_validated(renderer);
 }
 
