@@ -25,10 +25,6 @@
 layout(local_size_x = 64) in;
 const uint GROUP = 64u;
 
-// The most pixel centres a glyph's box may hold for the splat to walk it (4,096: about a
-// millisecond on lavapipe); larger glyphs are drawn.
-const int SPLAT_MAX_BOX_PIXELS = 4096;
-
 void main() {
     uint k = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * GROUP;
     // No culling steps run before: the splat's own set-up and pixel walk skip what the

@@ -218,6 +218,9 @@ pub struct SpecConstants {
     /// `SPLAT_FLOOR` (17): 0 the compute splat; the benchmark's floors: 1 only reads every
     /// instance (memory), 2 ray casts every pixel centre without keeping hits (arithmetic).
     pub splat_floor: u32,
+    /// `SPLAT_MAX_BOX_PIXELS` (18): the most pixel centres a glyph's box may hold for the
+    /// compute splat to walk it; larger glyphs are drawn.
+    pub splat_max_box_pixels: u32,
 }
 
 impl Default for SpecConstants {
@@ -240,13 +243,14 @@ impl Default for SpecConstants {
             compact: 0,
             reversed_z: 1,
             splat_floor: 0,
+            splat_max_box_pixels: 4096,
         }
     }
 }
 
 impl SpecConstants {
     /// `(constant_id, byte offset)` of every field.
-    pub const IDS: [(u32, usize); 16] = [
+    pub const IDS: [(u32, usize); 17] = [
         (0, offset_of!(SpecConstants, orthographic)),
         (2, offset_of!(SpecConstants, textbook)),
         (3, offset_of!(SpecConstants, bounds)),
@@ -263,11 +267,12 @@ impl SpecConstants {
         (15, offset_of!(SpecConstants, compact)),
         (16, offset_of!(SpecConstants, reversed_z)),
         (17, offset_of!(SpecConstants, splat_floor)),
+        (18, offset_of!(SpecConstants, splat_max_box_pixels)),
     ];
 
     /// The map entries of [`SpecConstants::IDS`], for a `VkSpecializationInfo` over
     /// `bytemuck::bytes_of(self)`.
-    pub fn map_entries() -> [vk::SpecializationMapEntry; 16] {
+    pub fn map_entries() -> [vk::SpecializationMapEntry; 17] {
         Self::IDS.map(|(constant_id, offset)| vk::SpecializationMapEntry {
             constant_id,
             offset: offset as u32,
@@ -301,5 +306,5 @@ const _: () = {
     assert!(offset_of!(ShadingRecord, ray_c) == 48);
     assert!(offset_of!(ShadingRecord, depth_gradient) == 64);
     assert!(offset_of!(ShadingRecord, to_normal_x) == 80);
-    assert!(size_of::<SpecConstants>() == 64);
+    assert!(size_of::<SpecConstants>() == 68);
 };

@@ -92,6 +92,8 @@ pub(crate) struct SplatKey {
     pub compact: bool,
     /// The benchmark's floors (`SPLAT_FLOOR`; 0 the splat itself).
     pub floor: u32,
+    /// `SPLAT_MAX_BOX_PIXELS`.
+    pub max_box_pixels: u32,
 }
 
 impl SplatKey {
@@ -104,6 +106,7 @@ impl SplatKey {
             spheres: plan.spheres,
             compact: plan.compact,
             floor: 0,
+            max_box_pixels: plan.splat_max_box_pixels,
         }
     }
 
@@ -115,6 +118,7 @@ impl SplatKey {
             spheres: self.spheres as u32,
             compact: self.compact as u32,
             splat_floor: self.floor,
+            splat_max_box_pixels: self.max_box_pixels,
             ..SpecConstants::default()
         }
     }

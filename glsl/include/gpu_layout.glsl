@@ -109,6 +109,10 @@ const int SPLAT_FLOOR_NONE = 0;
 const int SPLAT_FLOOR_MEMORY = 1;
 const int SPLAT_FLOOR_ARITHMETIC = 2;
 layout(constant_id = 17) const int SPLAT_FLOOR = SPLAT_FLOOR_NONE;
+// The most pixel centres a glyph's box may hold for the compute splat to walk it (one
+// invocation walks each glyph, so a larger one would hold up its workgroup); larger glyphs
+// are drawn. From `FramePlan::splat_max_box_pixels`.
+layout(constant_id = 18) const int SPLAT_MAX_BOX_PIXELS = 4096;
 
 #if defined(CULL_PASS) || defined(SPLAT_PASS)
 // The culled draw's `VkDrawIndirectCommand` followed by the number of instances in the chunk

@@ -26,6 +26,12 @@ pub const SETUP_ONCE_MAX_AREA_PX: f64 = 12.0;
 /// steps: scenes of mostly large glyphs keep the draw with its occlusion culling.
 pub const SPLAT_MAX_MEAN_AREA_PX: f64 = 1024.0;
 
+/// The most pixel centres a glyph's box may hold for the compute splat to walk it; larger
+/// glyphs are drawn in the same frame. One invocation walks each glyph, so a much larger one
+/// would hold up its workgroup. Measured at 50,000 glyphs of 946 px^2 on average: 1,024 takes
+/// 458-461 ms (many glyphs drawn), 4,096 271-284 ms, 16,384 277-278 ms (README).
+pub const SPLAT_MAX_BOX_PIXELS: u32 = 4096;
+
 /// The most chunks a splatted frame may have: each chunk resolves over every marked tile.
 pub const MAX_SPLAT_CHUNKS: u32 = 8;
 
@@ -56,6 +62,8 @@ pub struct FramePlan {
     /// resolve over the tiles they touch, instead of drawn (those too large to splat are
     /// drawn in the same frame).
     pub compute_splat: bool,
+    /// The most pixel centres a glyph's box may hold for the compute splat to walk it.
+    pub splat_max_box_pixels: u32,
     /// The instances are compact records.
     pub compact: bool,
     /// The camera is orthographic.
@@ -167,6 +175,7 @@ impl FramePlan {
             && (culling.any() || setup_once || compute_splat);
         Ok(Self {
             compute_splat,
+            splat_max_box_pixels: SPLAT_MAX_BOX_PIXELS,
             config,
             mean_area_px,
             // The splat culls as it goes (off-screen glyphs, empty pixel boxes): the culling
