@@ -51,7 +51,7 @@ pub enum Feature {
     /// Instances uploaded sorted front to back by nearest depth (for early depth rejection on
     /// hardware that has it; lavapipe has none when the shader writes depth).
     FrontToBack,
-    /// Many glyphs of a few pixels splatted by a compute pass and resolved once per pixel,
+    /// Many small and medium glyphs splatted by a compute pass and resolved once per pixel,
     /// instead of drawn through the rasterizer (the other features are measured on the draw).
     ComputeSplat,
 }
