@@ -69,6 +69,18 @@ fn assert_splat_matches_draw(
     differ("colour", colors);
 }
 
+/// Asserts that some glyph of `scene` reaches in front of `camera`'s near plane (so the
+/// frame has caps to draw).
+fn assert_reaches_near_plane(scene: &Scene, camera: &Camera) {
+    assert!(
+        scene
+            .ellipsoids
+            .iter()
+            .any(|e| camera.view_depth(e.center) < camera.near + e.radii.max_element()),
+        "no glyph reaches the near plane"
+    );
+}
+
 /// 20,000 glyphs of one or two pixels, 320x240.
 fn tiny_glyphs() -> (Scene, Camera) {
     let camera =
@@ -113,13 +125,7 @@ fn splat_matches_the_draw_bit_for_bit() {
     let inside = Camera::look_at(DVec3::new(0.3, 0.2, 6.0), DVec3::ZERO, 60.0, 4.5, 320, 240)
         .expect("camera");
     let small = random_cloud(20_000, 22, 3.0, 0.02);
-    assert!(
-        small
-            .ellipsoids
-            .iter()
-            .any(|e| inside.view_depth(e.center) < inside.near + e.radii.max_element()),
-        "no glyph reaches the near plane"
-    );
+    assert_reaches_near_plane(&small, &inside);
     assert_splat_matches_draw(&mut renderer, "near-plane cut", &small, &inside, full);
     finish_validated(renderer);
 }
@@ -166,12 +172,7 @@ fn medium_glyphs_many_layers_deep_match_the_draw_bit_for_bit() {
     let inside = Camera::look_at(DVec3::new(0.5, 0.2, 7.0), DVec3::ZERO, 60.0, 5.5, 333, 250)
         .expect("camera");
     let cut = random_cloud(6_000, 24, 5.0, 0.25);
-    assert!(
-        cut.ellipsoids
-            .iter()
-            .any(|e| inside.view_depth(e.center) < inside.near + e.radii.max_element()),
-        "no glyph reaches the near plane"
-    );
+    assert_reaches_near_plane(&cut, &inside);
     assert_splat_matches_draw(&mut renderer, "medium near-plane cut", &cut, &inside, full);
     finish_validated(renderer);
 }

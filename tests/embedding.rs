@@ -232,6 +232,24 @@ fn host_scene(
     }
 }
 
+/// Submits the recorded work, waits, reads the target's RGBA8 pixels and destroys the
+/// renderer, the mesh and the target.
+fn finish_frame(
+    host: &mut Host,
+    renderer: EllipsoidRenderer,
+    mesh: MeshPipeline,
+    target: HostTarget,
+) -> Vec<u8> {
+    host.submit_and_wait().unwrap();
+    let rgba = target.read_rgba().unwrap();
+    let (device, allocator) = host.device_and_allocator();
+    // SAFETY: the submission completed.
+    unsafe { renderer.destroy(device, allocator) };
+    mesh.destroy(host);
+    target.destroy(host);
+    rgba
+}
+
 /// Renders the setup into a host target and returns the resolved RGBA8 pixels. With `second`,
 /// the same command buffer then records a second frame, whose picture is returned.
 fn render(
@@ -302,13 +320,7 @@ fn render(
     if let Some(second) = second {
         frame(&mut renderer, allocator, 1, &second.scene, &[second.update]);
     }
-    host.submit_and_wait().unwrap();
-    let rgba = target.read_rgba().unwrap();
-    let (device, allocator) = host.device_and_allocator();
-    // SAFETY: the submission completed.
-    unsafe { renderer.destroy(device, allocator) };
-    mesh.destroy(host);
-    target.destroy(host);
+    let rgba = finish_frame(host, renderer, mesh, target);
     (rgba, camera)
 }
 
@@ -576,13 +588,7 @@ fn render_small_glyphs(
         target.end_pass(device, cmd);
         splatted
     };
-    host.submit_and_wait().unwrap();
-    let rgba = target.read_rgba().unwrap();
-    let (device, allocator) = host.device_and_allocator();
-    // SAFETY: the submission completed.
-    unsafe { renderer.destroy(device, allocator) };
-    mesh.destroy(host);
-    target.destroy(host);
+    let rgba = finish_frame(host, renderer, mesh, target);
     (rgba, splatted)
 }
 

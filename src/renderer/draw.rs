@@ -123,6 +123,7 @@ impl EllipsoidRenderer {
             },
         };
         let indirect = self.buffers.handle(Binding::IndirectDraw)?;
+        let tiles = resolve_tiles(camera.width, camera.height);
         let layout = self.pipelines.draw_layout;
         // SAFETY: `cmd` is recording inside a compatible rendering pass (caller contract); every
         // bound object is owned by `self` and outlives the command buffer's execution.
@@ -166,7 +167,6 @@ impl EllipsoidRenderer {
                     // hit is one of this chunk's glyphs (the tiles no glyph marked are
                     // empty); then the glyphs the splat left to the draw, depth-tested
                     // against it.
-                    let tiles = resolve_tiles(camera.width, camera.height);
                     device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, resolve);
                     device.cmd_draw(cmd, 4, tiles, 0, 0);
                     device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);

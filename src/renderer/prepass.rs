@@ -77,10 +77,11 @@ impl EllipsoidRenderer {
         };
         let sets = self.descriptor_sets(device)?;
         let groups = self.buffers.handle(Binding::CullGroups)?;
-        let groups_slice = self.chunking().groups_slice();
+        let chunking = self.chunking();
+        let groups_slice = chunking.groups_slice();
         // Each chunk culls its own instances into its own indirect command; the occlusion
         // tiles are cleared once and shared, so later chunks also see earlier occluders.
-        let chunks: Vec<(u32, u32)> = self.chunking().chunks().collect();
+        let chunks: Vec<(u32, u32)> = chunking.chunks().collect();
         for (k, ((first, count), set)) in chunks.into_iter().zip(sets).enumerate() {
             let prepass = Prepass {
                 layout: self.pipelines.cull_layout,
