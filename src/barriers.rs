@@ -161,6 +161,31 @@ pub const COUNTER_TO_HOST: Barrier = Barrier {
     dst_access: vk::AccessFlags::HOST_READ,
 };
 
+/// `impostor-visbuffer` (feature `research`): the visibility buffer's clear -> the
+/// visibility-buffer draw's atomics.
+#[cfg(feature = "research")]
+pub const VISIBILITY_CLEARED_TO_DRAW: Barrier = Barrier {
+    purpose: "visibility-buffer clear -> the visibility-buffer draw's fragment atomics",
+    src_stages: vk::PipelineStageFlags::TRANSFER,
+    src_access: vk::AccessFlags::TRANSFER_WRITE,
+    dst_stages: vk::PipelineStageFlags::FRAGMENT_SHADER,
+    dst_access: access(&[vk::AccessFlags::SHADER_READ, vk::AccessFlags::SHADER_WRITE]),
+};
+
+/// `impostor-visbuffer` (feature `research`): the visibility-buffer draw's atomics -> the
+/// resolve's tile reads (vertex stage) and key reads (fragment stage) in the host's pass.
+#[cfg(feature = "research")]
+pub const VISIBILITY_DRAW_TO_RESOLVE: Barrier = Barrier {
+    purpose: "visibility-buffer draw's fragment atomics -> the resolve's vertex and fragment reads",
+    src_stages: vk::PipelineStageFlags::FRAGMENT_SHADER,
+    src_access: vk::AccessFlags::SHADER_WRITE,
+    dst_stages: stages(&[
+        vk::PipelineStageFlags::VERTEX_SHADER,
+        vk::PipelineStageFlags::FRAGMENT_SHADER,
+    ]),
+    dst_access: vk::AccessFlags::SHADER_READ,
+};
+
 /// Every barrier above.
 pub const ALL: [Barrier; 7] = [
     INSTANCES_BEFORE_COPY,

@@ -102,6 +102,10 @@ pub enum Shading {
     FlatDepth,
     /// No ray cast, no discard, no depth: the rasterizer's limit for the footprint.
     FlatFill,
+    /// The exact hit, kept per pixel in the compute splat's visibility buffer instead of
+    /// shaded (no colour, no depth export), in a pass of its own before the host's; the
+    /// splat's resolve then shades each visible pixel once.
+    VisibilityBuffer,
 }
 
 /// What stands in for each ellipsoid.
@@ -162,6 +166,9 @@ pub enum Method {
     /// The shipped impostor always drawn through the rasterizer (`Settings::compute_splat`
     /// off).
     ImpostorDraw,
+    /// Visibility-buffer shading of the draw: every glyph is drawn without shading into the
+    /// visibility buffer, and the resolve shades each visible pixel once.
+    ImpostorVisbuffer,
     /// The roofline's memory floor: a compute pass that only reads every instance (frames
     /// that would splat; nothing is drawn).
     FloorMemory,
@@ -179,7 +186,7 @@ pub enum Method {
 #[cfg(feature = "research")]
 impl Method {
     /// Every method, in the order of the tables.
-    pub const ALL: [Method; 21] = [
+    pub const ALL: [Method; 22] = [
         Method::Impostor,
         Method::ImpostorOrientedRect,
         Method::ImpostorWorldQuad,
@@ -192,6 +199,7 @@ impl Method {
         Method::ImpostorCompact,
         Method::ImpostorCompute,
         Method::ImpostorDraw,
+        Method::ImpostorVisbuffer,
         Method::FloorMemory,
         Method::FloorArithmetic,
         Method::BoxProxy,
@@ -227,6 +235,7 @@ impl Method {
             Method::ImpostorCompact => "impostor-compact".into(),
             Method::ImpostorCompute => "impostor-compute".into(),
             Method::ImpostorDraw => "impostor-draw".into(),
+            Method::ImpostorVisbuffer => "impostor-visbuffer".into(),
             Method::FloorMemory => "floor-memory".into(),
             Method::FloorArithmetic => "floor-arithmetic".into(),
             Method::BoxProxy => "box-proxy".into(),
@@ -299,6 +308,10 @@ impl Method {
             },
             Method::ImpostorFlatDepth => DrawConfig {
                 shading: Shading::FlatDepth,
+                ..base
+            },
+            Method::ImpostorVisbuffer => DrawConfig {
+                shading: Shading::VisibilityBuffer,
                 ..base
             },
             Method::BoxProxy => DrawConfig {

@@ -39,10 +39,19 @@ pub(crate) struct PipelineKey {
 impl PipelineKey {
     /// The compute splat's resolve that `plan` needs, if it splats.
     pub fn resolve(plan: &FramePlan) -> Option<Self> {
-        plan.compute_splat.then_some(Self {
+        let of = Self::of(plan);
+        plan.resolve.then_some(Self {
             compute_splat: true,
             culled: false,
-            ..Self::of(plan)
+            // The resolve shades exactly, whichever way the visibility buffer was filled.
+            config: DrawConfig {
+                shading: match of.config.shading {
+                    Shading::VisibilityBuffer => Shading::Exact,
+                    shading => shading,
+                },
+                ..of.config
+            },
+            ..of
         })
     }
 
@@ -55,7 +64,7 @@ impl PipelineKey {
             target: plan.target,
             reversed_z: plan.reversed_z,
             count_fragments: plan.count_fragments,
-            culled: plan.prepass,
+            culled: plan.prepass && !plan.visibility_draw,
             setup_once: plan.setup_once,
             spheres: plan.spheres,
             compact: plan.compact,
@@ -191,6 +200,10 @@ fn stage_code(key: &PipelineKey, aux_outputs: bool) -> Result<(&'static [u8], &'
             (shaders::ELLIPSOID_VERT, shaders::ELLIPSOID_FLAT_DEPTH_FRAG)
         }
         #[cfg(feature = "research")]
+        (Geometry::Impostor, Shading::VisibilityBuffer) => {
+            (shaders::ELLIPSOID_VERT, shaders::ELLIPSOID_VISIBILITY_FRAG)
+        }
+        #[cfg(feature = "research")]
         (Geometry::Impostor, Shading::FlatFill) => {
             (shaders::ELLIPSOID_VERT, shaders::FLAT_FILL_FRAG)
         }
@@ -308,8 +321,12 @@ fn build(
         .rasterization_samples(target.samples)
         .sample_shading_enable(target.multisampled())
         .min_sample_shading(1.0);
-    // Reversed Z: larger is nearer; standard Z: smaller. Flat fill tests nothing.
-    let depth_on = config.shading != Shading::FlatFill || config.geometry != Geometry::Impostor;
+    // Reversed Z: larger is nearer; standard Z: smaller. Flat fill tests nothing, and the
+    // visibility-buffer draw has no depth attachment (its atomics keep the nearest hit).
+    let depth_on = !matches!(
+        config.shading,
+        Shading::FlatFill | Shading::VisibilityBuffer
+    ) || config.geometry != Geometry::Impostor;
     let compare = if key.reversed_z {
         vk::CompareOp::GREATER
     } else {

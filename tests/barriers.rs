@@ -235,3 +235,45 @@ fn a_barrier_missing_a_bit_is_caught() {
     assert!(!covers(&no_stage, compute_write, indirect_read));
     assert!(!covers(&no_access, compute_write, indirect_read));
 }
+
+/// The benchmark's visibility-buffer draw (`impostor-visbuffer`) adds two barriers of its
+/// own around its pass: its fragment atomics come after the clear and before the resolve.
+#[cfg(feature = "research")]
+#[test]
+fn visibility_draw_hazards_are_covered() {
+    let copy = at(S::TRANSFER, A::TRANSFER_WRITE);
+    let fragment_atomics = at(S::FRAGMENT_SHADER, A::SHADER_READ | A::SHADER_WRITE);
+    let fragment_write = at(S::FRAGMENT_SHADER, A::SHADER_WRITE);
+    let hazards = [
+        (
+            "visibility clear -> the draw's atomics",
+            copy,
+            fragment_atomics,
+            barriers::VISIBILITY_CLEARED_TO_DRAW,
+        ),
+        (
+            "the draw's atomics -> the resolve's key reads",
+            fragment_write,
+            at(S::FRAGMENT_SHADER, A::SHADER_READ),
+            barriers::VISIBILITY_DRAW_TO_RESOLVE,
+        ),
+        (
+            "the draw's tile marks -> the resolve's vertex stage",
+            fragment_write,
+            at(S::VERTEX_SHADER, A::SHADER_READ),
+            barriers::VISIBILITY_DRAW_TO_RESOLVE,
+        ),
+        (
+            "previous frame's draw atomics -> this frame's clear",
+            fragment_write,
+            copy,
+            barriers::PREPASS_AFTER_PREVIOUS_FRAME,
+        ),
+    ];
+    for (what, first, then, barrier) in hazards {
+        assert!(
+            covers(&barrier, first, then),
+            "{what}: {barrier:?} does not order {first:?} before {then:?}"
+        );
+    }
+}

@@ -5,8 +5,8 @@
 //! tie exactly in depth (the lower instance must win, as in the draw).
 
 use ellipsoid_splat::{
-    Camera, DepthConvention, Ellipsoid, InstanceFormat, OffscreenRenderer, Outputs, Projection,
-    Scene, Settings, NO_INSTANCE,
+    Camera, DepthConvention, Ellipsoid, Frame, InstanceFormat, OffscreenRenderer, Outputs,
+    Projection, Scene, Settings, NO_INSTANCE,
 };
 use ellipsoid_splat_loaders::random_cloud;
 use ellipsoid_splat_reference::testing::{finish_validated, validated_renderer};
@@ -48,22 +48,30 @@ fn assert_splat_matches_draw(
         .0;
     let shown = drawn.id.iter().filter(|&&id| id != NO_INSTANCE).count();
     assert!(shown > 500, "{name}: only {shown} pixels show a glyph");
+    assert_frames_identical(name, &drawn, &splatted);
+}
+
+/// Asserts that `other` equals `drawn` bit for bit in every output, and that `drawn` shows
+/// enough glyph pixels for that to mean something.
+fn assert_frames_identical(name: &str, drawn: &Frame, other: &Frame) {
+    let shown = drawn.id.iter().filter(|&&id| id != NO_INSTANCE).count();
+    assert!(shown > 300, "{name}: only {shown} pixels show a glyph");
     let differ = |what: &str, count: usize| {
         assert_eq!(count, 0, "{name}: {count} pixels differ in {what}");
     };
     let count = |a: &[u32], b: &[u32]| a.iter().zip(b).filter(|(x, y)| x != y).count();
     let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     let normal_bits = |v: &[[f32; 3]]| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
-    differ("ID", count(&drawn.id, &splatted.id));
-    differ("depth", count(&bits(&drawn.depth), &bits(&splatted.depth)));
+    differ("ID", count(&drawn.id, &other.id));
+    differ("depth", count(&bits(&drawn.depth), &bits(&other.depth)));
     differ(
         "normal",
-        count(&normal_bits(&drawn.normal), &normal_bits(&splatted.normal)),
+        count(&normal_bits(&drawn.normal), &normal_bits(&other.normal)),
     );
     let colors = drawn
         .color
         .iter()
-        .zip(&splatted.color)
+        .zip(&other.color)
         .filter(|(a, b)| a != b)
         .count();
     differ("colour", colors);
@@ -408,4 +416,91 @@ fn chunked_splat_matches_the_draw(
             "{name}, {label}: depths differ"
         );
     }
+}
+
+/// The benchmark's visibility-buffer draw (`impostor-visbuffer`: every glyph rasterized into
+/// the visibility buffer, then the splat's resolve) draws what the draw draws, bit for bit:
+/// medium glyphs many layers deep in perspective, orthographic and standard depth, a
+/// near-plane cut, exact depth ties, glyphs reaching the eye plane, and six chunks.
+#[cfg(feature = "research")]
+#[test]
+fn visibility_buffer_draw_matches_the_draw_bit_for_bit() {
+    use ellipsoid_splat::draw::Method;
+    let camera = Camera::look_at(
+        DVec3::new(3.0, -2.0, 24.0),
+        DVec3::ZERO,
+        45.0,
+        1.0,
+        333,
+        250,
+    )
+    .unwrap();
+    let medium = random_cloud(6_000, 23, 10.0, 0.5);
+    let ortho = Camera {
+        projection: Projection::Orthographic { height: 20.0 },
+        ..camera
+    };
+    let standard = camera
+        .with_depth(DepthConvention::STANDARD_INFINITE)
+        .expect("depth convention");
+    let inside = Camera::look_at(DVec3::new(0.5, 0.2, 7.0), DVec3::ZERO, 60.0, 5.5, 333, 250)
+        .expect("camera");
+    let cut = random_cloud(6_000, 24, 5.0, 0.25);
+    assert_reaches_near_plane(&cut, &inside);
+    let (tiny, tiny_camera) = tiny_glyphs();
+    let mut tied = Vec::new();
+    for e in tiny.ellipsoids.iter().take(10_000) {
+        tied.push(*e);
+        tied.push(Ellipsoid {
+            color: [0.1, 0.9, 0.1],
+            ..*e
+        });
+    }
+    let tied = Scene::new(tied);
+    // Two glyphs through the eye plane among the medium ones.
+    let mut eye_plane = medium.ellipsoids.clone();
+    for (k, x) in [(10, -1.0), (20, 1.5)] {
+        eye_plane[k] = Ellipsoid::new(
+            DVec3::new(x, 0.3, 24.0),
+            DVec3::new(0.8, 0.5, 1.5),
+            DQuat::from_rotation_y(0.4),
+            Some([0.2, 0.4, 0.9]),
+        )
+        .expect("glyph");
+    }
+    let eye_plane = Scene::new(eye_plane);
+    let cases = [
+        ("perspective", &medium, camera, u32::MAX),
+        ("orthographic", &medium, ortho, u32::MAX),
+        ("standard depth", &medium, standard, u32::MAX),
+        ("near-plane cut", &cut, inside, u32::MAX),
+        ("exact ties", &tied, tiny_camera, u32::MAX),
+        ("through the eye plane", &eye_plane, camera, u32::MAX),
+        ("six chunks", &medium, camera, 1_000),
+    ];
+    let mut renderer = validated_renderer();
+    for (name, scene, camera, chunk) in cases {
+        let render = |renderer: &mut OffscreenRenderer, method: Method| {
+            renderer.set_draw_config(method.config());
+            renderer.set_settings(Settings {
+                max_chunk_instances: chunk,
+                ..method.settings()
+            });
+            renderer.upload(scene).expect("upload");
+            let plan = renderer.plan(&camera).expect("plan");
+            assert_eq!(
+                plan.visibility_draw,
+                method == Method::ImpostorVisbuffer,
+                "{name}: {plan:?}"
+            );
+            renderer
+                .render_uploaded(&camera, Outputs::ALL)
+                .expect("render")
+                .0
+        };
+        let drawn = render(&mut renderer, Method::ImpostorDraw);
+        let visbuffer = render(&mut renderer, Method::ImpostorVisbuffer);
+        assert_frames_identical(name, &drawn, &visbuffer);
+    }
+    finish_validated(renderer);
 }

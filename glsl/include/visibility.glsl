@@ -1,4 +1,5 @@
-// The compute splat's visibility buffer (binding 8, `visibility_bytes` in src/gpu_layout.rs):
+// The compute splat's visibility buffer (binding 8, `visibility_bytes` in src/gpu_layout.rs;
+// also written by the benchmark's research/ellipsoid_visibility.frag, VISIBILITY_WRITER):
 // per pixel, row-major, the nearest hit as one 64-bit key, the depth-buffer value's bits above
 // the instance's; then per RESOLVE_TILE-pixel square tile, row-major, a word that is empty
 // until a glyph with a hit in the tile marks it (the resolve draws marked tiles only). Depth values in [0, 1]
@@ -9,7 +10,7 @@
 // Needs GL_EXT_shader_explicit_arithmetic_types_int64 (and, where written,
 // GL_EXT_shader_atomic_int64) enabled by the includer.
 
-#ifdef SPLAT_PASS
+#if defined(SPLAT_PASS) || defined(VISIBILITY_WRITER)
 #define VISIBILITY_ACCESS
 #else
 #define VISIBILITY_ACCESS readonly

@@ -69,6 +69,10 @@ pub const ELLIPSOID_FLAT_DEPTH_FRAG: FragmentShader = fragment_shader!("ellipsoi
 /// The `flat-fill` fragment shader.
 #[cfg(feature = "research")]
 pub const FLAT_FILL_FRAG: FragmentShader = fragment_shader!("flat_fill.frag");
+/// `impostor-visbuffer`'s fragment stage: the nearest hit per pixel into the visibility
+/// buffer, nothing shaded.
+#[cfg(feature = "research")]
+pub const ELLIPSOID_VISIBILITY_FRAG: FragmentShader = fragment_shader!("ellipsoid_visibility.frag");
 /// Icosphere vertex shader (`mesh-L*`).
 #[cfg(feature = "research")]
 pub const MESH_VERT: &[u8] = spirv!("mesh.vert.spv");

@@ -37,6 +37,16 @@ impl EllipsoidRenderer {
             Some(key) => Some(self.pipelines.draw(device, key, target)?),
             None => None,
         };
+        // The benchmark's visibility-buffer draw runs in a pass of its own, with no
+        // attachments.
+        #[cfg(feature = "research")]
+        let no_attachments = super::visibility_draw::no_attachments();
+        #[cfg(feature = "research")]
+        let target = if plan.visibility_draw {
+            &no_attachments
+        } else {
+            target
+        };
         Ok((
             self.pipelines.draw(device, PipelineKey::of(plan), target)?,
             resolve,
@@ -125,10 +135,15 @@ impl EllipsoidRenderer {
         let indirect = self.buffers.handle(Binding::IndirectDraw)?;
         let tiles = resolve_tiles(camera.width, camera.height);
         let layout = self.pipelines.draw_layout;
+        // The visibility-buffer draw is done by now (`record_prepass`): only its resolve
+        // remains.
+        let draw = (!plan.visibility_draw).then_some(pipeline);
         // SAFETY: `cmd` is recording inside a compatible rendering pass (caller contract); every
         // bound object is owned by `self` and outlives the command buffer's execution.
         unsafe {
-            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+            if let Some(pipeline) = draw.or(resolve) {
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+            }
             device.cmd_set_viewport(cmd, 0, &[viewport]);
             device.cmd_set_scissor(cmd, 0, &[scissor]);
             #[cfg(feature = "research")]
@@ -169,6 +184,11 @@ impl EllipsoidRenderer {
                     // against it.
                     device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, resolve);
                     device.cmd_draw(cmd, 4, tiles, 0, 0);
+                }
+                let Some(pipeline) = draw else {
+                    continue;
+                };
+                if resolve.is_some() {
                     device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
                 }
                 match plan.config.geometry {

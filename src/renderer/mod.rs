@@ -16,6 +16,10 @@
 //!   clearing its visibility buffer and keep bits, then the steps that compact the glyphs it
 //!   leaves to the draw) with compute-to-compute barriers between them, and a
 //!   barrier from its compute writes to indirect-command, vertex and fragment shader reads.
+//!   (The benchmark's visibility-buffer draw, `research` only, records instead the same first
+//!   barrier, the visibility buffer's clear, a barrier to fragment-shader atomics, its own
+//!   attachment-less pass, and a barrier from those atomics to the resolve's vertex and
+//!   fragment reads.)
 //! - [`EllipsoidRenderer::record`] (inside the host's pass): binds its pipeline, descriptor set
 //!   and push constants, sets viewport and scissor to the camera's image, and draws (in a
 //!   splatted frame, per chunk, the resolve and then the glyphs left to the draw). It
@@ -42,6 +46,8 @@ mod push;
 mod research;
 mod upload;
 mod uploaded;
+#[cfg(feature = "research")]
+mod visibility_draw;
 
 use ash::vk;
 use glam::DVec3;

@@ -64,6 +64,13 @@ pub struct FramePlan {
     pub compute_splat: bool,
     /// The most pixel centres a glyph's box may hold for the compute splat to walk it.
     pub splat_max_box_pixels: u32,
+    /// The benchmark's visibility-buffer draw (`Shading::VisibilityBuffer`): the pre-pass
+    /// draws every glyph into the visibility buffer, in a pass of its own, and the host's
+    /// pass only resolves.
+    pub visibility_draw: bool,
+    /// A resolve inside the host's pass shades the visibility buffer's pixels (after the
+    /// compute splat or the visibility-buffer draw).
+    pub resolve: bool,
     /// The instances are compact records.
     pub compact: bool,
     /// The camera is orthographic.
@@ -146,22 +153,35 @@ impl FramePlan {
         // features and single-sample targets: enough glyphs pay for its fixed cost (clearing
         // and resolving), it beats the draw up to its mean size (README), and the glyphs too
         // large for it are drawn in the same frame.
-        let compute_splat = settings.compute_splat
-            && compute_splat_features
-            && exact_impostor
-            && auto_footprint
-            && mean_area_px.is_some_and(|area| area <= SPLAT_MAX_MEAN_AREA_PX)
-            // Its keys order float32 depths: the draw's test compares them in the attachment's
-            // format, which must then be float32 too to break ties the same way.
+        // What any frame that fills the visibility buffer needs: its features, a single-sample
+        // target, a float32 depth attachment (the keys order float32 depths; the draw's test
+        // compares them in the attachment's format, which must then be float32 too to break
+        // ties the same way), a buffer within one binding and few enough chunks (each
+        // resolves over every marked tile).
+        let visibility_possible = compute_splat_features
+            && single
             && matches!(
                 target.depth_format(),
                 vk::Format::D32_SFLOAT | vk::Format::D32_SFLOAT_S8_UINT
             )
             && visibility_bytes(camera.width, camera.height) <= max_storage_buffer_range as u64
-            && chunks <= MAX_SPLAT_CHUNKS
+            && chunks <= MAX_SPLAT_CHUNKS;
+        let visibility_draw = config.shading == Shading::VisibilityBuffer;
+        if visibility_draw && (!visibility_possible || config.geometry != Geometry::Impostor) {
+            return Err(Error::invalid(
+                "draw configuration",
+                "the visibility-buffer draw needs 64-bit buffer atomics, a single-sample target \
+                 with float32 depth, a visibility buffer within one storage binding and at most \
+                 8 chunks",
+            ));
+        }
+        let compute_splat = settings.compute_splat
+            && visibility_possible
+            && exact_impostor
+            && auto_footprint
+            && mean_area_px.is_some_and(|area| area <= SPLAT_MAX_MEAN_AREA_PX)
             && scene.count > 0
-            && scene.count >= settings.compute_splat_min_glyphs
-            && single;
+            && scene.count >= settings.compute_splat_min_glyphs;
         // Otherwise such glyphs are set up once by the pre-pass, where the records fit.
         let setup_once = settings.setup_once
             && !compute_splat
@@ -170,17 +190,23 @@ impl FramePlan {
         let draws_through_prepass = config.geometry == Geometry::Impostor
             && config.intersection == Intersection::Stable
             && config.shading != Shading::FlatFill;
-        let prepass = draws_through_prepass
-            && scene.count > 0
-            && (culling.any() || setup_once || compute_splat);
+        let prepass = scene.count > 0
+            && (visibility_draw
+                || draws_through_prepass && (culling.any() || setup_once || compute_splat));
         Ok(Self {
             compute_splat,
             splat_max_box_pixels: SPLAT_MAX_BOX_PIXELS,
+            visibility_draw,
+            resolve: compute_splat || visibility_draw,
             config,
             mean_area_px,
             // The splat culls as it goes (off-screen glyphs, empty pixel boxes): the culling
             // steps would only add dispatches.
-            culling: if compute_splat { Culling::OFF } else { culling },
+            culling: if compute_splat || visibility_draw {
+                Culling::OFF
+            } else {
+                culling
+            },
             prepass,
             setup_once,
             spheres: settings.sphere_path && scene.all_spheres,

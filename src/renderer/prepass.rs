@@ -41,16 +41,25 @@ impl EllipsoidRenderer {
         if !plan.prepass {
             return Ok(());
         }
-        self.prepare(device, allocator, &plan)?;
-        if plan.culling.occlusion || plan.compute_splat {
+        let (pipeline, _) = self.prepare(device, allocator, &plan)?;
+        if plan.culling.occlusion || plan.resolve {
             self.size_buffers(
                 device,
                 allocator,
                 self.scene.count,
                 (camera.width, camera.height),
-                plan.compute_splat,
+                plan.resolve,
             )?;
         }
+        #[cfg(feature = "research")]
+        if plan.visibility_draw {
+            // SAFETY: caller contract; the visibility buffer was sized for `camera` above.
+            unsafe { self.record_visibility_draw(device, cmd, camera, &plan, pipeline)? };
+            self.prepared = Some((*camera, plan));
+            return Ok(());
+        }
+        #[cfg(not(feature = "research"))]
+        let _ = pipeline;
         let splat = if plan.compute_splat {
             let key = SplatKey {
                 floor: self.splat_floor,

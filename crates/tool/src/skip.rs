@@ -9,7 +9,7 @@ use glam::DVec3;
 use crate::bench::{frustum_cloud, median, HEIGHT, WIDTH};
 use crate::report::{bar_chart, format_table, write_csv, Axis};
 use ellipsoid_splat::camera::Camera;
-use ellipsoid_splat::draw::DrawConfig;
+use ellipsoid_splat::draw::{DrawConfig, Method};
 use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::frame::Frame;
 use ellipsoid_splat::offscreen::OffscreenRenderer;
@@ -54,11 +54,15 @@ pub enum Feature {
     /// Many small and medium glyphs splatted by a compute pass and resolved once per pixel,
     /// instead of drawn through the rasterizer (the other features are measured on the draw).
     ComputeSplat,
+    /// Hidden layers not shaded: the draw keeps each pixel's nearest hit in the visibility
+    /// buffer, with no shading and no depth export, and a resolve shades each visible pixel
+    /// once (`impostor-visbuffer`; measured, not shipped).
+    VisibilityBuffer,
 }
 
 impl Feature {
     /// Every feature measured.
-    pub const ALL: [Feature; 10] = [
+    pub const ALL: [Feature; 11] = [
         Feature::FrustumCulling,
         Feature::PixelCentreCulling,
         Feature::OcclusionCulling,
@@ -69,6 +73,7 @@ impl Feature {
         Feature::AuxOutputsOnDemand,
         Feature::FrontToBack,
         Feature::ComputeSplat,
+        Feature::VisibilityBuffer,
     ];
 
     /// Name in the `feature` column.
@@ -84,6 +89,7 @@ impl Feature {
             Feature::AuxOutputsOnDemand => "aux-outputs-on-demand",
             Feature::FrontToBack => "front-to-back",
             Feature::ComputeSplat => "compute-splat",
+            Feature::VisibilityBuffer => "visibility-buffer",
         }
     }
 
@@ -100,6 +106,7 @@ impl Feature {
             Feature::AuxOutputsOnDemand => "molecule",
             Feature::FrontToBack => "heavy-overlap",
             Feature::ComputeSplat => "tiny-visible",
+            Feature::VisibilityBuffer => "heavy-overlap",
         }
     }
 
@@ -133,10 +140,14 @@ impl Feature {
             Feature::SmallGlyphTriangles => settings.small_glyph_triangles = on,
             Feature::ComputeSplat => settings.compute_splat = on,
             Feature::AuxOutputsOnDemand if !on => timed = Outputs::ALL,
-            Feature::AuxOutputsOnDemand | Feature::FrontToBack => {}
+            Feature::AuxOutputsOnDemand | Feature::FrontToBack | Feature::VisibilityBuffer => {}
         }
         renderer.set_settings(settings);
-        renderer.set_draw_config(DrawConfig::default());
+        renderer.set_draw_config(if self == Feature::VisibilityBuffer && on {
+            Method::ImpostorVisbuffer.config()
+        } else {
+            DrawConfig::default()
+        });
         timed
     }
 }

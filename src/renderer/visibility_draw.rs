@@ -1,0 +1,123 @@
+//! The benchmark's visibility-buffer draw (feature `research`, method `impostor-visbuffer`):
+//! every glyph is rasterized and ray cast as the shipped impostor is, but each fragment only
+//! keeps its pixel's nearest hit in the compute splat's visibility buffer; the resolve in the
+//! host's pass then shades each visible pixel once. It measures what shading once per
+//! visible pixel buys a rasterizer with no early depth test for depth-exporting shaders.
+//!
+//! The fragment stage's atomics must be visible to the resolve's reads in the host's pass, so
+//! the draw runs before it, in a dynamic-rendering pass of its own with no attachments.
+
+use ash::vk;
+
+use crate::barriers;
+use crate::camera::Camera;
+use crate::gpu_layout::visibility_bytes;
+use crate::target::{Pass, Target};
+
+use super::buffers::Binding;
+use super::pipelines::DRAW_PUSH_STAGES;
+use super::plan::FramePlan;
+use super::push::push_constants;
+use super::EllipsoidRenderer;
+use crate::error::Result;
+
+/// The target the visibility-buffer draw's pipeline is built for: no attachments at all.
+pub(crate) fn no_attachments() -> Target {
+    Target {
+        pass: Pass::Dynamic {
+            color_formats: Vec::new(),
+            depth_format: vk::Format::UNDEFINED,
+        },
+        samples: vk::SampleCountFlags::TYPE_1,
+        aux_outputs: false,
+    }
+}
+
+impl EllipsoidRenderer {
+    /// Records the visibility-buffer draw of a frame with `camera` and `plan` into `cmd`,
+    /// with `pipeline` (built for [`no_attachments`]): the buffer's clear, the draw of every
+    /// chunk, and the barriers before the clear and after the draw.
+    ///
+    /// # Safety
+    /// As [`EllipsoidRenderer::record_prepass`]: `cmd` records outside any pass; the
+    /// visibility buffer is sized for `camera`.
+    pub(super) unsafe fn record_visibility_draw(
+        &mut self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        camera: &Camera,
+        plan: &FramePlan,
+        pipeline: vk::Pipeline,
+    ) -> Result<()> {
+        let visibility = self.buffers.handle(Binding::Visibility)?;
+        let sets = self.descriptor_sets(device)?;
+        let empty = if plan.reversed_z { 0 } else { u32::MAX };
+        let extent = vk::Extent2D {
+            width: camera.width,
+            height: camera.height,
+        };
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent,
+        };
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: camera.width as f32,
+            height: camera.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        let rendering = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1);
+        let layout = self.pipelines.draw_layout;
+        let vertices = plan.config.footprint.vertices();
+        // SAFETY: `cmd` records outside any pass (caller contract); every handle is owned by
+        // `self` and outlives the submission; the fill covers the buffer's image part.
+        unsafe {
+            barriers::PREPASS_AFTER_PREVIOUS_FRAME.record(device, cmd);
+            device.cmd_fill_buffer(
+                cmd,
+                visibility,
+                0,
+                visibility_bytes(camera.width, camera.height),
+                empty,
+            );
+            barriers::VISIBILITY_CLEARED_TO_DRAW.record(device, cmd);
+            device.cmd_begin_rendering(cmd, &rendering);
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+            device.cmd_set_viewport(cmd, 0, &[viewport]);
+            device.cmd_set_scissor(cmd, 0, &[area]);
+            let chunks: Vec<(u32, u32)> = self.chunking().chunks().collect();
+            for ((first, count), set) in chunks.into_iter().zip(sets) {
+                device.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    layout,
+                    0,
+                    &[set],
+                    &[],
+                );
+                let push = push_constants(
+                    camera,
+                    &self.settings.material,
+                    self.scene.origin,
+                    self.scene.radius_unit,
+                    first,
+                );
+                device.cmd_push_constants(
+                    cmd,
+                    layout,
+                    DRAW_PUSH_STAGES,
+                    0,
+                    bytemuck::bytes_of(&push),
+                );
+                device.cmd_draw(cmd, vertices, count, 0, 0);
+            }
+            device.cmd_end_rendering(cmd);
+            barriers::VISIBILITY_DRAW_TO_RESOLVE.record(device, cmd);
+        }
+        Ok(())
+    }
+}
