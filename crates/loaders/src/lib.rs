@@ -12,6 +12,9 @@
 //!   `.mmcif`);
 //! - [`load()`]: any of them, by extension, else by the first bytes of the file.
 //!
+//! Once loaded, glyphs can be recoloured by shape, principal direction or uniformly
+//! ([`ColorMode`]; [`anisotropy`] gives the fractional anisotropy it weights by).
+//!
 //! Also [`generate`] (the tensor-field demo, random clouds and packed blocks, for tests, benches
 //! and demos) and [`Progress`], the progress bar large files and long sweeps show on a terminal.
 //!
@@ -24,6 +27,8 @@
 //! environment variable is read. The progress bar is drawn only when asked for
 //! ([`LoadOptions::progress`]) and only on a terminal.
 
+pub mod anisotropy;
+pub mod color_mode;
 pub mod csv;
 pub mod generate;
 pub mod load;
@@ -32,6 +37,8 @@ pub mod pdb;
 pub mod ply;
 pub mod progress;
 
+pub use self::anisotropy::fractional_anisotropy;
+pub use self::color_mode::{principal_color, principal_direction, ColorMode, UNIFORM_GREY};
 pub use self::csv::{load_csv, parse_csv};
 pub use self::generate::{packed_block, random_cloud, tensor_field};
 pub use self::load::{load, LoadOptions, Loaded, TensorOrder};

@@ -33,7 +33,8 @@
 //! when all six components are exactly 0; an invalid record when a component is not finite or
 //! the tensor is not positive definite -- an [`Error::Parse`] whose `column` names the voxel
 //! (`"voxel i,j,k"`, `line` 0), or, with [`LoadOptions::skip_invalid`], dropped and counted in
-//! [`Loaded::skipped`]; left out when its fractional anisotropy is below
+//! [`Loaded::skipped`]; left out when its fractional anisotropy
+//! ([`crate::anisotropy::fractional_anisotropy`] of the eigenvalues) is below
 //! [`LoadOptions::min_fa`]. If no voxel is left, that is an error too.
 //!
 //! Semi-axes are the eigenvalues times one factor for the whole volume, chosen so that the
@@ -57,6 +58,7 @@ use std::path::Path;
 use glam::{DMat3, DVec3};
 use nifti::{Endianness, InMemNiftiVolume, IntoNdArray, NiftiHeader, NiftiType};
 
+use crate::anisotropy::fractional_anisotropy;
 use crate::load::{read_file, LoadOptions, Loaded, TensorOrder};
 use ellipsoid_splat::ellipsoid::{symmetric_eigen, Ellipsoid};
 use ellipsoid_splat::error::{Error, Result};
@@ -807,16 +809,6 @@ fn tensor_from(v: [f64; 6], order: TensorOrder) -> DMat3 {
         DVec3::new(xy, yy, yz),
         DVec3::new(xz, yz, zz),
     )
-}
-
-/// Fractional anisotropy from the eigenvalues: `sqrt(3/2) |l - mean| / |l|`.
-fn fractional_anisotropy(l: DVec3) -> f64 {
-    let mean = (l.x + l.y + l.z) / 3.0;
-    let norm2 = l.length_squared();
-    if norm2 == 0.0 {
-        return 0.0;
-    }
-    (1.5 * (l - DVec3::splat(mean)).length_squared() / norm2).sqrt()
 }
 
 fn build_glyphs(

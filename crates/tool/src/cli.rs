@@ -117,9 +117,13 @@ pub struct DeviceArgs {
     pub validation: bool,
 }
 
-/// How scene files are read (see `scene::LoadOptions`).
+/// How scenes are read (see `scene::LoadOptions`) and coloured: what `render` and any other
+/// command that shows a scene share.
 #[derive(Debug, Clone, Args)]
 pub struct LoadArgs {
+    /// Glyph colours: the scene's own, or computed from each glyph's shape or orientation.
+    #[arg(long, value_enum, value_name = "MODE", default_value_t = ColorArg::File)]
+    pub color: ColorArg,
     /// Drop invalid records, report how many, and render the rest (default: fail on the
     /// first, naming where and why).
     #[arg(long)]
@@ -162,6 +166,46 @@ impl LoadArgs {
             progress: true,
         }
     }
+
+    /// The colour mode `--color` asks for.
+    pub fn color_mode(&self) -> scene::ColorMode {
+        self.color.into()
+    }
+
+    /// Loads or generates `spec` with these options, then colours it in `--color`'s mode.
+    pub fn load(&self, spec: &SceneSpec) -> Result<scene::Loaded> {
+        let mut loaded = spec.load(&self.options())?;
+        self.color_mode().apply(&mut loaded.scene.ellipsoids);
+        Ok(loaded)
+    }
+}
+
+/// Glyph colouring (`--color`); see `scene::ColorMode`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ColorArg {
+    /// The scene's colours: the file's (CSV r,g,b, splat f_dc, atom elements), else shape
+    /// colours (tensor volumes, the tensor field, CSV without colours) or the random cloud's.
+    File,
+    /// Shape after Westin: linear red, planar green, spherical blue.
+    Shape,
+    /// RGB = |x|,|y|,|z| of the longest semi-axis's world direction (as diffusion-MRI viewers).
+    Principal,
+    /// `principal` times the fractional anisotropy of the semi-axes (spheres go black).
+    PrincipalFa,
+    /// One neutral grey for all.
+    Uniform,
+}
+
+impl From<ColorArg> for scene::ColorMode {
+    fn from(value: ColorArg) -> Self {
+        match value {
+            ColorArg::File => Self::File,
+            ColorArg::Shape => Self::Shape,
+            ColorArg::Principal => Self::Principal,
+            ColorArg::PrincipalFa => Self::PrincipalFa,
+            ColorArg::Uniform => Self::Uniform,
+        }
+    }
 }
 
 /// Component order of stored tensors (`--tensor-order`).
@@ -183,7 +227,7 @@ pub struct RenderArgs {
     /// indices), and no more than the machine's memory can hold.
     #[arg(long, default_value = "tensor-field")]
     pub scene: String,
-    /// How scene files are read.
+    /// How the scene is read and coloured.
     #[command(flatten)]
     pub load: LoadArgs,
     /// Image width in pixels, 1 to 16384.
@@ -803,6 +847,22 @@ mod tests {
         );
         let id = render_args(&["--id", "i.exr"]).outputs();
         assert!(id.color && id.id && !id.depth && !id.normal);
+    }
+
+    #[test]
+    fn color_modes_parse_by_their_names() {
+        assert_eq!(
+            render_args(&[]).load.color_mode(),
+            scene::ColorMode::File,
+            "the default keeps today's pictures"
+        );
+        for mode in scene::ColorMode::ALL {
+            let args = render_args(&["--color", mode.name()]);
+            assert_eq!(args.load.color_mode(), mode);
+        }
+        let args = ["ellipsoid-splat", "render", "--color", "rainbow"];
+        let e = Cli::try_parse_from(args).unwrap_err().to_string();
+        assert!(e.contains("'rainbow'") && e.contains("principal-fa"), "{e}");
     }
 
     #[test]

@@ -50,7 +50,7 @@ fn render(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
     // Every argument, the scene's size and the output files, before anything is allocated.
     let plan = args.check()?;
-    let loaded = plan.scene.load(&args.load.options())?;
+    let loaded = args.load.load(&plan.scene)?;
     for note in &loaded.notes {
         eprintln!("{}: {note}", args.scene);
     }

@@ -495,3 +495,35 @@ fn bench_and_stress_check_arguments_before_running() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn every_color_mode_is_accepted_and_an_unknown_one_is_named() {
+    for mode in ["file", "shape", "principal", "principal-fa", "uniform"] {
+        // Accepted: the run gets as far as looking for the (missing) device.
+        let output = render_args(&["--scene", "random:5", "--color", mode]);
+        let error = error_line(&output, 1, mode);
+        assert_names(&error, &["no-such-device"], mode);
+    }
+    let output = render_args(&["--color", "rainbow"]);
+    let error = error_line(&output, 2, "--color rainbow");
+    assert_names(&error, &["--color", "'rainbow'"], "--color rainbow");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("file, shape, principal, principal-fa, uniform"),
+        "the known modes are listed: {stderr}"
+    );
+    // The help lists the modes with what each means.
+    let help = run(&["render", "--help"]);
+    let help = String::from_utf8_lossy(&help.stdout);
+    for words in [
+        "--color <MODE>",
+        "principal-fa",
+        "longest semi-axis",
+        "Westin",
+    ] {
+        assert!(
+            help.contains(words),
+            "{words:?} missing from --help:\n{help}"
+        );
+    }
+}

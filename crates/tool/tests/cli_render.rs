@@ -39,3 +39,129 @@ fn largest_colour_only_render_allocates_only_what_it_writes() {
     // A 16384 x 16384 PNG, even of an almost uniform background, is megabytes.
     assert!(size > 1 << 20, "big.png has {size} bytes");
 }
+
+/// Renders `scene` at 96 x 64 with validation and `extra` flags; returns the RGBA8 pixels.
+fn render_pixels(dir: &std::path::Path, name: &str, scene: &str, extra: &[&str]) -> Vec<u8> {
+    let out = dir.join(format!("{name}.png"));
+    let run = Command::new(env!("CARGO_BIN_EXE_ellipsoid-splat"))
+        .args(["render", "--validation", "--width", "96", "--height", "64"])
+        .args(["--scene", scene])
+        .args(extra)
+        .arg("--output")
+        .arg(&out)
+        .output()
+        .expect("the binary runs");
+    assert!(
+        run.status.success(),
+        "{name}: exit {:?}: {}",
+        run.status.code(),
+        String::from_utf8_lossy(&run.stderr)
+    );
+    image::open(&out).expect("a PNG").to_rgba8().into_raw()
+}
+
+/// Largest difference of any channel of any pixel.
+fn max_difference(a: &[u8], b: &[u8]) -> u8 {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| x.abs_diff(*y))
+        .max()
+        .unwrap_or(0)
+}
+
+/// `--color principal` gives each glyph the absolute components of its long axis's world
+/// direction: the picture equals that of the same glyphs with those colours, worked out by
+/// hand, written into the file.
+#[test]
+fn principal_colours_are_the_long_axes_directions() {
+    use glam::{DQuat, DVec3};
+    let dir =
+        std::env::temp_dir().join(format!("ellipsoid-splat-principal-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // Long axis (local x, y or z) turned to a known unit direction; its colour is |direction|.
+    let third = 1.0 / 3.0;
+    let glyphs = [
+        (
+            -4.0,
+            DVec3::new(2.0, 0.6, 0.8),
+            DVec3::X,
+            DVec3::new(third, 2.0 * third, 2.0 * third),
+        ),
+        (
+            0.0,
+            DVec3::new(0.5, 2.0, 0.8),
+            DVec3::Y,
+            DVec3::new(0.6, 0.0, -0.8),
+        ),
+        (
+            4.0,
+            DVec3::new(0.6, 0.8, 2.0),
+            DVec3::Z,
+            DVec3::new(-0.8, 0.6, 0.0),
+        ),
+    ];
+    let header = "x,y,z,rx,ry,rz,qw,qx,qy,qz,r,g,b\n";
+    let (mut grey, mut by_hand) = (header.to_string(), header.to_string());
+    for (x, radii, long, direction) in glyphs {
+        let q = DQuat::from_rotation_arc(long, direction);
+        let row = format!(
+            "{x},0,0,{},{},{},{},{},{},{}",
+            radii.x, radii.y, radii.z, q.w, q.x, q.y, q.z
+        );
+        let colour = direction.abs();
+        grey += &format!("{row},0.5,0.5,0.5\n");
+        by_hand += &format!("{row},{},{},{}\n", colour.x, colour.y, colour.z);
+    }
+    let grey_csv = dir.join("grey.csv");
+    let by_hand_csv = dir.join("by-hand.csv");
+    std::fs::write(&grey_csv, grey).unwrap();
+    std::fs::write(&by_hand_csv, by_hand).unwrap();
+    let camera = ["--eye", "0.5,1.5,10", "--target", "0,0,0"];
+    let path = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    let principal = [&camera[..], &["--color", "principal"]].concat();
+    let recoloured = render_pixels(&dir, "principal", &path(&grey_csv), &principal);
+    let expected = render_pixels(&dir, "by-hand", &path(&by_hand_csv), &camera);
+    let file = render_pixels(&dir, "file", &path(&grey_csv), &camera);
+    std::fs::remove_dir_all(&dir).unwrap();
+    // The corner is background.
+    let background = &recoloured[..4];
+    let covered = recoloured.chunks(4).filter(|p| p != &background).count();
+    assert!(covered > 500, "the glyphs cover only {covered} pixels");
+    // The same colour can round differently in the last bit on its way to 8 bits.
+    let difference = max_difference(&recoloured, &expected);
+    assert!(
+        difference <= 1,
+        "differs by {difference} from the colours by hand"
+    );
+    assert!(
+        max_difference(&recoloured, &file) > 60,
+        "--color principal left the file's grey"
+    );
+}
+
+/// The default is the scene's own colouring, which for the tensor field is by shape: the
+/// default picture is exactly `--color shape`'s, and other modes change it.
+#[test]
+fn the_default_colours_are_the_scenes_own() {
+    let dir = std::env::temp_dir().join(format!("ellipsoid-splat-default-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = "tensor-field:4";
+    let default = render_pixels(&dir, "default", scene, &[]);
+    let file = render_pixels(&dir, "file", scene, &["--color", "file"]);
+    let shape = render_pixels(&dir, "shape", scene, &["--color", "shape"]);
+    let uniform = render_pixels(&dir, "uniform", scene, &["--color", "uniform"]);
+    let weighted = render_pixels(&dir, "principal-fa", scene, &["--color", "principal-fa"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(default, file);
+    assert_eq!(default, shape);
+    assert!(max_difference(&default, &uniform) > 60);
+    assert!(max_difference(&default, &weighted) > 60);
+    // Uniform grey: every pixel but the (blue-grey) background is grey, highlights included
+    // (they are white).
+    let background = &uniform[..4];
+    assert!(background[2] > background[0], "the corner is background");
+    let grey = |p: &[u8]| p[0] == p[1] && p[1] == p[2];
+    assert!(uniform.chunks(4).all(|p| grey(p) || p == background));
+    assert!(uniform.chunks(4).filter(|p| grey(p)).count() > 500);
+}
