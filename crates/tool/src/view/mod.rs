@@ -69,7 +69,12 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     for note in &loaded.notes {
         eprintln!("{}: {note}", render.scene);
     }
-    let filtered = loaded.skipped > 0 || !loaded.notes.is_empty();
+    // The loaders report records they dropped in notes that start "left out" or "skipped".
+    let filtered = loaded.skipped > 0
+        || loaded
+            .notes
+            .iter()
+            .any(|n| n.starts_with("left out") || n.starts_with("skipped"));
     let scene = loaded.scene;
     let camera = cli::camera_for(&render, &scene)?;
     let bounds = scene
@@ -116,6 +121,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         title_at: Instant::now(),
         last_gpu: None,
         last_moving: false,
+        pick_shown: None,
     };
     event_loop
         .run_app(&mut app)
@@ -170,6 +176,9 @@ struct App {
     title_at: Instant,
     last_gpu: Option<Duration>,
     last_moving: bool,
+    /// When the last pick's click was handled, until the frame showing its highlight is
+    /// presented.
+    pick_shown: Option<Instant>,
 }
 
 impl ApplicationHandler for App {
@@ -410,6 +419,12 @@ impl App {
         self.stats.presented += 1;
         self.pending.clear();
         self.last_moving = moving;
+        if let Some(clicked) = self.pick_shown.take() {
+            println!(
+                "pick shown: the frame with the highlight was presented {:.1} ms after the click",
+                clicked.elapsed().as_secs_f64() * 1e3
+            );
+        }
         if let Some(path) = self.shot.take() {
             println!(
                 "screenshot: wrote {} ({}x{}); the same picture: ellipsoid-splat render --scene \
@@ -616,6 +631,7 @@ impl App {
         self.scene.ellipsoids[index as usize] = lit;
         self.pending.push((index, lit));
         self.picked = Some((index, glyph));
+        self.pick_shown = Some(started);
         self.redraw = true;
         Ok(())
     }
