@@ -237,7 +237,7 @@ fn a_click_picks_the_glyph_under_the_cursor() {
             "9",
         ],
     );
-    let picks: Vec<&str> = out.lines().filter(|l| l.starts_with("pick ")).collect();
+    let picks: Vec<&str> = out.lines().filter(|l| l.starts_with("pick (")).collect();
     assert_eq!(picks.len(), 3, "{out}");
     let glyph = format!(
         "pick ({x}, 120): glyph 2 of 3: centre (2.000000, 0.000000, 0.000000), semi-axes \
@@ -251,6 +251,12 @@ fn a_click_picks_the_glyph_under_the_cursor() {
         picks[1]
     );
     assert!(picks[2].starts_with(&glyph), "{}", picks[2]);
+    // Each glyph pick reports when its highlight reached the screen.
+    let shown = out
+        .lines()
+        .filter(|l| l.starts_with("pick shown: "))
+        .count();
+    assert_eq!(shown, 2, "{out}");
     // The highlighted scene: the third sphere in the highlight colour.
     let lit = scene.replace(colours[2], "1,0.1,0.9");
     std::fs::write(dir.join("three.csv"), lit).unwrap();
