@@ -92,6 +92,13 @@ impl ViewArgs {
                 ));
             }
         }
+        if render.intersection != IntersectionArg::Stable {
+            return Err(Error::invalid(
+                "--intersection",
+                "the textbook baseline is for `render` and `bench`; `view` draws the shipped \
+                 (stable) intersection",
+            ));
+        }
         if let Some(name) = &self.scene_name {
             if render.scene != RenderArgs::default().scene && render.scene != *name {
                 return Err(Error::invalid(
