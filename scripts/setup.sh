@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Installs what ellipsoid-splat needs on Debian 12 if it is missing: the shader compiler,
-# lavapipe (Mesa's CPU Vulkan driver) with the loader, and the Khronos validation layer.
+# lavapipe (Mesa's CPU Vulkan driver) with the loader, the Khronos validation layer, and Xvfb
+# (with xauth, for xvfb-run) so the `view` tests open a real window without a display.
 set -euo pipefail
 
-packages=(glslang-tools mesa-vulkan-drivers libvulkan1 vulkan-validationlayers fonts-dejavu-core)
+packages=(glslang-tools mesa-vulkan-drivers libvulkan1 vulkan-validationlayers fonts-dejavu-core xvfb xauth)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

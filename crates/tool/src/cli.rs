@@ -39,6 +39,80 @@ pub enum Command {
     Bench(BenchArgs),
     /// Print the Vulkan device, driver and features used.
     Info(DeviceArgs),
+    /// Open a window on a scene: turn it, zoom, pick glyphs (the same scene, camera and
+    /// loading flags as `render`).
+    #[command(
+        after_help = crate::view::controls::KEYS,
+        mut_arg("width", |a| a.default_value("1280").help("Window width in pixels, 1 to 16384.")),
+        mut_arg("height", |a| a.default_value("720").help("Window height in pixels, 1 to 16384.")),
+        mut_arg("output", |a| a.help("Screenshots (P) go to this name with -001, -002, ... added."))
+    )]
+    View(Box<ViewArgs>),
+}
+
+/// Arguments of `view`: `render`'s (scene, loading, camera, device) and the window's own.
+#[derive(Debug, Clone, Args)]
+pub struct ViewArgs {
+    /// The scene, as `--scene` takes it (a file, `tensor-field[:N]` or `random:COUNT`).
+    #[arg(value_name = "SCENE")]
+    pub scene_name: Option<String>,
+    /// Everything `render` takes; the depth, normal and ID image flags do not apply.
+    #[command(flatten)]
+    pub render: RenderArgs,
+    /// Present without waiting for the display: mailbox, else immediate, where the window
+    /// system offers them (default: FIFO, synchronised to the display).
+    #[arg(long)]
+    pub no_vsync: bool,
+    /// Input events to play, one `FRAME COMMAND ARGS` a line (see `view/script.rs`).
+    #[arg(long)]
+    pub script: Option<PathBuf>,
+    /// Close after this many turns of the render loop (drawn or skipped).
+    #[arg(long)]
+    pub exit_after: Option<u64>,
+    /// While the camera moves, scenes with more glyphs draw a uniform sample of about this
+    /// many; the first frame after it stops draws all. 0 turns sampling off.
+    #[arg(long, default_value_t = crate::view::subset::DEFAULT_MOVING_GLYPHS)]
+    pub moving_glyphs: usize,
+}
+
+impl ViewArgs {
+    /// The `render` arguments the viewer starts from: the positional scene in `--scene`, and
+    /// no flag that only `render` can honour.
+    pub fn render_args(&self) -> Result<RenderArgs> {
+        let mut render = self.render.clone();
+        for (flag, given) in [
+            ("--depth", render.depth.is_some()),
+            ("--normal", render.normal.is_some()),
+            ("--id", render.id.is_some()),
+        ] {
+            if given {
+                return Err(Error::invalid(
+                    flag,
+                    "does not apply to `view`, which writes only screenshots (P); use `render`",
+                ));
+            }
+        }
+        if render.intersection != IntersectionArg::Stable {
+            return Err(Error::invalid(
+                "--intersection",
+                "the textbook baseline is for `render` and `bench`; `view` draws the shipped \
+                 (stable) intersection",
+            ));
+        }
+        if let Some(name) = &self.scene_name {
+            if render.scene != RenderArgs::default().scene && render.scene != *name {
+                return Err(Error::invalid(
+                    "--scene",
+                    format!(
+                        "'{}' and the scene '{name}' both name a scene; give one",
+                        render.scene
+                    ),
+                ));
+            }
+            render.scene = name.clone();
+        }
+        Ok(render)
+    }
 }
 
 /// Arguments of `bench`.

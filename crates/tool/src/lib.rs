@@ -1,5 +1,6 @@
 //! The `ellipsoid-splat` command line as a library: argument parsing, the numerical-stability
-//! sweep, the time-against-error benchmark, the skip benchmark, reports and image outputs.
+//! sweep, the time-against-error benchmark, the skip benchmark, reports, image outputs and the
+//! interactive viewer (`view`).
 //! `main.rs` dispatches to these; tests call them directly.
 
 pub mod bench;
@@ -8,3 +9,4 @@ pub mod output;
 pub mod report;
 pub mod skip;
 pub mod stress;
+pub mod view;

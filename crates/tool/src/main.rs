@@ -27,6 +27,7 @@ fn main() -> ExitCode {
         Some(Command::Stress(args)) => return stress(&args),
         Some(Command::Bench(args)) => return bench(&args),
         Some(Command::Info(args)) => info(&args),
+        Some(Command::View(args)) => ellipsoid_splat_tool::view::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,638 @@
+//! `ellipsoid-splat view SCENE`: an interactive window on the scene, the third example of
+//! embedding the renderer (beside `examples/minimal.rs` and `examples/embed`): its own
+//! instance, device, swapchain and output images, the renderer driven through the public
+//! embedding API only.
+//!
+//! - `device.rs`: instance, surface, device, allocator; `swapchain.rs`: the swapchain;
+//!   `targets.rs`: the renderer's output images; `frames.rs`: two frames in flight;
+//!   `viewer.rs`: drawing, probing and screenshots.
+//! - `controls.rs`: the camera and what mouse and keys do; `script.rs`: scripted input;
+//!   `pick.rs`: what a click reports; `subset.rs`: the moving frames' sample;
+//!   `stats.rs`: frame times and memory.
+//!
+//! The window's events and a script's lines become the same [`script::Action`]s, so tests
+//! drive exactly the code a person does.
+
+pub mod controls;
+mod device;
+mod frames;
+pub mod pick;
+pub mod script;
+pub mod stats;
+pub mod subset;
+mod swapchain;
+mod targets;
+mod viewer;
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use ash::vk;
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::keyboard::{Key, NamedKey};
+use winit::window::{Window, WindowId};
+
+use ellipsoid_splat::{Ellipsoid, Error, Result, Scene, Settings};
+
+use crate::cli::{self, SceneSpec, ViewArgs};
+use controls::ViewCamera;
+use script::{Action, Button, Script};
+use stats::FrameStats;
+use viewer::{Outcome, Viewer};
+
+/// Names the Vulkan call on a failed `VkResult`.
+pub(crate) trait VkCall<T> {
+    /// The result, or the crate's error naming `call`.
+    fn call(self, call: &'static str) -> Result<T>;
+}
+
+impl<T> VkCall<T> for std::result::Result<T, vk::Result> {
+    fn call(self, call: &'static str) -> Result<T> {
+        self.map_err(|result| Error::vulkan(call, result))
+    }
+}
+
+/// A click that moves the cursor less than this (pixels) picks instead of orbiting.
+const CLICK_SLOP: f64 = 3.0;
+/// How often the title's frame time is refreshed.
+const TITLE_PERIOD: Duration = Duration::from_millis(250);
+
+/// Opens the window and runs until it is closed (or `--exit-after` frames). Any validation
+/// message with `--validation` makes it fail.
+pub fn run(args: &ViewArgs) -> Result<()> {
+    let render = args.render_args()?;
+    let plan = render.check()?;
+    let loaded = plan.scene.load(&render.load.options())?;
+    for note in &loaded.notes {
+        eprintln!("{}: {note}", render.scene);
+    }
+    // The loaders report records they dropped in notes that start "left out" or "skipped".
+    let filtered = loaded.skipped > 0
+        || loaded
+            .notes
+            .iter()
+            .any(|n| n.starts_with("left out") || n.starts_with("skipped"));
+    let scene = loaded.scene;
+    let camera = cli::camera_for(&render, &scene)?;
+    let bounds = scene
+        .bounding_sphere()
+        .ok_or_else(|| Error::invalid("--scene", "has no ellipsoids"))?;
+    let view = ViewCamera::from_camera(&camera, render.near, bounds);
+    let script = args.script.as_deref().map(Script::load).transpose()?;
+    let event_loop = EventLoop::new().map_err(|e| {
+        Error::invalid(
+            "view",
+            format!("cannot open a window ({e}); is DISPLAY or WAYLAND_DISPLAY set?"),
+        )
+    })?;
+    let settings = Settings {
+        instance_format: render.instance_format(),
+        ..Settings::default()
+    };
+    let mut app = App {
+        size: (render.width, render.height),
+        render,
+        options: args.clone(),
+        spec: plan.scene,
+        filtered,
+        settings,
+        scene,
+        start: view,
+        view,
+        script,
+        window: None,
+        viewer: None,
+        error: None,
+        log: None,
+        input: Input::default(),
+        tick: 0,
+        stats: FrameStats::default(),
+        pending: Vec::new(),
+        picked: None,
+        animate_left: 0,
+        animated: 0,
+        shot: None,
+        shots_taken: 0,
+        occluded: false,
+        redraw: true,
+        title_at: Instant::now(),
+        last_gpu: None,
+        last_moving: false,
+        pick_shown: None,
+    };
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| Error::invalid("view", format!("the window's event loop failed: {e}")))?;
+    app.finish()
+}
+
+/// Mouse state between events.
+#[derive(Default)]
+struct Input {
+    cursor: (f64, f64),
+    /// Where the left button went down, and whether it pans (shift held).
+    left: Option<((f64, f64), bool)>,
+    /// The cursor moved too far since the left press for a click.
+    dragged: bool,
+    middle: bool,
+    shift: bool,
+}
+
+/// The viewer's state between the window system's events.
+struct App {
+    render: cli::RenderArgs,
+    options: ViewArgs,
+    spec: SceneSpec,
+    filtered: bool,
+    settings: Settings,
+    /// The scene as drawn now (highlight and animation included).
+    scene: Scene,
+    size: (u32, u32),
+    start: ViewCamera,
+    view: ViewCamera,
+    script: Option<Script>,
+    window: Option<Window>,
+    viewer: Option<Viewer>,
+    error: Option<Error>,
+    log: Option<ellipsoid_splat::gpu::validation::MessageLog>,
+    input: Input,
+    /// Turns of the render loop so far (drawn or skipped).
+    tick: u64,
+    stats: FrameStats,
+    /// Glyph replacements for the next frame.
+    pending: Vec<(u32, Ellipsoid)>,
+    /// The highlighted glyph and how it looked before.
+    picked: Option<(u32, Ellipsoid)>,
+    animate_left: u64,
+    animated: u64,
+    shot: Option<PathBuf>,
+    shots_taken: u32,
+    occluded: bool,
+    /// Something changed: draw a frame.
+    redraw: bool,
+    title_at: Instant,
+    last_gpu: Option<Duration>,
+    last_moving: bool,
+    /// When the last pick's click was handled, until the frame showing its highlight is
+    /// presented.
+    pick_shown: Option<Instant>,
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.window.is_some() {
+            return;
+        }
+        let attributes = Window::default_attributes()
+            .with_title("ellipsoid-splat view")
+            .with_inner_size(PhysicalSize::new(self.size.0, self.size.1));
+        let window = match event_loop.create_window(attributes) {
+            Ok(w) => w,
+            Err(e) => {
+                return self.fail(
+                    event_loop,
+                    Error::invalid("view", format!("cannot create the window: {e}")),
+                )
+            }
+        };
+        let made = Viewer::new(
+            &window,
+            self.render.device.device.as_deref(),
+            self.render.device.validation,
+            !self.options.no_vsync,
+            self.settings,
+            &self.scene,
+            self.options.moving_glyphs,
+        );
+        match made {
+            Ok(viewer) => {
+                self.log = Some(viewer.message_log());
+                let (count, sample) = viewer.glyph_counts();
+                let moving = sample.map_or(String::new(), |s| {
+                    format!("; moving frames draw a uniform sample of {s}")
+                });
+                println!(
+                    "view: {count} glyphs on {}{moving}; press H for the keys",
+                    viewer.device_name()
+                );
+                self.viewer = Some(viewer);
+                window.request_redraw();
+            }
+            Err(e) => self.fail(event_loop, e),
+        }
+        self.window = Some(window);
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(_) => {
+                if let Some(viewer) = &mut self.viewer {
+                    viewer.stale = true;
+                }
+                self.redraw = true;
+            }
+            WindowEvent::Occluded(occluded) => {
+                self.occluded = occluded;
+                self.redraw = true;
+            }
+            WindowEvent::ModifiersChanged(m) => self.input.shift = m.state().shift_key(),
+            WindowEvent::CursorMoved { position, .. } => {
+                self.act(event_loop, Action::Move(position.x, position.y))
+            }
+            WindowEvent::MouseInput { state, button, .. } => {
+                let button = match button {
+                    MouseButton::Left if self.input.shift => Button::ShiftLeft,
+                    MouseButton::Left => Button::Left,
+                    MouseButton::Middle => Button::Middle,
+                    _ => Button::Right,
+                };
+                let (x, y) = self.input.cursor;
+                let action = match state {
+                    ElementState::Pressed => Action::Press(button, x, y),
+                    ElementState::Released => Action::Release(button, x, y),
+                };
+                self.act(event_loop, action);
+            }
+            WindowEvent::MouseWheel { delta, .. } => {
+                let notches = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => f64::from(y),
+                    // Touchpads scroll in pixels; 120 is a notch on most systems.
+                    MouseScrollDelta::PixelDelta(p) => p.y / 120.0,
+                };
+                let (x, y) = self.input.cursor;
+                self.act(event_loop, Action::Wheel(x, y, notches));
+            }
+            WindowEvent::KeyboardInput { event, .. }
+                if event.state == ElementState::Pressed && !event.repeat =>
+            {
+                match event.logical_key {
+                    Key::Named(NamedKey::Escape) => event_loop.exit(),
+                    Key::Character(text) => {
+                        if let Some(c) = text.chars().next() {
+                            self.act(event_loop, Action::Key(c.to_ascii_uppercase()));
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            WindowEvent::RedrawRequested => {
+                if let Err(e) = self.frame(event_loop) {
+                    self.fail(event_loop, e);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, _: &ActiveEventLoop) {
+        // Scripted runs turn the loop continuously (their clock is the frame count);
+        // otherwise a frame is drawn only when something changed.
+        let continuous = self.script.is_some() || self.options.exit_after.is_some();
+        if continuous || std::mem::take(&mut self.redraw) {
+            if let Some(window) = &self.window {
+                window.request_redraw();
+            }
+        }
+    }
+
+    fn exiting(&mut self, _: &ActiveEventLoop) {
+        // The renderer and swapchain go before the window their surface belongs to.
+        self.viewer = None;
+        self.window = None;
+    }
+}
+
+impl App {
+    fn fail(&mut self, event_loop: &ActiveEventLoop, error: Error) {
+        if self.error.is_none() {
+            self.error = Some(error);
+        }
+        event_loop.exit();
+    }
+
+    /// After the event loop: the summary, then the first error or validation message.
+    fn finish(mut self) -> Result<()> {
+        self.viewer = None;
+        self.window = None;
+        println!("{}", self.stats.summary());
+        if let Some(e) = self.error {
+            return Err(e);
+        }
+        let messages = self
+            .log
+            .as_ref()
+            .map(ellipsoid_splat::gpu::validation::failures)
+            .unwrap_or_default();
+        for m in &messages {
+            eprintln!("validation: {m}");
+        }
+        println!("validation messages: {}", messages.len());
+        match messages.first() {
+            None => Ok(()),
+            Some(first) => Err(Error::Validation {
+                count: messages.len(),
+                first: first.to_string(),
+            }),
+        }
+    }
+
+    /// The window has nothing to show into: minimised, hidden, occluded or zero-sized.
+    fn minimised(&self) -> bool {
+        let Some(window) = &self.window else {
+            return true;
+        };
+        let size = window.inner_size();
+        self.occluded
+            || size.width == 0
+            || size.height == 0
+            || window.is_minimized() == Some(true)
+            || window.is_visible() == Some(false)
+    }
+
+    /// One turn of the render loop: the script's events for this frame, then a frame unless
+    /// the window is minimised.
+    fn frame(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        if let Some(script) = &mut self.script {
+            for action in script.due(self.tick) {
+                self.act(event_loop, action);
+            }
+        }
+        if self
+            .options
+            .exit_after
+            .is_some_and(|frames| self.tick >= frames)
+        {
+            event_loop.exit();
+            return Ok(());
+        }
+        self.tick += 1;
+        if self.minimised() {
+            self.stats.skipped += 1;
+            return Ok(());
+        }
+        let (Some(window), Some(viewer)) = (&self.window, &mut self.viewer) else {
+            return Ok(());
+        };
+        let size = window.inner_size();
+        let wanted = vk::Extent2D {
+            width: size.width,
+            height: size.height,
+        };
+        if !viewer.ensure_swapchain(wanted)? {
+            self.stats.skipped += 1;
+            return Ok(());
+        }
+        let extent = viewer.extent().expect("ensure_swapchain made one");
+        let camera = self.view.camera(extent.width, extent.height)?;
+        // The rule of `subset.rs`: a frame whose camera moved may draw the sample; a
+        // screenshot is always of the full scene.
+        let moving = self.shot.is_none() && viewer.last_camera().is_some_and(|last| last != camera);
+        if self.animate_left > 0 {
+            self.animate_left -= 1;
+            let index = (self.animated % self.scene.len() as u64) as u32;
+            let mut glyph = self.scene.ellipsoids[index as usize];
+            let phase = (self.animated % 7) as f32 / 7.0;
+            glyph.color = [phase, 1.0 - phase, 0.5];
+            self.scene.ellipsoids[index as usize] = glyph;
+            self.pending.push((index, glyph));
+            self.animated += 1;
+        }
+        let shot = self.shot.clone();
+        let outcome = viewer.draw(&camera, moving, &self.pending, shot.as_deref())?;
+        for (time, moved) in viewer.take_finished() {
+            if moved {
+                self.stats.moving.push(time);
+            } else {
+                self.stats.still.push(time);
+            }
+            self.last_gpu = Some(time);
+        }
+        if outcome == Outcome::Skipped {
+            // Out of date: the next turn makes the swapchain again and draws.
+            self.redraw = true;
+            return Ok(());
+        }
+        self.stats.presented += 1;
+        self.pending.clear();
+        self.last_moving = moving;
+        if let Some(clicked) = self.pick_shown.take() {
+            println!(
+                "pick shown: the frame with the highlight was presented {:.1} ms after the click",
+                clicked.elapsed().as_secs_f64() * 1e3
+            );
+        }
+        if let Some(path) = self.shot.take() {
+            println!(
+                "screenshot: wrote {} ({}x{}); the same picture: ellipsoid-splat render --scene \
+                 {} {}",
+                path.display(),
+                extent.width,
+                extent.height,
+                self.render.scene,
+                self.view.render_flags(extent.width, extent.height)?
+            );
+        }
+        // After a moving frame, the still frame follows even if nothing else happens.
+        self.redraw |= moving;
+        if self.title_at.elapsed() >= TITLE_PERIOD {
+            self.title_at = Instant::now();
+            let (count, sample) = viewer.glyph_counts();
+            let drawn = match (moving, sample) {
+                (true, Some(s)) => format!("{s} of {count} glyphs (moving)"),
+                _ => format!("{count} glyphs"),
+            };
+            let time = self
+                .last_gpu
+                .map_or("-".into(), |t| format!("{:.1} ms", t.as_secs_f64() * 1e3));
+            window.set_title(&format!(
+                "ellipsoid-splat view: {} | {drawn} | {time} GPU per frame",
+                self.render.scene
+            ));
+        }
+        Ok(())
+    }
+
+    /// What an input event or a script line does.
+    fn act(&mut self, event_loop: &ActiveEventLoop, action: Action) {
+        if let Err(e) = self.try_act(event_loop, action) {
+            self.fail(event_loop, e);
+        }
+    }
+
+    fn try_act(&mut self, event_loop: &ActiveEventLoop, action: Action) -> Result<()> {
+        let (width, height) = self
+            .viewer
+            .as_ref()
+            .and_then(Viewer::extent)
+            .map_or(self.size, |e| (e.width, e.height));
+        match action {
+            Action::Move(x, y) => {
+                let (dx, dy) = (x - self.input.cursor.0, y - self.input.cursor.1);
+                self.input.cursor = (x, y);
+                match self.input.left {
+                    Some((at, pans)) => {
+                        let travel = (x - at.0).hypot(y - at.1);
+                        self.input.dragged |= travel >= CLICK_SLOP;
+                        if pans {
+                            self.view.pan(dx, dy, height);
+                        } else if self.input.dragged {
+                            self.view.orbit(dx, dy);
+                        }
+                    }
+                    None if self.input.middle => self.view.pan(dx, dy, height),
+                    None => return Ok(()),
+                }
+                self.redraw = true;
+            }
+            Action::Press(button, x, y) => {
+                self.input.cursor = (x, y);
+                match button {
+                    Button::Left | Button::ShiftLeft => {
+                        self.input.left = Some(((x, y), button == Button::ShiftLeft));
+                        self.input.dragged = false;
+                    }
+                    Button::Middle => self.input.middle = true,
+                    Button::Right => {}
+                }
+            }
+            Action::Release(button, x, y) => {
+                self.input.cursor = (x, y);
+                match button {
+                    Button::Left | Button::ShiftLeft => {
+                        if let Some((_, pans)) = self.input.left.take() {
+                            if !pans && !self.input.dragged {
+                                self.pick(x, y)?;
+                            }
+                        }
+                    }
+                    Button::Middle => self.input.middle = false,
+                    Button::Right => {}
+                }
+            }
+            Action::Wheel(x, y, notches) => {
+                self.input.cursor = (x, y);
+                let point = self.zoom_point(x, y, width, height)?;
+                self.view.zoom(notches, point);
+                self.redraw = true;
+            }
+            Action::Key(key) => self.key(event_loop, key, width, height),
+            Action::Resize(w, h) => {
+                if let Some(window) = &self.window {
+                    let _ = window.request_inner_size(PhysicalSize::new(w, h));
+                }
+            }
+            Action::Minimise => {
+                if let Some(window) = &self.window {
+                    // Without a window manager (as under Xvfb) only hiding takes effect.
+                    window.set_minimized(true);
+                    window.set_visible(false);
+                }
+            }
+            Action::Restore => {
+                if let Some(window) = &self.window {
+                    window.set_visible(true);
+                    window.set_minimized(false);
+                }
+                self.redraw = true;
+            }
+            Action::Screenshot(path) => self.shot = Some(path),
+            Action::Animate(frames) => self.animate_left = frames,
+            Action::Memory => {
+                if let Some(viewer) = &self.viewer {
+                    let (scene, total) = viewer.gpu_memory();
+                    println!(
+                        "memory: frame {} gpu-scene {scene} gpu-total {total} rss {}",
+                        self.tick,
+                        stats::resident_bytes()
+                    );
+                }
+            }
+            Action::Camera => {
+                println!("camera: {}", self.view.render_flags(width, height)?);
+            }
+        }
+        Ok(())
+    }
+
+    fn key(&mut self, event_loop: &ActiveEventLoop, key: char, width: u32, height: u32) {
+        match key {
+            'F' => self.view.fit(width, height),
+            'R' => self.view = self.start,
+            'O' => self.view.toggle_projection(height),
+            'P' => {
+                self.shots_taken += 1;
+                let output = &self.render.output;
+                let stem = output
+                    .file_stem()
+                    .map_or("view".into(), |s| s.to_string_lossy());
+                let name = format!("{stem}-{:03}.png", self.shots_taken);
+                self.shot = Some(output.with_file_name(name));
+            }
+            // The hook for colour modes: the colour-mode work fills it in.
+            'C' => println!("colour modes: only the scene's own colours so far"),
+            'H' => println!("{}", controls::KEYS),
+            'Q' => event_loop.exit(),
+            _ => return,
+        }
+        self.redraw = true;
+    }
+
+    /// The point a wheel notch at `(x, y)` zooms towards: the surface under the cursor in
+    /// the last frame's depth output, else the point at the target's depth.
+    fn zoom_point(&mut self, x: f64, y: f64, width: u32, height: u32) -> Result<glam::DVec3> {
+        let depth = match &mut self.viewer {
+            Some(viewer) => viewer.probe(x, y)?.and_then(|p| p.depth),
+            None => None,
+        };
+        let camera = self.view.camera(width, height)?;
+        let camera = self
+            .viewer
+            .as_ref()
+            .and_then(Viewer::last_camera)
+            .filter(|c| depth.is_some() && c.width == width && c.height == height)
+            .unwrap_or(camera);
+        let depth = depth.unwrap_or_else(|| self.view.target_depth());
+        Ok(controls::point_at(&camera, x, y, depth))
+    }
+
+    /// Reads the glyph under `(x, y)`, prints what it is and highlights it (a scene update
+    /// of its colour; the previous pick gets its colour back).
+    fn pick(&mut self, x: f64, y: f64) -> Result<()> {
+        let started = Instant::now();
+        let Some(viewer) = &mut self.viewer else {
+            return Ok(());
+        };
+        let Some(probe) = viewer.probe(x, y)? else {
+            println!("pick ({x}, {y}): nothing drawn there yet");
+            return Ok(());
+        };
+        let latency = started.elapsed().as_secs_f64() * 1e3;
+        if let Some((index, original)) = self.picked.take() {
+            self.scene.ellipsoids[index as usize] = original;
+            self.pending.push((index, original));
+        }
+        let Some(index) = probe.glyph else {
+            println!("pick ({x}, {y}): background ({latency:.1} ms)");
+            self.redraw = true;
+            return Ok(());
+        };
+        let glyph = self.scene.ellipsoids[index as usize];
+        let source = pick::source(&self.spec, index, self.filtered);
+        println!(
+            "pick ({x}, {y}): {} ({latency:.1} ms)",
+            pick::report(index, self.scene.len(), &glyph, &source)
+        );
+        let mut lit = glyph;
+        lit.color = pick::HIGHLIGHT;
+        self.scene.ellipsoids[index as usize] = lit;
+        self.pending.push((index, lit));
+        self.picked = Some((index, glyph));
+        self.pick_shown = Some(started);
+        self.redraw = true;
+        Ok(())
+    }
+}

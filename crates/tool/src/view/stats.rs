@@ -1,0 +1,55 @@
+//! What the viewer measures: GPU time of moving and still frames, frames skipped while
+//! minimised, and the host's resident memory.
+
+use std::time::Duration;
+
+/// GPU times of drawn frames, split by whether the camera moved.
+#[derive(Default)]
+pub struct FrameStats {
+    /// Frames whose camera moved (drawing the sample, if there is one).
+    pub moving: Vec<Duration>,
+    /// Frames whose camera stood still (the full scene).
+    pub still: Vec<Duration>,
+    /// Turns of the loop that drew nothing because the window was minimised or zero-sized.
+    pub skipped: u64,
+    /// Frames presented.
+    pub presented: u64,
+}
+
+impl FrameStats {
+    /// The line printed when the viewer closes.
+    pub fn summary(&self) -> String {
+        let median = |times: &[Duration]| {
+            if times.is_empty() {
+                return "-".to_string();
+            }
+            let mut ms: Vec<f64> = times.iter().map(|t| t.as_secs_f64() * 1e3).collect();
+            ms.sort_by(f64::total_cmp);
+            format!("{:.1} ms", ms[ms.len() / 2])
+        };
+        format!(
+            "frames: {} presented, {} skipped while minimised; GPU time per frame (median): \
+             moving {} ({} frames), still {} ({} frames)",
+            self.presented,
+            self.skipped,
+            median(&self.moving),
+            self.moving.len(),
+            median(&self.still),
+            self.still.len()
+        )
+    }
+}
+
+/// The process's resident set size in bytes (`VmRSS` of Linux's `/proc/self/status`; 0
+/// where there is none).
+pub fn resident_bytes() -> u64 {
+    let Ok(text) = std::fs::read_to_string("/proc/self/status") else {
+        return 0;
+    };
+    text.lines()
+        .find_map(|line| {
+            let kib = line.strip_prefix("VmRSS:")?.trim().strip_suffix("kB")?;
+            kib.trim().parse::<u64>().ok()
+        })
+        .map_or(0, |kib| kib * 1024)
+}
