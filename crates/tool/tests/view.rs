@@ -155,6 +155,65 @@ fn orbit_screenshots_equal_render_bit_for_bit() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// The colour key steps through the colour modes from `--color`'s: each screenshot is
+/// `render`'s picture in the mode shown (the screenshot line names it), and after all five
+/// the scene's own colours are back.
+#[test]
+fn the_colour_key_recolours_as_render_does() {
+    let dir = scratch("colour");
+    let script =
+        "2 key C\n3 screenshot principal.png\n5 key C\n5 key C\n6 screenshot uniform.png\n\
+                  8 key C\n9 key C\n10 screenshot shape.png\n";
+    std::fs::write(dir.join("colour.txt"), script).unwrap();
+    let out = view(
+        &dir,
+        &[
+            "random:300",
+            "--color",
+            "shape",
+            "--width",
+            "240",
+            "--height",
+            "180",
+            "--no-vsync",
+            "--script",
+            "colour.txt",
+            "--exit-after",
+            "12",
+        ],
+    );
+    for (shot, mode) in [
+        ("principal.png", "principal"),
+        ("uniform.png", "uniform"),
+        ("shape.png", "shape"),
+    ] {
+        assert!(
+            out.lines()
+                .any(|l| l.starts_with(&format!("screenshot: wrote {shot} "))
+                    && l.contains(&format!("--color {mode} "))),
+            "{shot} is not in mode {mode}: {out}"
+        );
+        assert_screenshot_is_render(&dir, &out, shot);
+    }
+    // From shape through all five modes and back.
+    let modes: Vec<&str> = out
+        .lines()
+        .filter_map(|l| l.strip_prefix("colour mode: "))
+        .collect();
+    assert_eq!(
+        modes,
+        ["principal", "principal-fa", "uniform", "file", "shape"],
+        "{out}"
+    );
+    // The random cloud's own colours differ from its shape colours: the two pictures differ.
+    let (principal, shape) = (
+        rgba(&dir.join("principal.png")),
+        rgba(&dir.join("shape.png")),
+    );
+    assert_ne!(principal, shape, "the colour key changed nothing");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A resize in the middle of a run makes a new swapchain and the next screenshot is
 /// `render`'s picture at the new size; while minimised (hidden: Xvfb runs no window manager)
 /// frames are skipped, and after restoring they are drawn as before.

@@ -36,6 +36,7 @@ use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
 use ellipsoid_splat::{Ellipsoid, Error, Result, Scene, Settings};
+use ellipsoid_splat_loaders::ColorMode;
 
 use crate::cli::{self, SceneSpec, ViewArgs};
 use controls::ViewCamera;
@@ -75,7 +76,11 @@ pub fn run(args: &ViewArgs) -> Result<()> {
             .notes
             .iter()
             .any(|n| n.starts_with("left out") || n.starts_with("skipped"));
-    let scene = loaded.scene;
+    // The glyphs as loaded keep the file's colours, so the colour key can return to them.
+    let file_colors: Vec<[f32; 3]> = loaded.scene.ellipsoids.iter().map(|e| e.color).collect();
+    let color_mode = render.load.color_mode();
+    let mut scene = loaded.scene;
+    color_mode.apply(&mut scene.ellipsoids);
     let camera = cli::camera_for(&render, &scene)?;
     let bounds = scene
         .bounding_sphere()
@@ -100,6 +105,8 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         filtered,
         settings,
         scene,
+        file_colors,
+        color_mode,
         start: view,
         view,
         script,
@@ -148,8 +155,12 @@ struct App {
     spec: SceneSpec,
     filtered: bool,
     settings: Settings,
-    /// The scene as drawn now (highlight and animation included).
+    /// The scene as drawn now (colour mode, highlight and animation included).
     scene: Scene,
+    /// Each glyph's colour as the scene gave it (`--color file`).
+    file_colors: Vec<[f32; 3]>,
+    /// How the glyphs are coloured now (`--color`, then the C key).
+    color_mode: ColorMode,
     size: (u32, u32),
     start: ViewCamera,
     view: ViewCamera,
@@ -428,11 +439,12 @@ impl App {
         if let Some(path) = self.shot.take() {
             println!(
                 "screenshot: wrote {} ({}x{}); the same picture: ellipsoid-splat render --scene \
-                 {} {}",
+                 {} --color {} {}",
                 path.display(),
                 extent.width,
                 extent.height,
                 self.render.scene,
+                self.color_mode.name(),
                 self.view.render_flags(extent.width, extent.height)?
             );
         }
@@ -572,13 +584,38 @@ impl App {
                 let name = format!("{stem}-{:03}.png", self.shots_taken);
                 self.shot = Some(output.with_file_name(name));
             }
-            // The hook for colour modes: the colour-mode work fills it in.
-            'C' => println!("colour modes: only the scene's own colours so far"),
+            'C' => self.next_color_mode(),
             'H' => println!("{}", controls::KEYS),
             'Q' => event_loop.exit(),
             _ => return,
         }
         self.redraw = true;
+    }
+
+    /// Recolours every glyph in the next colour mode (one update of the whole scene; a
+    /// highlighted glyph stays highlighted and gets its new colour back when unpicked).
+    fn next_color_mode(&mut self) {
+        self.color_mode = self.color_mode.next();
+        let mode = self.color_mode;
+        self.pending.clear();
+        for (index, (glyph, file_color)) in self
+            .scene
+            .ellipsoids
+            .iter_mut()
+            .zip(&self.file_colors)
+            .enumerate()
+        {
+            glyph.color = *file_color;
+            glyph.color = mode.color(glyph);
+            if let Some((picked, original)) = &mut self.picked {
+                if *picked as usize == index {
+                    original.color = glyph.color;
+                    glyph.color = pick::HIGHLIGHT;
+                }
+            }
+            self.pending.push((index as u32, *glyph));
+        }
+        println!("colour mode: {}", mode.name());
     }
 
     /// The point a wheel notch at `(x, y)` zooms towards: the surface under the cursor in

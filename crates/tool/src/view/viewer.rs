@@ -490,16 +490,33 @@ impl Viewer {
                 drawn
                     .renderer
                     .begin_frame(&device, allocator, slot as u32)?;
-                for &(index, glyph) in updates {
+                // Glyphs at consecutive positions go in one update (a colour mode changes
+                // them all: one copy, not a copy and two barriers per glyph).
+                let mut run: Vec<Ellipsoid> = Vec::new();
+                let mut run_start = 0;
+                let positions = updates.iter().filter_map(|&(index, glyph)| {
                     let at = match &drawn.sample {
                         None => Some(index),
                         Some(sample) => sample.position(index),
                     };
-                    if let Some(at) = at {
+                    at.map(|at| (at, glyph))
+                });
+                for (at, glyph) in positions {
+                    if !run.is_empty() && at != run_start + run.len() as u32 {
                         drawn
                             .renderer
-                            .update(&device, allocator, cmd, at, &[glyph])?;
+                            .update(&device, allocator, cmd, run_start, &run)?;
+                        run.clear();
                     }
+                    if run.is_empty() {
+                        run_start = at;
+                    }
+                    run.push(glyph);
+                }
+                if !run.is_empty() {
+                    drawn
+                        .renderer
+                        .update(&device, allocator, cmd, run_start, &run)?;
                 }
             }
             let drawn = if use_sample {
