@@ -128,13 +128,14 @@ void main() {
         // same word; atomically, so the writes do not race). A plain read first: most glyphs
         // find their tiles marked, and a million glyphs exchanging a few thousand words keep
         // their cache lines moving between the cores (on lavapipe at 1M 2-px glyphs the read
-        // saved about a tenth of the splat). The read can only see the clear value or a mark;
-        // a stale clear value costs one atomic, never a missed tile.
+        // saved about a tenth of the splat). The read races with other invocations' exchanges,
+        // harmlessly: whatever it returns, a word that does not read as marked is exchanged,
+        // so a stale or torn read costs one atomic and never leaves a tile unmarked.
         uvec2 t_lo = uvec2(lo) / RESOLVE_TILE, t_hi = uvec2(hi) / RESOLVE_TILE;
         for (uint ty = t_lo.y; ty <= t_hi.y; ty++) {
             for (uint tx = t_lo.x; tx <= t_hi.x; tx++) {
                 uint word = resolve_tile_word(ty * resolve_tiles_x() + tx);
-                if (visibility[word] == visibility_empty()) {
+                if (visibility[word] != ~visibility_empty()) {
                     atomicExchange(visibility[word], ~visibility_empty());
                 }
             }

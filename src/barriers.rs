@@ -186,7 +186,8 @@ pub const VISIBILITY_DRAW_TO_RESOLVE: Barrier = Barrier {
     dst_access: vk::AccessFlags::SHADER_READ,
 };
 
-/// Every barrier above.
+/// Every barrier above that a host's frames may record (the two `research` ones are in
+/// [`RESEARCH`]).
 pub const ALL: [Barrier; 7] = [
     INSTANCES_BEFORE_COPY,
     INSTANCES_AFTER_COPY,
@@ -196,3 +197,7 @@ pub const ALL: [Barrier; 7] = [
     PREPASS_TO_DRAW,
     COUNTER_TO_HOST,
 ];
+
+/// The `research` barriers of `impostor-visbuffer`.
+#[cfg(feature = "research")]
+pub const RESEARCH: [Barrier; 2] = [VISIBILITY_CLEARED_TO_DRAW, VISIBILITY_DRAW_TO_RESOLVE];

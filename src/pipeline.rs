@@ -64,7 +64,7 @@ impl PipelineKey {
             target: plan.target,
             reversed_z: plan.reversed_z,
             count_fragments: plan.count_fragments,
-            culled: plan.prepass && !plan.visibility_draw,
+            culled: plan.indirect_draw,
             setup_once: plan.setup_once,
             spheres: plan.spheres,
             compact: plan.compact,

@@ -276,4 +276,11 @@ fn visibility_draw_hazards_are_covered() {
             "{what}: {barrier:?} does not order {first:?} before {then:?}"
         );
     }
+    for barrier in barriers::RESEARCH {
+        assert!(
+            hazards.iter().any(|(_, _, _, b)| *b == barrier),
+            "{} covers no listed hazard",
+            barrier.purpose
+        );
+    }
 }

@@ -32,9 +32,10 @@ void main() {
     } else {
         atomicMin(visibility[p.y * cam.image_width + p.x], key);
     }
-    // Most fragments find their tile marked: a read spares them the atomic.
+    // Most fragments find their tile marked: a read spares them the atomic (a read racing
+    // with an exchange only ever costs one more atomic, as in splat.comp).
     uint tile = resolve_tile_word((p.y / RESOLVE_TILE) * resolve_tiles_x() + p.x / RESOLVE_TILE);
-    if (visibility[tile] == visibility_empty()) {
+    if (visibility[tile] != ~visibility_empty()) {
         atomicExchange(visibility[tile], ~visibility_empty());
     }
 }

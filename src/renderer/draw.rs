@@ -108,8 +108,8 @@ impl EllipsoidRenderer {
                 if plan.prepass {
                     return Err(Error::invalid(
                         "record",
-                        "this draw goes through the culling pre-pass: call record_prepass \
-                         with the same camera first",
+                        "this frame has a pre-pass: call record_prepass with the same camera \
+                         first",
                     ));
                 }
                 plan
@@ -192,7 +192,7 @@ impl EllipsoidRenderer {
                     device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
                 }
                 match plan.config.geometry {
-                    Geometry::Impostor if plan.prepass => {
+                    Geometry::Impostor if plan.indirect_draw => {
                         let offset = k as u64 * SLICE_ALIGN;
                         let stride = size_of::<vk::DrawIndirectCommand>() as u32;
                         device.cmd_draw_indirect(cmd, indirect, offset, 1, stride)

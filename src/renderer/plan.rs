@@ -49,8 +49,13 @@ pub struct FramePlan {
     pub mean_area_px: Option<f64>,
     /// The culling the pre-pass does.
     pub culling: Culling,
-    /// The pre-pass runs (to cull, to set up, or both); the draw is then indirect.
+    /// The pre-pass runs (to cull, to set up, to splat, or the benchmark's visibility-buffer
+    /// draw).
     pub prepass: bool,
+    /// The draw in the host's pass reads the pre-pass's compacted list through an indirect
+    /// command (every pre-pass but the visibility-buffer draw's, which leaves only the
+    /// resolve).
+    pub indirect_draw: bool,
     /// The pre-pass computes each impostor's set-up once for the draw (never together with
     /// the compute splat, which computes the set-up where it needs it).
     pub setup_once: bool,
@@ -172,7 +177,7 @@ impl FramePlan {
                 "draw configuration",
                 "the visibility-buffer draw needs 64-bit buffer atomics, a single-sample target \
                  with float32 depth, a visibility buffer within one storage binding and at most \
-                 8 chunks",
+                 MAX_SPLAT_CHUNKS chunks",
             ));
         }
         let compute_splat = settings.compute_splat
@@ -198,6 +203,7 @@ impl FramePlan {
             splat_max_box_pixels: SPLAT_MAX_BOX_PIXELS,
             visibility_draw,
             resolve: compute_splat || visibility_draw,
+            indirect_draw: prepass && !visibility_draw,
             config,
             mean_area_px,
             // The splat culls as it goes (off-screen glyphs, empty pixel boxes): the culling

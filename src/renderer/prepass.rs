@@ -25,6 +25,11 @@ impl EllipsoidRenderer {
     /// compute-to-compute barrier. When the image grew since the last frame the tiles buffer
     /// is replaced (the old one retired).
     ///
+    /// With the `research` feature's visibility-buffer draw (`impostor-visbuffer`) it records
+    /// instead a rendering pass of its own, with no attachments, and binds a graphics
+    /// pipeline, descriptor sets, push constants, viewport and scissor there: a host that
+    /// measures it rebinds its own state after this call.
+    ///
     /// # Safety
     /// `device` is the renderer's device, `cmd` a command buffer of it in the recording state
     /// outside any pass, for the queue family the renderer was made for, and submitted before

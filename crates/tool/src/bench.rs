@@ -249,6 +249,11 @@ pub fn run(
             .iter()
             .copied()
             .filter(|&m| {
+                // The visibility-buffer draw needs the splat's 64-bit atomics.
+                if m == Method::ImpostorVisbuffer && !splat_capable {
+                    skipped.push(format!("{} (no 64-bit buffer atomics)", m.name()));
+                    return false;
+                }
                 let vertices = vertices_per_instance(m, count, splat_capable);
                 let keep = count as f64 * vertices <= VERTEX_BUDGET;
                 if !keep {

@@ -316,10 +316,8 @@ fn run_skip(args: &BenchArgs) -> Result<bool> {
     let features_meeting_both = skip::Feature::ALL
         .iter()
         .filter(|&&f| {
-            results
-                .iter()
-                .filter(|r| r.feature == f)
-                .all(|r| r.meets_target())
+            let mut measured = results.iter().filter(|r| r.feature == f).peekable();
+            measured.peek().is_some() && measured.all(|r| r.meets_target())
         })
         .count();
     println!(

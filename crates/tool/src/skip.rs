@@ -315,7 +315,13 @@ pub fn run(
     let scenes = scenes(quick);
     let progress = Progress::new((Feature::ALL.len() * 2) as u64, "skip");
     let mut results = Vec::new();
+    let splat_capable = renderer.context().info().compute_splat;
     for feature in Feature::ALL {
+        // Both need the splat's 64-bit atomics (without them the compute splat is never
+        // planned, and the visibility-buffer draw cannot be).
+        if matches!(feature, Feature::ComputeSplat | Feature::VisibilityBuffer) && !splat_capable {
+            continue;
+        }
         let targets = [feature.scene_needing_it(), feature.scene_not_needing_it()];
         for name in targets {
             progress.inc(&format!("{} on {name}", feature.name()));

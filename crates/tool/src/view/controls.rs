@@ -10,6 +10,9 @@ use ellipsoid_splat::{Camera, Projection};
 pub const ORBIT_RADIANS_PER_PIXEL: f64 = 0.01;
 /// How much one wheel notch towards the scene shrinks the distance to the zoom point.
 pub const ZOOM_PER_NOTCH: f64 = 0.8;
+/// The nearest and farthest the wheel takes the view, in scene radii (eye-target distance,
+/// or orthographic view height).
+pub const ZOOM_RANGE: (f64, f64) = (1e-6, 1e6);
 /// The orbit stops this close to the poles (radians), so the view never looks along `up`.
 const POLE_MARGIN: f64 = 0.02;
 
@@ -163,8 +166,22 @@ impl ViewCamera {
     /// under the cursor: perspective scales the eye and target about it; orthographic
     /// scales the view height and shifts sideways only (the depth of an orthographic eye
     /// changes nothing but the near plane).
+    ///
+    /// The view stays between [`ZOOM_RANGE`]'s bounds times the scene's radius (eye-target
+    /// distance, or view height): the wheel can never bring the eye onto the target or send
+    /// it to infinity.
     pub fn zoom(&mut self, notches: f64, point: DVec3) {
-        let scale = ZOOM_PER_NOTCH.powf(notches);
+        let radius = self.bounds.1.max(f64::MIN_POSITIVE);
+        let (lo, hi) = (ZOOM_RANGE.0 * radius, ZOOM_RANGE.1 * radius);
+        let size = match self.ortho_height {
+            None => self.eye.distance(self.target),
+            Some(height) => height,
+        };
+        let (min, max) = (lo / size, hi / size);
+        if !(min.is_finite() && max.is_finite() && min <= max) {
+            return;
+        }
+        let scale = ZOOM_PER_NOTCH.powf(notches).clamp(min, max);
         match &mut self.ortho_height {
             None => {
                 self.eye = point + (self.eye - point) * scale;
@@ -268,6 +285,30 @@ mod tests {
             let depth = view.camera(w, h).unwrap().view_depth(point);
             let again = point_at(&view.camera(w, h).unwrap(), 250.0, 60.0, depth);
             assert!((again - point).length() < 1e-9, "{again} {point}");
+        }
+    }
+
+    /// However far the wheel turns, the view stays within `ZOOM_RANGE` scene radii and the
+    /// camera valid.
+    #[test]
+    fn zoom_stops_at_its_range() {
+        for ortho in [None, Some(4.0)] {
+            let radius = start().bounds.1;
+            let size = |v: &ViewCamera| v.ortho_height.unwrap_or(v.eye.distance(v.target));
+            let mut view = start();
+            view.ortho_height = ortho;
+            for _ in 0..2_000 {
+                let target = view.target;
+                view.zoom(1.0, target);
+            }
+            assert!(size(&view) >= 0.999 * ZOOM_RANGE.0 * radius, "{view:?}");
+            assert!(view.camera(320, 240).is_ok(), "{view:?}");
+            for _ in 0..4_000 {
+                let target = view.target;
+                view.zoom(-1.0, target);
+            }
+            assert!(size(&view) <= 1.001 * ZOOM_RANGE.1 * radius, "{view:?}");
+            assert!(view.camera(320, 240).is_ok(), "{view:?}");
         }
     }
 

@@ -122,7 +122,7 @@ impl Frames {
     /// Records the frame's start timestamp (after resetting the slot's two queries).
     ///
     /// # Safety
-    /// `cmd` is `slot`'s command buffer, recording, outside a pass.
+    /// `slot`'s command buffer is recording, outside a pass.
     pub unsafe fn start_timer(&mut self, device: &ash::Device, slot: usize) {
         if self.queries == vk::QueryPool::null() {
             return;

@@ -165,8 +165,10 @@ struct App {
     start: ViewCamera,
     view: ViewCamera,
     script: Option<Script>,
-    window: Option<Window>,
+    /// Declared before the window: fields drop in order, and the surface must go before the
+    /// window it was made from.
     viewer: Option<Viewer>,
+    window: Option<Window>,
     error: Option<Error>,
     log: Option<ellipsoid_splat::gpu::validation::MessageLog>,
     input: Input,

@@ -24,6 +24,9 @@ use std::path::{Path, PathBuf};
 
 use ellipsoid_splat::{Error, Result};
 
+/// The most frames one scripted drag may take (each is an event in memory).
+const MAX_DRAG_FRAMES: u64 = 1_000_000;
+
 /// A mouse button as scripts name it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Button {
@@ -167,8 +170,15 @@ impl Script {
                     let b = button(args[0])?;
                     let (x0, y0, x1, y1) = (number(1)?, number(2)?, number(3)?, number(4)?);
                     let steps = count(5)?;
-                    if steps == 0 {
-                        return Err(fail("a drag takes at least 1 frame".into()));
+                    if !(1..=MAX_DRAG_FRAMES).contains(&steps) {
+                        return Err(fail(format!(
+                            "a drag takes 1 to {MAX_DRAG_FRAMES} frames, not {steps}"
+                        )));
+                    }
+                    if frame.checked_add(steps).is_none() {
+                        return Err(fail(format!(
+                            "a drag from frame {frame} ends past the last frame"
+                        )));
                     }
                     events.push((frame, Action::Move(x0, y0)));
                     events.push((frame, Action::Press(b, x0, y0)));

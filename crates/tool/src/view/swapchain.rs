@@ -43,7 +43,15 @@ pub fn choose_format(gpu: &Gpu) -> Result<vk::SurfaceFormatKHR> {
             vk::Format::B8G8R8A8_SRGB | vk::Format::R8G8B8A8_SRGB
         ) && f.color_space == vk::ColorSpaceKHR::SRGB_NONLINEAR
     });
-    match (srgb, formats.first()) {
+    // Else an 8-bit UNORM one (colours then differ from `render`'s): screenshots read 4
+    // bytes a pixel in RGBA or BGRA order, so no other format will do.
+    let unorm = formats.iter().find(|f| {
+        matches!(
+            f.format,
+            vk::Format::B8G8R8A8_UNORM | vk::Format::R8G8B8A8_UNORM
+        )
+    });
+    match (srgb, unorm) {
         (Some(f), _) => Ok(*f),
         (None, Some(f)) => {
             eprintln!(
@@ -53,9 +61,10 @@ pub fn choose_format(gpu: &Gpu) -> Result<vk::SurfaceFormatKHR> {
             );
             Ok(*f)
         }
-        (None, None) => Err(ellipsoid_splat::Error::NoDevice(
-            "the window's surface offers no format".into(),
-        )),
+        (None, None) => Err(ellipsoid_splat::Error::NoDevice(format!(
+            "the window's surface offers no 8-bit RGBA or BGRA format (it offers {:?})",
+            formats.iter().map(|f| f.format).collect::<Vec<_>>()
+        ))),
     }
 }
 

@@ -39,7 +39,7 @@ struct Drawn {
 pub enum Outcome {
     /// Presented.
     Presented,
-    /// Nothing drawn: the window has no area or the swapchain had to be made again.
+    /// Nothing drawn: the swapchain was out of date at the acquire (made again next turn).
     Skipped,
 }
 
@@ -105,7 +105,7 @@ impl Viewer {
             moved_in_slot: [false; FRAMES_IN_FLIGHT as usize],
             gpu,
         };
-        // On failure, `destroy` (through `Drop` of the caller's error path) frees what exists.
+        // On failure, `destroy` frees what `create` made so far.
         match this.create(settings, scene, moving_glyphs) {
             Ok(()) => Ok(this),
             Err(e) => {
@@ -340,6 +340,31 @@ impl Viewer {
         if let Some(time) = frames.gpu_time(&device, slot) {
             self.finished.push((time, self.moved_in_slot[slot]));
         }
+        // The screenshot's buffer is made before the acquire, so failing to make it leaves no
+        // image acquired and never presented.
+        let extent = self
+            .swapchain
+            .as_ref()
+            .expect("ensure_swapchain made it")
+            .extent;
+        let shot = match screenshot {
+            Some(_) => {
+                let (device, allocator) = self.gpu.device_and_allocator();
+                let bytes = 4 * u64::from(extent.width) * u64::from(extent.height);
+                Some(ReadbackBuffer::new(device, allocator, bytes)?)
+            }
+            None => None,
+        };
+        let drop_shot = |viewer: &mut Self, shot: Option<ReadbackBuffer>| {
+            if let Some(shot) = shot {
+                let (device, allocator) = viewer.gpu.device_and_allocator();
+                // SAFETY: waited idle first, so no submission uses the buffer.
+                unsafe {
+                    let _ = device.device_wait_idle();
+                    shot.destroy(device, allocator);
+                }
+            }
+        };
         let swapchain = self.swapchain.as_ref().expect("ensure_swapchain made it");
         // SAFETY: the semaphore is unsignalled: its last acquire was waited on by the slot's
         // last submission, whose fence just passed.
@@ -359,23 +384,18 @@ impl Viewer {
             }
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => {
                 self.stale = true;
+                drop_shot(self, shot);
                 return Ok(Outcome::Skipped);
             }
-            Err(e) => return Err(Error::vulkan("vkAcquireNextImageKHR", e)),
+            Err(e) => {
+                drop_shot(self, shot);
+                return Err(Error::vulkan("vkAcquireNextImageKHR", e));
+            }
         };
         let image = swapchain.images[image_index as usize];
         let copied = swapchain.copied[image_index as usize];
         let readable = swapchain.readable;
-        let extent = swapchain.extent;
         let use_sample = moving && self.moving.is_some();
-        let shot = match screenshot {
-            Some(_) => {
-                let (device, allocator) = self.gpu.device_and_allocator();
-                let bytes = 4 * u64::from(extent.width) * u64::from(extent.height);
-                Some(ReadbackBuffer::new(device, allocator, bytes)?)
-            }
-            None => None,
-        };
         let recorded = self.record_frame(
             slot,
             (cmd, image, readable),
@@ -406,17 +426,10 @@ impl Viewer {
             }
         });
         if let Err(e) = submitted {
-            if let Some(shot) = shot {
-                let (device, allocator) = self.gpu.device_and_allocator();
-                // SAFETY: the device is idle after a failed submission is waited out.
-                unsafe {
-                    let _ = device.device_wait_idle();
-                    shot.destroy(device, allocator);
-                }
-            }
+            drop_shot(self, shot);
             return Err(e);
         }
-        self.moved_in_slot[slot] = use_sample || moving;
+        self.moved_in_slot[slot] = moving;
         self.frame += 1;
         self.last = Some((*camera, use_sample));
         let swapchains = [self.swapchain.as_ref().expect("exists").handle];
@@ -434,7 +447,10 @@ impl Viewer {
         } {
             Ok(suboptimal) => self.stale |= suboptimal,
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => self.stale = true,
-            Err(e) => return Err(Error::vulkan("vkQueuePresentKHR", e)),
+            Err(e) => {
+                drop_shot(self, shot);
+                return Err(Error::vulkan("vkQueuePresentKHR", e));
+            }
         }
         if let (Some(shot), Some(path)) = (shot, screenshot) {
             let written = self.write_screenshot(&shot, slot, extent, path);
