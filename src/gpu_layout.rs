@@ -221,6 +221,9 @@ pub struct SpecConstants {
     /// `SPLAT_MAX_BOX_PIXELS` (18): the most pixel centres a glyph's box may hold for the
     /// compute splat to walk it; larger glyphs are drawn.
     pub splat_max_box_pixels: u32,
+    /// `COVERAGE_SAMPLES` (19): on a multisampled target shaded once per pixel, its sample
+    /// count (the fragment stage tests each standard sample position); 1 otherwise.
+    pub coverage_samples: u32,
 }
 
 impl Default for SpecConstants {
@@ -244,13 +247,14 @@ impl Default for SpecConstants {
             reversed_z: 1,
             splat_floor: 0,
             splat_max_box_pixels: 4096,
+            coverage_samples: 1,
         }
     }
 }
 
 impl SpecConstants {
     /// `(constant_id, byte offset)` of every field.
-    pub const IDS: [(u32, usize); 17] = [
+    pub const IDS: [(u32, usize); 18] = [
         (0, offset_of!(SpecConstants, orthographic)),
         (2, offset_of!(SpecConstants, textbook)),
         (3, offset_of!(SpecConstants, bounds)),
@@ -268,11 +272,12 @@ impl SpecConstants {
         (16, offset_of!(SpecConstants, reversed_z)),
         (17, offset_of!(SpecConstants, splat_floor)),
         (18, offset_of!(SpecConstants, splat_max_box_pixels)),
+        (19, offset_of!(SpecConstants, coverage_samples)),
     ];
 
     /// The map entries of [`SpecConstants::IDS`], for a `VkSpecializationInfo` over
     /// `bytemuck::bytes_of(self)`.
-    pub fn map_entries() -> [vk::SpecializationMapEntry; 17] {
+    pub fn map_entries() -> [vk::SpecializationMapEntry; 18] {
         Self::IDS.map(|(constant_id, offset)| vk::SpecializationMapEntry {
             constant_id,
             offset: offset as u32,
@@ -306,5 +311,5 @@ const _: () = {
     assert!(offset_of!(ShadingRecord, ray_c) == 48);
     assert!(offset_of!(ShadingRecord, depth_gradient) == 64);
     assert!(offset_of!(ShadingRecord, to_normal_x) == 80);
-    assert!(size_of::<SpecConstants>() == 68);
+    assert!(size_of::<SpecConstants>() == 72);
 };

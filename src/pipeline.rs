@@ -34,6 +34,9 @@ pub(crate) struct PipelineKey {
     pub no_caps: bool,
     /// The compute splat's resolve instead of the instanced draw.
     pub compute_splat: bool,
+    /// `COVERAGE_SAMPLES`: shaded once per pixel with this many samples tested (1: each
+    /// sample shaded on its own, or a single-sample target).
+    pub coverage_samples: u32,
 }
 
 impl PipelineKey {
@@ -70,6 +73,7 @@ impl PipelineKey {
             compact: plan.compact,
             no_caps: plan.no_caps,
             compute_splat: false,
+            coverage_samples: plan.coverage_samples,
         }
     }
 
@@ -86,6 +90,7 @@ impl PipelineKey {
             no_caps: self.no_caps as u32,
             compact: self.compact as u32,
             reversed_z: self.reversed_z as u32,
+            coverage_samples: self.coverage_samples,
             ..SpecConstants::default()
         }
     }
@@ -315,11 +320,14 @@ fn build(
         .cull_mode(cull)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
-    // Multisampled: every sample runs the fragment shader at its own position (gl_FragCoord
-    // is the sample's), so coverage and depth are exact per sample.
+    // Multisampled: either every sample runs the fragment shader at its own position
+    // (gl_FragCoord is the sample's), so coverage and depth are exact per sample; or it runs
+    // once per pixel and writes the exact coverage of each sample position in gl_SampleMask
+    // (`COVERAGE_SAMPLES`), with one depth per pixel.
+    let per_sample = target.multisampled() && key.coverage_samples == 1;
     let multisample = vk::PipelineMultisampleStateCreateInfo::default()
         .rasterization_samples(target.samples)
-        .sample_shading_enable(target.multisampled())
+        .sample_shading_enable(per_sample)
         .min_sample_shading(1.0);
     // Reversed Z: larger is nearer; standard Z: smaller. Flat fill tests nothing, and the
     // visibility-buffer draw has no depth attachment (its atomics keep the nearest hit).

@@ -82,6 +82,16 @@ pub struct Settings {
     /// its own pre-pass and draw. Rounded down to a multiple of 256 (at least 256). Takes
     /// effect at the next `upload`.
     pub max_chunk_instances: u32,
+    /// On multisampled targets, run the fragment stage at every sample (sample-rate
+    /// shading): each sample gets its own hit and depth, so host meshes intersect the glyphs
+    /// exactly per sample, at about the sample count times the cost of one sample. Off by
+    /// default: the fragment stage runs once per pixel, tests every sample position against
+    /// the glyph's silhouette (and near-plane cap) with the exact hit and writes those it
+    /// covers in `gl_SampleMask`, and writes one depth per pixel (the hit at the pixel centre,
+    /// or where the centre misses, at the first covered sample): silhouettes are exact per
+    /// sample, intersections with host meshes exact per pixel. Devices without the standard
+    /// sample locations always shade per sample.
+    pub per_sample_shading: bool,
 }
 
 impl Default for Settings {
@@ -97,6 +107,7 @@ impl Default for Settings {
             compute_splat_min_glyphs: 50_000,
             instance_format: InstanceFormat::Full,
             max_chunk_instances: u32::MAX,
+            per_sample_shading: false,
         }
     }
 }

@@ -258,6 +258,7 @@ fn render(
     kind: TargetKind,
     depth: DepthKind,
     samples: vk::SampleCountFlags,
+    per_sample_shading: bool,
     second: Option<&SecondFrame>,
 ) -> (Vec<u8>, Camera) {
     let HostScene {
@@ -282,11 +283,19 @@ fn render(
                 specular: 0.0,
                 ..Material::default()
             },
+            per_sample_shading,
             ..Settings::default()
         },
         compute_splat_features: false,
     };
     let mut renderer = new_renderer(host, options);
+    let plan = renderer.plan(&camera).unwrap();
+    let pixel_rate = samples != vk::SampleCountFlags::TYPE_1 && !per_sample_shading;
+    assert_eq!(
+        plan.coverage_samples,
+        if pixel_rate { samples.as_raw() } else { 1 },
+        "{plan:?}"
+    );
     let scene = Scene::new(vec![setup.glyph]);
     let cmd = host.begin().unwrap();
     let (device, allocator) = host.device_and_allocator();
@@ -324,10 +333,31 @@ fn render(
     (rgba, camera)
 }
 
-/// Compares a rendering with the analytic per-sample classification; returns how many
-/// pixels lie within a pixel of the intersection curve.
-fn check(setup: &Setup, rgba: &[u8], camera: &Camera, samples: u32, label: &str) -> usize {
+/// What `check` measured.
+struct Checked {
+    /// Pixels within a pixel of the intersection curve.
+    near_curve: usize,
+    /// Without `exact_curve`: the pixels within a pixel of the curve, those not exactly right,
+    /// and the mean and largest error there in samples.
+    curve_pixels: usize,
+    curve_wrong: usize,
+    curve_error_mean: f64,
+    curve_error_max: f64,
+}
+
+/// Compares a rendering with the analytic per-sample classification. With `exact_curve`
+/// (single sample, or sample-rate shading) the intersection with the mesh must be exact per
+/// sample like the silhouette; otherwise its error is measured and returned.
+fn check(
+    setup: &Setup,
+    rgba: &[u8],
+    camera: &Camera,
+    samples: u32,
+    exact_curve: bool,
+    label: &str,
+) -> Checked {
     let expected = setup.expected(camera, samples);
+    let mut curve_errors = Vec::new();
     // The ellipsoid's one colour channel: red or blue.
     let channel = if setup.glyph.color[0] > 0.0 { 0 } else { 2 };
     let mut near_curve = 0;
@@ -348,6 +378,12 @@ fn check(setup: &Setup, rgba: &[u8], camera: &Camera, samples: u32, label: &str)
                 let shown = rgba[4 * k + channel];
                 assert!(shown > 0, "{label}: pixel ({i},{j}) misses the ellipsoid");
             }
+            continue;
+        }
+        if e.on_curve && !exact_curve {
+            // One depth per pixel: measured below, not asserted here.
+            curve_errors.push(error);
+            near_curve += 1;
             continue;
         }
         // Within a pixel of an edge: a sample lying on the exact curve may go either way
@@ -376,9 +412,15 @@ fn check(setup: &Setup, rgba: &[u8], camera: &Camera, samples: u32, label: &str)
         curve[0], curve[1], silhouette[0], silhouette[1]
     );
     if samples > 1 {
-        // Antialiased: along both edges, partly covered pixels resolve to the exact fraction
-        // (a sample within float32 rounding of the curve may go either way).
-        for (what, [partly, exact]) in [("curve", curve), ("silhouette", silhouette)] {
+        // Antialiased: along both edges (along the silhouette only, with one depth per
+        // pixel), partly covered pixels resolve to the exact fraction (a sample within
+        // float32 rounding of the curve may go either way).
+        let edges = if exact_curve {
+            vec![("curve", curve), ("silhouette", silhouette)]
+        } else {
+            vec![("silhouette", silhouette)]
+        };
+        for (what, [partly, exact]) in edges {
             assert!(
                 partly > 30,
                 "{label}: only {partly} partly covered {what} pixels"
@@ -389,7 +431,14 @@ fn check(setup: &Setup, rgba: &[u8], camera: &Camera, samples: u32, label: &str)
             );
         }
     }
-    near_curve
+    let curve_wrong = curve_errors.iter().filter(|&&e| e >= 0.5).count();
+    Checked {
+        near_curve,
+        curve_pixels: curve_errors.len(),
+        curve_wrong,
+        curve_error_mean: curve_errors.iter().sum::<f64>() / curve_errors.len().max(1) as f64,
+        curve_error_max: curve_errors.iter().copied().fold(0.0, f64::max),
+    }
 }
 
 #[test]
@@ -404,10 +453,11 @@ fn a_mesh_plane_cuts_the_ellipsoid_along_the_analytic_curve() {
                 kind,
                 depth,
                 vk::SampleCountFlags::TYPE_1,
+                false,
                 None,
             );
             let label = format!("{kind:?} {depth:?} 1 sample");
-            let curve = check(&setup, &rgba, &camera, 1, &label);
+            let curve = check(&setup, &rgba, &camera, 1, true, &label).near_curve;
             assert!(
                 curve > 40,
                 "{label}: the plane must cut the ellipsoid visibly"
@@ -418,6 +468,8 @@ fn a_mesh_plane_cuts_the_ellipsoid_along_the_analytic_curve() {
     assert!(messages.is_empty(), "validation: {messages:#?}");
 }
 
+/// Sample-rate shading (`Settings::per_sample_shading`): silhouettes and the intersection
+/// with the host's mesh are exact per sample.
 #[test]
 fn multisampled_silhouettes_and_intersections_are_exact_per_sample() {
     let mut host = Host::new(true).unwrap();
@@ -432,10 +484,57 @@ fn multisampled_silhouettes_and_intersections_are_exact_per_sample() {
             kind,
             depth,
             vk::SampleCountFlags::TYPE_4,
+            true,
             None,
         );
-        let label = format!("{kind:?} {depth:?} 4 samples");
-        check(&setup, &rgba, &camera, 4, &label);
+        let label = format!("{kind:?} {depth:?} 4 samples, per sample");
+        check(&setup, &rgba, &camera, 4, true, &label);
+    }
+    let messages = host.messages();
+    assert!(messages.is_empty(), "validation: {messages:#?}");
+}
+
+/// Pixel-rate shading (the default): each sample's coverage is the exact hit at its position
+/// (written in `gl_SampleMask`), so silhouettes resolve to the exact fraction as with
+/// sample-rate shading; the depth is one per pixel, so along the intersection with the mesh
+/// a pixel may put all its samples on one side. That error is measured: in samples per
+/// pixel near the curve, and never beyond the pixels the curve passes through.
+#[test]
+fn multisampled_silhouettes_are_exact_with_one_shading_per_pixel() {
+    let mut host = Host::new(true).unwrap();
+    let setup = Setup::new([1.0, 0.0, 0.0]);
+    for (kind, depth) in [
+        (TargetKind::RenderPass, DepthKind::ReversedInfinite),
+        (TargetKind::Dynamic, DepthKind::StandardFinite),
+    ] {
+        let (rgba, camera) = render(
+            &mut host,
+            &setup,
+            kind,
+            depth,
+            vk::SampleCountFlags::TYPE_4,
+            false,
+            None,
+        );
+        let label = format!("{kind:?} {depth:?} 4 samples, per pixel");
+        let checked = check(&setup, &rgba, &camera, 4, false, &label);
+        // Within a pixel of the curve, one depth per pixel misplaces some samples (measured
+        // on 2026-11-23: 0.19 samples per pixel on average, 26 of 160 pixels); bounded here
+        // at one sample per pixel on average (a quarter of the pixel).
+        // Silhouettes, checked inside `check`, are exact as with sample-rate shading.
+        println!(
+            "{label}: within a pixel of the intersection curve, {:.2} samples wrong per pixel on average, at most {:.0}; {} of {} pixels wrong",
+            checked.curve_error_mean, checked.curve_error_max, checked.curve_wrong, checked.curve_pixels
+        );
+        assert!(
+            checked.curve_pixels > 100,
+            "{label}: the plane must cut the ellipsoid"
+        );
+        assert!(
+            checked.curve_error_mean < 1.0,
+            "{label}: {:.2} samples wrong per curve pixel",
+            checked.curve_error_mean
+        );
     }
     let messages = host.messages();
     assert!(messages.is_empty(), "validation: {messages:#?}");
@@ -470,9 +569,17 @@ fn two_frames_in_one_command_buffer() {
     for kind in [TargetKind::RenderPass, TargetKind::Dynamic] {
         let depth = DepthKind::ReversedInfinite;
         let samples = vk::SampleCountFlags::TYPE_1;
-        let (rgba, camera) = render(&mut host, &first, kind, depth, samples, Some(&second));
+        let (rgba, camera) = render(
+            &mut host,
+            &first,
+            kind,
+            depth,
+            samples,
+            false,
+            Some(&second),
+        );
         let label = format!("{kind:?} second frame");
-        check(&moved, &rgba, &camera, 1, &label);
+        check(&moved, &rgba, &camera, 1, true, &label);
         let blue = (0..rgba.len() / 4).filter(|k| rgba[4 * k + 2] > 0).count();
         let red = (0..rgba.len() / 4).filter(|k| rgba[4 * k] > 0).count();
         assert!(

@@ -18,7 +18,8 @@ use std::time::Instant;
 
 use ash::vk;
 use ellipsoid_splat::{
-    Camera, Ellipsoid, EllipsoidRenderer, HostDevice, Pass, RendererOptions, Scene, Target,
+    Camera, Ellipsoid, EllipsoidRenderer, HostDevice, Pass, RendererOptions, Scene, Settings,
+    Target,
 };
 use ellipsoid_splat_loaders::random_cloud;
 use ellipsoid_splat_test_host::{
@@ -97,6 +98,7 @@ fn renderer_for(
     host: &mut Host,
     target: &HostTarget,
     pipeline_cache: vk::PipelineCache,
+    settings: Settings,
 ) -> Result<EllipsoidRenderer> {
     let host = host.handles();
     let device = HostDevice {
@@ -119,7 +121,7 @@ fn renderer_for(
         },
         frames_in_flight: FRAMES_IN_FLIGHT,
         pipeline_cache,
-        settings: Default::default(),
+        settings,
         // This host does not enable the 64-bit atomics the compute splat needs.
         compute_splat_features: false,
     };
@@ -185,7 +187,7 @@ fn run() -> Result<bool> {
     let cache_info = vk::PipelineCacheCreateInfo::default();
     // SAFETY: valid create info; the cache is destroyed below, after the renderer.
     let cache = unsafe { host.device().create_pipeline_cache(&cache_info, None) }?;
-    let mut renderer = renderer_for(&mut host, &target, cache)?;
+    let mut renderer = renderer_for(&mut host, &target, cache, Settings::default())?;
     let scene = Scene::new(ellipsoids(0.0)?);
     for frame in 0..3 {
         // Animate: turn the ring (instances 0..RING), keep the piercing ellipsoid.
@@ -216,34 +218,60 @@ fn run() -> Result<bool> {
     Ok(messages.is_empty())
 }
 
-/// Times 20,000 ellipsoids over the host's plane at 1280x720 with 1 and 4 samples per pixel
-/// (validation off): median submit-to-fence time of 15 frames after 3 warm-up frames each.
+/// Times 20,000 ellipsoids over the host's plane at 1280x720 with 1 sample per pixel, and with
+/// 4 shaded once per pixel (the default) and once per sample (validation off): the three
+/// interleaved frame by frame, 3 warm-up frames each, then the median submit-to-fence time
+/// of 21 frames each.
 fn run_bench() -> Result<bool> {
     let mut host = Host::new(false)?;
     let scene = random_cloud(20_000, 5, 2.0, 0.12);
-    let mut medians = Vec::new();
-    for samples in [vk::SampleCountFlags::TYPE_1, vk::SampleCountFlags::TYPE_4] {
-        let (kind, depth) = (TargetKind::RenderPass, DepthKind::ReversedInfinite);
+    let variants = [
+        ("1 sample", vk::SampleCountFlags::TYPE_1, false),
+        (
+            "4 samples, shaded per pixel",
+            vk::SampleCountFlags::TYPE_4,
+            false,
+        ),
+        (
+            "4 samples, shaded per sample",
+            vk::SampleCountFlags::TYPE_4,
+            true,
+        ),
+    ];
+    let (kind, depth) = (TargetKind::RenderPass, DepthKind::ReversedInfinite);
+    let mut setups = Vec::new();
+    for (_, samples, per_sample_shading) in variants {
         let target = HostTarget::new(&mut host, kind, depth, samples, 1280, 720)?;
         let mesh = MeshPipeline::new(&mut host, &target, &meshes(false))?;
-        let mut renderer = renderer_for(&mut host, &target, vk::PipelineCache::null())?;
-        let mut times = Vec::new();
-        for frame in 0..18u32 {
+        let settings = Settings {
+            per_sample_shading,
+            ..Settings::default()
+        };
+        let renderer = renderer_for(&mut host, &target, vk::PipelineCache::null(), settings)?;
+        setups.push((target, mesh, renderer, Vec::new()));
+    }
+    for frame in 0..24u32 {
+        for (target, mesh, renderer, times) in &mut setups {
             let change = match frame {
                 0 => Change::Upload(&scene),
                 _ => Change::Keep,
             };
-            record_frame(&mut host, &target, &mesh, &mut renderer, frame, change)?;
+            record_frame(&mut host, target, mesh, renderer, frame, change)?;
             let start = Instant::now();
             host.submit_and_wait()?;
             if frame >= 3 {
                 times.push(start.elapsed().as_secs_f64() * 1e3);
             }
         }
+    }
+    let mut medians = Vec::new();
+    for ((name, ..), (target, mesh, renderer, mut times)) in variants.into_iter().zip(setups) {
         times.sort_by(f64::total_cmp);
         let median = times[times.len() / 2];
-        let frames = times.len();
-        println!("{samples:?}: median {median:.1} ms per frame ({frames} frames)");
+        println!(
+            "{name}: median {median:.1} ms per frame ({} frames)",
+            times.len()
+        );
         medians.push(median);
         let (device, allocator) = host.device_and_allocator();
         // SAFETY: every frame was waited for.
@@ -252,8 +280,9 @@ fn run_bench() -> Result<bool> {
         target.destroy(&mut host);
     }
     println!(
-        "4x MSAA with per-sample shading costs {:.2}x the single-sample frame",
-        medians[1] / medians[0]
+        "4x MSAA costs {:.2}x the single-sample frame shaded per pixel, {:.2}x shaded per sample",
+        medians[1] / medians[0],
+        medians[2] / medians[0]
     );
     Ok(true)
 }

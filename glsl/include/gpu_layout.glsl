@@ -113,6 +113,10 @@ layout(constant_id = 17) const int SPLAT_FLOOR = SPLAT_FLOOR_NONE;
 // invocation walks each glyph, so a larger one would hold up its workgroup); larger glyphs
 // are drawn. From `FramePlan::splat_max_box_pixels`.
 layout(constant_id = 18) const int SPLAT_MAX_BOX_PIXELS = 4096;
+// On a multisampled target shaded once per pixel, its sample count: the fragment stage tests
+// each standard sample position against the glyph and writes gl_SampleMask. 1 otherwise
+// (single-sample targets, and sample-rate shading, where each sample runs the stage).
+layout(constant_id = 19) const int COVERAGE_SAMPLES = 1;
 
 #if defined(CULL_PASS) || defined(SPLAT_PASS)
 // The culled draw's `VkDrawIndirectCommand` followed by the number of instances in the chunk

@@ -110,6 +110,21 @@ bool impostor_depth(vec2 frag_coord, out float z, out vec3 normal, out bool cap)
     return shows;
 }
 
+// The unit world normal of a hit `impostor_depth` found (its silhouette-frame normal and
+// whether it is the cap); loads the shading part of the set-up.
+vec3 impostor_world_normal(vec3 normal, bool cap) {
+    load_shading();
+    if (!TEXTBOOK) {
+        normal = v_to_normal * normal;
+    }
+    if (cap) {
+        return -cam.forward;
+    } else if (FAST_NORMAL) {
+        return normal / (abs(normal.x) + abs(normal.y) + abs(normal.z));
+    }
+    return normalize(normal);
+}
+
 // What instance v_id shows at the pixel centre `frag_coord` (window coordinates, as
 // gl_FragCoord): false where it shows nothing; else its depth-buffer value z in the camera's
 // convention and its unit world normal n. Loads the shading part of the set-up only for a
@@ -121,17 +136,6 @@ bool impostor_pixel(vec2 frag_coord, out float z, out vec3 n) {
     if (!impostor_depth(frag_coord, z, normal, cap)) {
         return false;
     }
-    load_shading();
-    if (!TEXTBOOK) {
-        normal = v_to_normal * normal;
-    }
-    vec3 f = cam.forward;
-    if (cap) {
-        n = -f;
-    } else if (FAST_NORMAL) {
-        n = normal / (abs(normal.x) + abs(normal.y) + abs(normal.z));
-    } else {
-        n = normalize(normal);
-    }
+    n = impostor_world_normal(normal, cap);
     return true;
 }

@@ -208,6 +208,7 @@ impl EllipsoidRenderer {
         FramePlan::new(PlanInputs {
             compute_splat_features: self.compute_splat_features,
             max_storage_buffer_range: self.caps.limits.max_storage_buffer_range,
+            standard_sample_locations: self.caps.limits.standard_sample_locations == vk::TRUE,
             chunks: self.chunking().len(),
             scene: &self.scene,
             settings: &self.settings,

@@ -82,6 +82,11 @@ pub struct FramePlan {
     pub orthographic: bool,
     /// Depth is reversed Z.
     pub reversed_z: bool,
+    /// On a multisampled target shaded once per pixel, its sample count (the fragment stage
+    /// tests each standard sample position and writes `gl_SampleMask`); 1 for single-sample
+    /// targets and for sample-rate shading ([`Settings::per_sample_shading`], and devices
+    /// without the standard sample locations or counts other than 2 and 4).
+    pub coverage_samples: u32,
     /// Index of the renderer's target drawn into.
     pub(crate) target: usize,
     /// Fragment shaders count shaded pixels.
@@ -94,6 +99,8 @@ pub(crate) struct PlanInputs<'a> {
     pub compute_splat_features: bool,
     /// The device's `maxStorageBufferRange` (the visibility buffer is one binding).
     pub max_storage_buffer_range: u32,
+    /// The device uses the standard sample locations (`standardSampleLocations`).
+    pub standard_sample_locations: bool,
     /// Chunks the scene is drawn in (the splat resolves once per chunk).
     pub chunks: u32,
     pub scene: &'a UploadedScene,
@@ -111,6 +118,7 @@ impl FramePlan {
         let PlanInputs {
             compute_splat_features,
             max_storage_buffer_range,
+            standard_sample_locations,
             chunks,
             scene,
             settings,
@@ -220,6 +228,16 @@ impl FramePlan {
             compact: scene.format == InstanceFormat::Compact,
             orthographic,
             reversed_z: camera.depth.reversed,
+            // Pixel-rate shading needs the sample positions in the shader: the standard ones,
+            // written out there for 2 and 4 samples.
+            coverage_samples: match target.samples {
+                vk::SampleCountFlags::TYPE_2 | vk::SampleCountFlags::TYPE_4
+                    if standard_sample_locations && !settings.per_sample_shading =>
+                {
+                    target.samples.as_raw()
+                }
+                _ => 1,
+            },
             target: target_index,
             count_fragments,
         })
@@ -283,6 +301,7 @@ mod tests {
         FramePlan::new(PlanInputs {
             compute_splat_features: features,
             max_storage_buffer_range: 1 << 27,
+            standard_sample_locations: true,
             chunks: 1,
             scene,
             settings,
@@ -292,6 +311,31 @@ mod tests {
             camera,
         })
         .unwrap()
+    }
+
+    /// Multisampled targets are shaded once per pixel with the sample count's exact coverage
+    /// by default, per sample when the settings ask for it or the sample count has no
+    /// positions in the shader; single-sample targets never test coverage.
+    #[test]
+    fn multisampled_targets_shade_once_per_pixel_unless_asked_otherwise() {
+        let (scene, camera) = tiny_scene(false);
+        let shipped = Settings::default();
+        let per_sample = Settings {
+            per_sample_shading: true,
+            ..shipped
+        };
+        use vk::SampleCountFlags as S;
+        for (samples, settings, expected) in [
+            (S::TYPE_1, &shipped, 1),
+            (S::TYPE_1, &per_sample, 1),
+            (S::TYPE_2, &shipped, 2),
+            (S::TYPE_4, &shipped, 4),
+            (S::TYPE_4, &per_sample, 1),
+            (S::TYPE_8, &shipped, 1),
+        ] {
+            let plan = plan(&scene, &camera, samples, true, settings);
+            assert_eq!(plan.coverage_samples, expected, "{samples:?} {settings:?}");
+        }
     }
 
     #[test]
@@ -370,6 +414,7 @@ mod tests {
         let hexagon = FramePlan::new(PlanInputs {
             compute_splat_features: true,
             max_storage_buffer_range: 1 << 27,
+            standard_sample_locations: true,
             chunks: 1,
             scene: &medium,
             settings: &shipped,
