@@ -92,6 +92,12 @@ impl ViewArgs {
                 ));
             }
         }
+        if render.supersample != 1 {
+            return Err(Error::invalid(
+                "--supersample",
+                "does not apply to `view`, which shows the swapchain's pixels; use `render`",
+            ));
+        }
         if render.intersection != IntersectionArg::Stable {
             return Err(Error::invalid(
                 "--intersection",
@@ -310,6 +316,12 @@ pub struct RenderArgs {
     /// Image height in pixels, 1 to 16384.
     #[arg(long, default_value_t = 1080, value_parser = parse_pixels, allow_negative_numbers = true)]
     pub height: u32,
+    /// Antialias with K x K samples per pixel (1 to 8): the frame is drawn K times larger and
+    /// each K x K block averaged in linear light, an exact box filter. Depth, normal and ID
+    /// hold one sample per pixel, at (K/2 + 0.5)/K of it (integer K/2). K x width and K x
+    /// height must stay within 16384.
+    #[arg(long, default_value_t = 1, value_parser = parse_samples, allow_negative_numbers = true)]
+    pub supersample: u32,
     /// Eye position `x,y,z` (default: frames the scene).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub eye: Option<DVec3>,
@@ -486,6 +498,25 @@ impl RenderArgs {
                 ));
             }
         }
+        let k = self.supersample;
+        if !(1..=crate::supersample::MAX_SUPERSAMPLE).contains(&k) {
+            return Err(Error::invalid(
+                "--supersample",
+                format!("{k} is outside 1..={}", crate::supersample::MAX_SUPERSAMPLE),
+            ));
+        }
+        for (flag, value) in [("--width", self.width), ("--height", self.height)] {
+            if value as u64 * k as u64 > MAX_IMAGE_SIDE as u64 {
+                return Err(Error::invalid(
+                    "--supersample",
+                    format!(
+                        "{k} x {flag} {value} = {} pixels is more than {MAX_IMAGE_SIDE}, the \
+                         largest image side the renderer accepts",
+                        value as u64 * k as u64
+                    ),
+                ));
+            }
+        }
         let positive = |flag: &str, value: f64| {
             if value.is_finite() && value > 0.0 {
                 Ok(())
@@ -556,6 +587,15 @@ fn parse_pixels(text: &str) -> std::result::Result<u32, String> {
     text.trim()
         .parse::<u32>()
         .map_err(|_| format!("'{text}' is not a whole number of pixels (1 to {MAX_IMAGE_SIDE})"))
+}
+
+fn parse_samples(text: &str) -> std::result::Result<u32, String> {
+    text.trim().parse::<u32>().map_err(|_| {
+        format!(
+            "'{text}' is not a whole number of samples per side (1 to {})",
+            crate::supersample::MAX_SUPERSAMPLE
+        )
+    })
 }
 
 fn parse_vec3(text: &str) -> std::result::Result<DVec3, String> {

@@ -18,6 +18,7 @@ use ellipsoid_splat_tool::cli::{
 use ellipsoid_splat_tool::output::{self, Image};
 use ellipsoid_splat_tool::skip;
 use ellipsoid_splat_tool::stress::{run_point, sweep_points, write_report, Extent, StressResult};
+use ellipsoid_splat_tool::supersample;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -75,8 +76,15 @@ fn render(args: &RenderArgs) -> Result<()> {
     renderer.upload(&scene)?;
     // Only the targets of the outputs asked for are allocated, drawn and read back.
     let outputs = plan.outputs;
-    let (frame, timing) = renderer.render_uploaded(&camera, outputs)?;
+    let k = args.supersample;
+    let (frame, timing) =
+        renderer.render_uploaded(&supersample::supersampled_camera(&camera, k)?, outputs)?;
     renderer.context().check_validation()?;
+    let frame = if k > 1 {
+        supersample::box_filter(&frame, k)?
+    } else {
+        frame
+    };
 
     for image in Image::all_in(outputs) {
         if let Some(path) = args.file(image) {

@@ -377,6 +377,32 @@ fn image_size_is_limited_with_a_named_error() {
 }
 
 #[test]
+fn supersampling_is_bounded_with_named_errors() {
+    for (args, reason) in [
+        (&["--supersample", "9"][..], "outside 1..=8"),
+        (&["--supersample", "0"][..], "outside 1..=8"),
+        (
+            &["--supersample", "4", "--width", "5000"][..],
+            "more than 16384",
+        ),
+        (
+            &["--supersample", "two"][..],
+            "not a whole number of samples",
+        ),
+    ] {
+        let what = args.join(" ");
+        let output = render_args(args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_ne!(output.status.code(), Some(0), "{what}: {stderr}");
+        assert!(
+            stderr.contains("--supersample") && stderr.contains(reason),
+            "{what}: {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{what}: {stderr}");
+    }
+}
+
+#[test]
 fn camera_flags_are_checked_with_named_errors() {
     let cases: [(&[&str], &str, &str); 4] = [
         (&["--up", "0,0,0"], "--up", "must not be 0,0,0"),

@@ -165,3 +165,80 @@ fn the_default_colours_are_the_scenes_own() {
     assert!(uniform.chunks(4).all(|p| grey(p) || p == background));
     assert!(uniform.chunks(4).filter(|p| grey(p)).count() > 500);
 }
+
+/// `--supersample 3` writes an image of the asked size whose every pixel is the mean, in
+/// linear light, of the 3 x 3 block of the same view drawn at three times the size, and an ID
+/// image holding each block's centre sample.
+#[test]
+fn supersampling_is_the_box_filter_of_the_larger_picture() {
+    let dir = std::env::temp_dir().join(format!("es-supersample-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = "random:40";
+    let camera = ["--eye", "0,0,60", "--target", "0,0,0"];
+    let small = render_pixels(
+        &dir,
+        "small",
+        scene,
+        &[&camera[..], &["--supersample", "3"]].concat(),
+    );
+    let out = dir.join("big.png");
+    let run = Command::new(env!("CARGO_BIN_EXE_ellipsoid-splat"))
+        .args([
+            "render",
+            "--validation",
+            "--width",
+            "288",
+            "--height",
+            "192",
+        ])
+        .args(["--scene", scene])
+        .args(camera)
+        .arg("--output")
+        .arg(&out)
+        .output()
+        .expect("the binary runs");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let big = image::open(&out).unwrap().to_rgba8();
+    let linear = |b: u8| {
+        let c = b as f64 / 255.0;
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    let srgb_byte = |v: f64| {
+        let c = if v <= 0.0031308 {
+            12.92 * v
+        } else {
+            1.055 * v.powf(1.0 / 2.4) - 0.055
+        };
+        (c * 255.0).round() as u8
+    };
+    let mut edges = 0;
+    for j in 0..64u32 {
+        for i in 0..96u32 {
+            for c in 0..3 {
+                let block: Vec<f64> = (0..9)
+                    .map(|n| linear(big.get_pixel(3 * i + n % 3, 3 * j + n / 3)[c]))
+                    .collect();
+                let mean = block.iter().sum::<f64>() / 9.0;
+                let shown = small[4 * (j * 96 + i) as usize + c];
+                // The larger picture is the very samples the filter averaged: the result is
+                // the block's mean encoded to the nearest sRGB byte, exactly.
+                assert_eq!(
+                    shown,
+                    srgb_byte(mean),
+                    "pixel ({i},{j}) channel {c}: the block's mean is {mean}"
+                );
+                edges += (c == 0 && block.iter().any(|&v| (v - block[0]).abs() > 0.05)) as usize;
+            }
+        }
+    }
+    assert!(edges > 100, "only {edges} pixels mix their samples");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

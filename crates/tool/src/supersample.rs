@@ -1,0 +1,227 @@
+//! `render --supersample K`: the frame drawn K times larger in each direction, then every K x K
+//! block of samples averaged into one pixel in linear light -- an exact box filter over a
+//! regular K x K grid of sample positions, `(i + (s + 0.5) / K, j + (t + 0.5) / K)` for
+//! `s, t` in `0..K`. Each sample is exact (the renderer's per-pixel contract), so a pixel's
+//! colour is the exact coverage-weighted mean of what its K^2 samples show.
+//!
+//! Depth, normal and ID cannot be averaged: each output pixel holds the one sample at block
+//! offset `(K / 2, K / 2)` (integer division), at `(K / 2 + 0.5) / K` of the pixel -- its
+//! centre for odd K, half a sample right of and below it for even K.
+
+use ellipsoid_splat::camera::Camera;
+use ellipsoid_splat::error::{Error, Result};
+use ellipsoid_splat::frame::Frame;
+
+/// The largest K: 64 samples per pixel.
+pub const MAX_SUPERSAMPLE: u32 = 8;
+
+/// The camera that draws `camera`'s view with K x K samples per pixel: the same view, K times
+/// the pixels in each direction.
+pub fn supersampled_camera(camera: &Camera, k: u32) -> Result<Camera> {
+    let (width, height) = (camera.width.checked_mul(k), camera.height.checked_mul(k));
+    let (Some(width), Some(height)) = (width, height) else {
+        return Err(Error::invalid("--supersample", "the image size overflows"));
+    };
+    Ok(Camera {
+        width,
+        height,
+        ..*camera
+    })
+}
+
+/// sRGB-encoded byte to linear light.
+fn srgb_to_linear(byte: u8) -> f64 {
+    let c = byte as f64 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Linear light in [0, 1] to the nearest sRGB-encoded byte.
+fn linear_to_srgb(value: f64) -> u8 {
+    let v = value.clamp(0.0, 1.0);
+    let c = if v <= 0.0031308 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    };
+    (c * 255.0).round() as u8
+}
+
+/// `frame`, drawn with K x K samples per pixel, filtered to its output size (see the module
+/// documentation); outputs `frame` lacks stay empty.
+pub fn box_filter(frame: &Frame, k: u32) -> Result<Frame> {
+    if k == 0 || frame.width % k != 0 || frame.height % k != 0 {
+        return Err(Error::invalid(
+            "--supersample",
+            format!(
+                "a {}x{} frame has no whole {k}x{k} blocks",
+                frame.width, frame.height
+            ),
+        ));
+    }
+    let (width, height) = (frame.width / k, frame.height / k);
+    let to_linear: Vec<f64> = (0..=255u8).map(srgb_to_linear).collect();
+    let samples = (k * k) as f64;
+    let pixels = width as usize * height as usize;
+    let mut out = Frame {
+        width,
+        height,
+        color: Vec::with_capacity(if frame.color.is_empty() { 0 } else { pixels }),
+        depth: Vec::with_capacity(if frame.depth.is_empty() { 0 } else { pixels }),
+        normal: Vec::with_capacity(if frame.normal.is_empty() { 0 } else { pixels }),
+        id: Vec::with_capacity(if frame.id.is_empty() { 0 } else { pixels }),
+    };
+    for j in 0..height {
+        for i in 0..width {
+            if !frame.color.is_empty() {
+                let mut sum = [0.0f64; 4];
+                for t in 0..k {
+                    for s in 0..k {
+                        let texel = frame.color[frame.index(i * k + s, j * k + t)];
+                        for (c, total) in sum.iter_mut().enumerate().take(3) {
+                            *total += to_linear[texel[c] as usize];
+                        }
+                        sum[3] += texel[3] as f64;
+                    }
+                }
+                out.color.push([
+                    linear_to_srgb(sum[0] / samples),
+                    linear_to_srgb(sum[1] / samples),
+                    linear_to_srgb(sum[2] / samples),
+                    (sum[3] / samples).round() as u8,
+                ]);
+            }
+            let held = frame.index(i * k + k / 2, j * k + k / 2);
+            if !frame.depth.is_empty() {
+                out.depth.push(frame.depth[held]);
+            }
+            if !frame.normal.is_empty() {
+                out.normal.push(frame.normal[held]);
+            }
+            if !frame.id.is_empty() {
+                out.id.push(frame.id[held]);
+            }
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ellipsoid_splat::{Ellipsoid, Material, Outputs, Scene, Settings, NO_INSTANCE};
+    use ellipsoid_splat_reference::reference::render_reference;
+    use ellipsoid_splat_reference::testing::{finish_validated, validated_renderer};
+    use glam::{DQuat, DVec3};
+
+    #[test]
+    fn srgb_round_trips_every_byte() {
+        for byte in 0..=255u8 {
+            assert_eq!(linear_to_srgb(srgb_to_linear(byte)), byte);
+        }
+    }
+
+    /// One white sample of four over black is a quarter of the light: sRGB 0.537, byte 137
+    /// (not 64, the mean of the encoded bytes); the held sample is block offset (1, 1).
+    #[test]
+    fn blocks_average_in_linear_light() {
+        let frame = Frame {
+            width: 2,
+            height: 2,
+            color: vec![
+                [255, 255, 255, 255],
+                [0, 0, 0, 255],
+                [0, 0, 0, 255],
+                [0, 0, 0, 255],
+            ],
+            depth: vec![1.0, 2.0, 3.0, 4.0],
+            normal: vec![[0.0; 3]; 4],
+            id: vec![7, 8, 9, 10],
+        };
+        let out = box_filter(&frame, 2).unwrap();
+        assert_eq!((out.width, out.height), (1, 1));
+        assert_eq!(out.color, vec![[137, 137, 137, 255]]);
+        assert_eq!((out.depth[0], out.id[0]), (4.0, 10));
+        assert!(box_filter(&frame, 3).is_err());
+    }
+
+    /// `--supersample 4` resolves each pixel to the exact fraction of its 16-sample grid that
+    /// the float64 reference finds covered: unlit white glyphs over the background, so a
+    /// pixel's linear light is `bg + f (1 - bg)`, and `16 f` must be the reference's count.
+    #[test]
+    fn four_by_four_supersampling_resolves_the_exact_coverage_fraction() {
+        let k = 4;
+        let glyphs = (0..12)
+            .map(|n| {
+                let t = n as f64;
+                Ellipsoid::new(
+                    DVec3::new(
+                        3.0 * (t % 6.0) - 7.5,
+                        if n < 6 { 2.0 } else { -2.0 } + 0.3 * (t % 6.0),
+                        -0.5 * t,
+                    ),
+                    DVec3::new(1.2, 0.35 + 0.1 * t, 0.6),
+                    DQuat::from_rotation_z(0.5 * t + 0.2) * DQuat::from_rotation_x(0.3 * t),
+                    Some([1.0, 1.0, 1.0]),
+                )
+                .unwrap()
+            })
+            .collect();
+        let scene = Scene::new(glyphs);
+        let camera =
+            Camera::look_at(DVec3::new(0.5, 1.0, 16.0), DVec3::ZERO, 45.0, 1.0, 96, 64).unwrap();
+        let big = supersampled_camera(&camera, k).unwrap();
+        let mut renderer = validated_renderer();
+        renderer.set_settings(Settings {
+            material: Material {
+                ambient: 1.0,
+                diffuse: 0.0,
+                specular: 0.0,
+                ..Material::default()
+            },
+            ..Settings::default()
+        });
+        let drawn = renderer.render(&scene, &big, Outputs::ALL).unwrap();
+        let out = box_filter(&drawn, k).unwrap();
+        let reference = render_reference(&scene, &big).unwrap();
+        let background = out
+            .color
+            .iter()
+            .zip(&out.id)
+            .find(|(_, &id)| id == NO_INSTANCE)
+            .map(|(c, _)| srgb_to_linear(c[0]))
+            .unwrap();
+        let (mut partly, mut checked) = (0, 0);
+        for j in 0..camera.height {
+            for i in 0..camera.width {
+                let mut covered = 0;
+                let mut ambiguous = false;
+                for t in 0..k {
+                    for s in 0..k {
+                        let at = reference.index(i * k + s, j * k + t);
+                        covered += (reference.id[at] != NO_INSTANCE) as u32;
+                        ambiguous |= reference.ambiguous[at];
+                    }
+                }
+                if ambiguous {
+                    continue; // a sample within float32 rounding of a silhouette
+                }
+                let light = srgb_to_linear(out.color[out.index(i, j)][0]);
+                let fraction = (light - background) / (1.0 - background);
+                assert!(
+                    (fraction * 16.0 - covered as f64).abs() < 0.25,
+                    "pixel ({i},{j}): {:.3} of 16 samples lit, the reference covers {covered}",
+                    fraction * 16.0
+                );
+                checked += 1;
+                partly += (covered > 0 && covered < 16) as usize;
+            }
+        }
+        assert!(partly > 200, "only {partly} partly covered pixels");
+        assert!(checked > 5_000, "{checked}");
+        finish_validated(renderer);
+    }
+}
