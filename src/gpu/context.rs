@@ -68,6 +68,8 @@ pub struct DeviceInfo {
     /// Whether `shaderInt64` and `shaderBufferInt64Atomics` were enabled: the compute splat
     /// path ([`crate::Settings::compute_splat`]) needs both.
     pub compute_splat: bool,
+    /// Sample counts the device supports for both colour and depth attachments.
+    pub sample_counts: vk::SampleCountFlags,
 }
 
 /// Owns every Vulkan object of the standalone path.
@@ -474,5 +476,7 @@ fn device_info(
         pipeline_statistics: enabled.pipeline_statistics,
         fragment_stores_and_atomics: enabled.fragment_stores_and_atomics,
         compute_splat: enabled.compute_splat,
+        sample_counts: props.limits.framebuffer_color_sample_counts
+            & props.limits.framebuffer_depth_sample_counts,
     }
 }

@@ -16,12 +16,13 @@ pub struct GpuImage {
 }
 
 impl GpuImage {
-    /// Creates an image with one mip level and layer, and a view of it.
+    /// Creates an image of `samples` samples per pixel in `format`, with one mip level and
+    /// layer, and a view of it.
     pub fn new(
         device: &ash::Device,
         allocator: &mut Allocator,
         name: &'static str,
-        format: vk::Format,
+        (format, samples): (vk::Format, vk::SampleCountFlags),
         extent: vk::Extent2D,
         usage: vk::ImageUsageFlags,
         aspect: vk::ImageAspectFlags,
@@ -36,7 +37,7 @@ impl GpuImage {
             })
             .mip_levels(1)
             .array_layers(1)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .samples(samples)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)

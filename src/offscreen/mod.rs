@@ -38,6 +38,8 @@ pub struct OffscreenRenderer {
     command_buffer: vk::CommandBuffer,
     fence: vk::Fence,
     queries: Option<FrameQueries>,
+    /// Samples per pixel of the attachments (`set_samples`).
+    samples: vk::SampleCountFlags,
     /// Read-back frames count shaded pixels (the benchmark's measuring aid).
     #[cfg(feature = "research")]
     count_fragments: bool,
@@ -75,6 +77,7 @@ impl OffscreenRenderer {
             command_buffer: vk::CommandBuffer::null(),
             fence: vk::Fence::null(),
             queries: None,
+            samples: vk::SampleCountFlags::TYPE_1,
             #[cfg(feature = "research")]
             count_fragments: false,
             unfinished: false,
@@ -114,7 +117,7 @@ impl OffscreenRenderer {
         };
         let options = RendererOptions {
             compute_splat_features: self.context.info().compute_splat,
-            ..RendererOptions::new(target(true))
+            ..RendererOptions::new(target(true, vk::SampleCountFlags::TYPE_1))
         };
         let (_, allocator) = self.context.device_and_allocator();
         // SAFETY: the context's handles belong together and have the required features (and
@@ -144,6 +147,24 @@ impl OffscreenRenderer {
     /// Changes the settings (see [`EllipsoidRenderer::set_settings`] for what each costs).
     pub fn set_settings(&mut self, settings: Settings) {
         self.renderer_mut().set_settings(settings);
+    }
+
+    /// Draws later frames with `samples` samples per pixel (1, the default, or a count the
+    /// device supports for colour and depth attachments) and reads back the resolved frame:
+    /// colour is the mean of the samples, the normal the mean of the samples' normals (not
+    /// renormalised), depth and ID those of sample 0. Multisampled frames are shaded once
+    /// per pixel with exact per-sample coverage, or per sample with
+    /// [`Settings::per_sample_shading`].
+    pub fn set_samples(&mut self, samples: vk::SampleCountFlags) -> Result<()> {
+        let supported = self.context.info().sample_counts;
+        if samples.as_raw().count_ones() != 1 || !supported.contains(samples) {
+            return Err(crate::error::Error::invalid(
+                "samples",
+                format!("{samples:?} per pixel: the device supports {supported:?}"),
+            ));
+        }
+        self.samples = samples;
+        Ok(())
     }
 
     /// What a frame of the uploaded scene with `camera` does (see
@@ -286,7 +307,7 @@ impl OffscreenRenderer {
                 .as_mut()
                 .expect("renderer exists after construction");
             // SAFETY: the offscreen targets are dynamic rendering: no render pass to outlive.
-            unsafe { renderer.set_target(target(outputs.aux()))? };
+            unsafe { renderer.set_target(target(outputs.aux(), self.samples))? };
             #[cfg(feature = "research")]
             {
                 renderer.set_count_fragments(counting);
@@ -411,8 +432,9 @@ impl Drop for OffscreenRenderer {
     }
 }
 
-/// The offscreen pass: colour and depth, plus the normal and ID targets with `aux_outputs`.
-fn target(aux_outputs: bool) -> Target {
+/// The offscreen pass: colour and depth, plus the normal and ID targets with `aux_outputs`,
+/// with `samples` per pixel.
+fn target(aux_outputs: bool, samples: vk::SampleCountFlags) -> Target {
     let color_formats = if aux_outputs {
         vec![COLOR_FORMAT, NORMAL_FORMAT, ID_FORMAT]
     } else {
@@ -423,7 +445,7 @@ fn target(aux_outputs: bool) -> Target {
             color_formats,
             depth_format: DEPTH_FORMAT,
         },
-        samples: vk::SampleCountFlags::TYPE_1,
+        samples,
         aux_outputs,
     }
 }

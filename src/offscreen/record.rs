@@ -33,11 +33,24 @@ impl OffscreenRenderer {
             .renderer
             .as_mut()
             .expect("renderer exists after construction");
-        // Colour always; normal and ID when asked for.
+        // Colour always; normal and ID when asked for. Multisampled, the pass draws into
+        // `drawn` and resolves into these.
         let mut colors: Vec<&GpuImage> = vec![&targets.color];
         if let (true, Some((normal, id))) = (outputs.aux(), &targets.aux) {
             colors.extend([normal, id]);
         }
+        let drawn: Option<&Vec<GpuImage>> = targets.multisampled.as_ref().map(|(_, d)| d);
+        // The multisampled attachments in the order of `colors`, and the depth one.
+        let (drawn_colors, drawn_depth): (Vec<&GpuImage>, Option<&GpuImage>) = match drawn {
+            Some(d) => (
+                std::iter::once(&d[0])
+                    .chain(d.iter().skip(2))
+                    .take(colors.len())
+                    .collect(),
+                Some(&d[1]),
+            ),
+            None => (Vec::new(), None),
+        };
         // SAFETY: `cmd` is recording (begin_commands) outside a pass; all recorded handles are
         // owned by `self` and live until the submission, which is waited for, completes.
         unsafe {
@@ -50,6 +63,7 @@ impl OffscreenRenderer {
             // Attachments to render layouts. The previous frame's copy read them: wait for it.
             let mut barriers: Vec<vk::ImageMemoryBarrier> = colors
                 .iter()
+                .chain(&drawn_colors)
                 .map(|t| {
                     vk::ImageMemoryBarrier::default()
                         .src_access_mask(vk::AccessFlags::empty())
@@ -60,18 +74,20 @@ impl OffscreenRenderer {
                         .subresource_range(full_range(vk::ImageAspectFlags::COLOR))
                 })
                 .collect();
-            barriers.push(
-                vk::ImageMemoryBarrier::default()
-                    .src_access_mask(vk::AccessFlags::empty())
-                    .dst_access_mask(
-                        vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ
-                            | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                    )
-                    .old_layout(vk::ImageLayout::UNDEFINED)
-                    .new_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-                    .image(targets.depth.handle())
-                    .subresource_range(full_range(vk::ImageAspectFlags::DEPTH)),
-            );
+            for depth in std::iter::once(&targets.depth).chain(drawn_depth) {
+                barriers.push(
+                    vk::ImageMemoryBarrier::default()
+                        .src_access_mask(vk::AccessFlags::empty())
+                        .dst_access_mask(
+                            vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ
+                                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                        )
+                        .old_layout(vk::ImageLayout::UNDEFINED)
+                        .new_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                        .image(depth.handle())
+                        .subresource_range(full_range(vk::ImageAspectFlags::DEPTH)),
+                );
+            }
             device.cmd_pipeline_barrier(
                 cmd,
                 vk::PipelineStageFlags::TRANSFER,
@@ -93,29 +109,55 @@ impl OffscreenRenderer {
                     uint32: [NO_INSTANCE, 0, 0, 0],
                 },
             ];
+            // Multisampled: draw into the multisampled image and resolve into the read one --
+            // colour and normal by the mean of the samples (the only resolve float formats
+            // have), ID and depth by sample 0.
+            let attachment = |read: &GpuImage, drawn: Option<&GpuImage>, layout, mean: bool| {
+                let info = vk::RenderingAttachmentInfo::default()
+                    .image_layout(layout)
+                    .load_op(vk::AttachmentLoadOp::CLEAR);
+                match drawn {
+                    None => info
+                        .image_view(read.view())
+                        .store_op(vk::AttachmentStoreOp::STORE),
+                    Some(drawn) => info
+                        .image_view(drawn.view())
+                        .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                        .resolve_image_view(read.view())
+                        .resolve_image_layout(layout)
+                        .resolve_mode(if mean {
+                            vk::ResolveModeFlags::AVERAGE
+                        } else {
+                            vk::ResolveModeFlags::SAMPLE_ZERO
+                        }),
+                }
+            };
             let color_attachments: Vec<vk::RenderingAttachmentInfo> = colors
                 .iter()
                 .zip(clears)
-                .map(|(t, clear)| {
-                    vk::RenderingAttachmentInfo::default()
-                        .image_view(t.view())
-                        .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                        .load_op(vk::AttachmentLoadOp::CLEAR)
-                        .store_op(vk::AttachmentStoreOp::STORE)
-                        .clear_value(vk::ClearValue { color: clear })
+                .enumerate()
+                .map(|(k, (t, clear))| {
+                    attachment(
+                        t,
+                        drawn_colors.get(k).copied(),
+                        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                        k < 2,
+                    )
+                    .clear_value(vk::ClearValue { color: clear })
                 })
                 .collect();
-            let depth_attachment = vk::RenderingAttachmentInfo::default()
-                .image_view(targets.depth.view())
-                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::STORE)
-                .clear_value(vk::ClearValue {
-                    depth_stencil: vk::ClearDepthStencilValue {
-                        depth: camera.depth.clear_value(),
-                        stencil: 0,
-                    },
-                });
+            let depth_attachment = attachment(
+                &targets.depth,
+                drawn_depth,
+                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                false,
+            )
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: camera.depth.clear_value(),
+                    stencil: 0,
+                },
+            });
             let rendering = vk::RenderingInfo::default()
                 .render_area(vk::Rect2D {
                     offset: vk::Offset2D { x: 0, y: 0 },
@@ -159,11 +201,13 @@ impl OffscreenRenderer {
                         )
                     })
                     .collect();
+                // A resolve writes its image as a colour attachment write, whatever the aspect.
                 barriers.push(to_transfer(
                     targets.depth.handle(),
                     vk::ImageAspectFlags::DEPTH,
                     vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                    vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                    vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE
+                        | vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
                 ));
                 device.cmd_pipeline_barrier(
                     cmd,

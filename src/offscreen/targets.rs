@@ -12,13 +12,18 @@ use crate::target::{ID_FORMAT, NORMAL_FORMAT};
 use super::{OffscreenRenderer, Outputs, COLOR_FORMAT, DEPTH_FORMAT};
 
 /// The attachments of one size: colour and depth always (the draw needs them), normal and ID
-/// when asked for, and a readback buffer for the outputs that are read back.
+/// when asked for, and a readback buffer for the outputs that are read back. Multisampled,
+/// the pass draws into `multisampled` and resolves into the single-sample images, which are
+/// read back.
 pub(super) struct Targets {
     pub outputs: Outputs,
     pub color: GpuImage,
     pub depth: GpuImage,
     /// Normal and ID.
     pub aux: Option<(GpuImage, GpuImage)>,
+    /// With more than one sample per pixel: the attachments drawn into, in the order colour,
+    /// depth, then normal and ID when asked for.
+    pub multisampled: Option<(vk::SampleCountFlags, Vec<GpuImage>)>,
     pub readback: GpuBuffer,
 }
 
@@ -47,12 +52,13 @@ impl Targets {
         ([color, depth, normal, id], at)
     }
 
-    /// The attachments for `extent` and `outputs`.
+    /// The attachments for `extent`, `outputs` and `samples` per pixel.
     fn new(
         device: &ash::Device,
         allocator: &mut Allocator,
         extent: vk::Extent2D,
         outputs: Outputs,
+        samples: vk::SampleCountFlags,
     ) -> Result<Self> {
         let attach = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
         let color_aspect = vk::ImageAspectFlags::COLOR;
@@ -69,7 +75,8 @@ impl Targets {
             specs.push(("normal target", NORMAL_FORMAT, attach, color_aspect));
             specs.push(("id target", ID_FORMAT, attach, color_aspect));
         }
-        // Build one at a time so a failure frees the ones already made.
+        // Build one at a time so a failure frees the ones already made: the single-sample
+        // images, then (multisampled) the attachments drawn into, which only the pass uses.
         let mut made: Vec<GpuImage> = Vec::new();
         let free = |made: Vec<GpuImage>, allocator: &mut Allocator| {
             for image in made {
@@ -77,8 +84,28 @@ impl Targets {
                 unsafe { image.destroy(device, allocator) };
             }
         };
-        for (name, format, usage, aspect) in specs {
-            match GpuImage::new(device, allocator, name, format, extent, usage, aspect) {
+        let single = vk::SampleCountFlags::TYPE_1;
+        let mut builds: Vec<_> = specs.iter().map(|&spec| (spec, single)).collect();
+        if samples != single {
+            let drawn_into = |usage: vk::ImageUsageFlags| {
+                (usage & !vk::ImageUsageFlags::TRANSFER_SRC)
+                    | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT
+            };
+            builds.extend(specs.iter().map(|&(name, format, usage, aspect)| {
+                ((name, format, drawn_into(usage), aspect), samples)
+            }));
+        }
+        for ((name, format, usage, aspect), samples) in builds {
+            let made_one = GpuImage::new(
+                device,
+                allocator,
+                name,
+                (format, samples),
+                extent,
+                usage,
+                aspect,
+            );
+            match made_one {
                 Ok(image) => made.push(image),
                 Err(e) => {
                     free(made, allocator);
@@ -86,6 +113,10 @@ impl Targets {
                 }
             }
         }
+        let multisampled = (samples != single).then(|| {
+            let drawn: Vec<GpuImage> = made.split_off(specs.len());
+            (samples, drawn)
+        });
         let readback = match GpuBuffer::new(
             device,
             allocator,
@@ -97,6 +128,9 @@ impl Targets {
             Ok(b) => b,
             Err(e) => {
                 free(made, allocator);
+                if let Some((_, drawn)) = multisampled {
+                    free(drawn, allocator);
+                }
                 return Err(e);
             }
         };
@@ -110,6 +144,7 @@ impl Targets {
             color,
             depth,
             aux,
+            multisampled,
             readback,
         })
     }
@@ -127,20 +162,27 @@ impl Targets {
                 normal.destroy(device, allocator);
                 id.destroy(device, allocator);
             }
+            for image in self.multisampled.into_iter().flat_map(|(_, drawn)| drawn) {
+                image.destroy(device, allocator);
+            }
             self.readback.destroy(device, allocator);
         }
     }
 }
 
 impl OffscreenRenderer {
-    /// Makes the targets match `extent` and hold at least `outputs`, replacing them if they
-    /// do not.
+    /// Makes the targets match `extent` and the sample count and hold at least `outputs`,
+    /// replacing them if they do not.
     pub(super) fn ensure_targets(&mut self, extent: vk::Extent2D, outputs: Outputs) -> Result<()> {
-        if self
-            .targets
-            .as_ref()
-            .is_some_and(|t| t.color.extent() == extent && t.outputs.covers(outputs))
-        {
+        let samples = self.samples;
+        let samples_of = |t: &Targets| {
+            t.multisampled
+                .as_ref()
+                .map_or(vk::SampleCountFlags::TYPE_1, |m| m.0)
+        };
+        if self.targets.as_ref().is_some_and(|t| {
+            t.color.extent() == extent && t.outputs.covers(outputs) && samples_of(t) == samples
+        }) {
             return Ok(());
         }
         let (device, allocator) = self.context.device_and_allocator();
@@ -148,7 +190,7 @@ impl OffscreenRenderer {
             // SAFETY: every submission is waited for before returning, so nothing uses them.
             unsafe { old.destroy(device, allocator) };
         }
-        self.targets = Some(Targets::new(device, allocator, extent, outputs)?);
+        self.targets = Some(Targets::new(device, allocator, extent, outputs, samples)?);
         Ok(())
     }
 }

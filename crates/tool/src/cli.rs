@@ -92,6 +92,12 @@ impl ViewArgs {
                 ));
             }
         }
+        if render.samples != 1 || render.per_sample_shading {
+            return Err(Error::invalid(
+                "--samples",
+                "does not apply to `view`, which draws one sample per pixel; use `render`",
+            ));
+        }
         if render.supersample != 1 {
             return Err(Error::invalid(
                 "--supersample",
@@ -322,6 +328,16 @@ pub struct RenderArgs {
     /// height must stay within 16384.
     #[arg(long, default_value_t = 1, value_parser = parse_samples, allow_negative_numbers = true)]
     pub supersample: u32,
+    /// Multisample antialiasing: samples per pixel (1, or a power of two the device offers
+    /// for colour and depth; lavapipe: 4). Shaded once per pixel with each sample's coverage
+    /// exact, unless --per-sample-shading. The depth and ID images hold sample 0, the normal
+    /// image the mean of the samples' normals.
+    #[arg(long, default_value_t = 1, value_parser = parse_samples, allow_negative_numbers = true)]
+    pub samples: u32,
+    /// With --samples: run the shading at every sample (exact depth per sample; about the
+    /// sample count times the cost) instead of once per pixel.
+    #[arg(long)]
+    pub per_sample_shading: bool,
     /// Eye position `x,y,z` (default: frames the scene).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub eye: Option<DVec3>,
@@ -497,6 +513,12 @@ impl RenderArgs {
                     ),
                 ));
             }
+        }
+        if !self.samples.is_power_of_two() || self.samples > 64 {
+            return Err(Error::invalid(
+                "--samples",
+                format!("{} is not a sample count (1, 2, 4, ... 64)", self.samples),
+            ));
         }
         let k = self.supersample;
         if !(1..=crate::supersample::MAX_SUPERSAMPLE).contains(&k) {

@@ -71,8 +71,27 @@ fn render(args: &RenderArgs) -> Result<()> {
     });
     renderer.set_settings(Settings {
         instance_format: args.instance_format(),
+        per_sample_shading: args.per_sample_shading,
         ..Settings::default()
     });
+    let samples = ash::vk::SampleCountFlags::from_raw(args.samples);
+    let offered = renderer.context().info().sample_counts;
+    if !offered.contains(samples) {
+        let counts: Vec<String> = (0..7)
+            .map(|bit| 1u32 << bit)
+            .filter(|&n| offered.contains(ash::vk::SampleCountFlags::from_raw(n)))
+            .map(|n| n.to_string())
+            .collect();
+        return Err(ellipsoid_splat::Error::invalid(
+            "--samples",
+            format!(
+                "{} samples per pixel: this device offers {}",
+                args.samples,
+                counts.join(", ")
+            ),
+        ));
+    }
+    renderer.set_samples(samples)?;
     renderer.upload(&scene)?;
     // Only the targets of the outputs asked for are allocated, drawn and read back.
     let outputs = plan.outputs;

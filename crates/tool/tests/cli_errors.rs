@@ -377,8 +377,9 @@ fn image_size_is_limited_with_a_named_error() {
 }
 
 #[test]
-fn supersampling_is_bounded_with_named_errors() {
+fn antialiasing_flags_are_checked_with_named_errors() {
     for (args, reason) in [
+        (&["--samples", "3"][..], "not a sample count"),
         (&["--supersample", "9"][..], "outside 1..=8"),
         (&["--supersample", "0"][..], "outside 1..=8"),
         (
@@ -394,8 +395,9 @@ fn supersampling_is_bounded_with_named_errors() {
         let output = render_args(args);
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert_ne!(output.status.code(), Some(0), "{what}: {stderr}");
+        let flag = args[0];
         assert!(
-            stderr.contains("--supersample") && stderr.contains(reason),
+            stderr.contains(flag) && stderr.contains(reason),
             "{what}: {stderr}"
         );
         assert!(!stderr.contains("panicked"), "{what}: {stderr}");

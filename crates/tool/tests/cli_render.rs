@@ -242,3 +242,29 @@ fn supersampling_is_the_box_filter_of_the_larger_picture() {
     assert!(edges > 100, "only {edges} pixels mix their samples");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A sample count the device does not offer is a named error listing what it offers
+/// (lavapipe: 1 and 4).
+#[test]
+fn a_sample_count_the_device_lacks_is_named() {
+    let run = Command::new(env!("CARGO_BIN_EXE_ellipsoid-splat"))
+        .args([
+            "render",
+            "--samples",
+            "8",
+            "--width",
+            "16",
+            "--height",
+            "16",
+        ])
+        .arg("--output")
+        .arg(std::env::temp_dir().join(format!("es-samples-{}.png", std::process::id())))
+        .output()
+        .expect("the binary runs");
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("--samples") && stderr.contains("this device offers 1, 4"),
+        "{stderr}"
+    );
+}

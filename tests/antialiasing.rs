@@ -1,0 +1,131 @@
+//! Multisampled frames of the offscreen renderer resolve each pixel to the exact fraction of
+//! its samples the glyphs cover: unlit white glyphs over the background, so a pixel's linear
+//! light is `bg + f (1 - bg)`, and `f` times the sample count must be the float64
+//! reference's count at the standard sample positions. The four standard positions of 4x
+//! MSAA lie on the 4 x 4 grid `((s + 0.5) / 4, (t + 0.5) / 4)`, so the reference drawn at four
+//! times the size gives each sample's answer. Both shading rates: once per pixel with the
+//! exact coverage in the sample mask (the default), and once per sample.
+
+use ash::vk;
+use ellipsoid_splat::{Camera, Ellipsoid, Material, Outputs, Scene, Settings, NO_INSTANCE};
+use ellipsoid_splat_reference::reference::render_reference;
+use ellipsoid_splat_reference::testing::{finish_validated, validated_renderer};
+use glam::{DQuat, DVec3};
+
+/// The standard 4x positions as cells of the pixel's 4 x 4 grid.
+const FOUR: [(u32, u32); 4] = [(1, 0), (3, 1), (0, 2), (2, 3)];
+
+fn srgb_to_linear(byte: u8) -> f64 {
+    let c = byte as f64 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Twelve white glyphs, some overlapping, and one cut by the near plane (its cap shows).
+fn scene() -> Scene {
+    let mut glyphs: Vec<Ellipsoid> = (0..12)
+        .map(|n| {
+            let t = n as f64;
+            Ellipsoid::new(
+                DVec3::new(
+                    3.0 * (t % 6.0) - 7.5,
+                    if n < 6 { 2.0 } else { -2.0 } + 0.3 * (t % 6.0),
+                    -0.5 * t,
+                ),
+                DVec3::new(1.2, 0.35 + 0.1 * t, 0.6),
+                DQuat::from_rotation_z(0.5 * t + 0.2) * DQuat::from_rotation_x(0.3 * t),
+                Some([1.0, 1.0, 1.0]),
+            )
+            .unwrap()
+        })
+        .collect();
+    // About 1.6 in front of the eye at (0.5, 1, 16), reaching 0.6 nearer: the near plane at
+    // 1.5 cuts it.
+    glyphs.push(
+        Ellipsoid::new(
+            DVec3::new(1.0, 0.8, 14.4),
+            DVec3::new(0.6, 0.25, 0.6),
+            DQuat::from_rotation_z(0.3),
+            Some([1.0, 1.0, 1.0]),
+        )
+        .unwrap(),
+    );
+    Scene::new(glyphs)
+}
+
+#[test]
+fn four_samples_resolve_to_the_exact_covered_fraction_at_both_shading_rates() {
+    let scene = scene();
+    let camera =
+        Camera::look_at(DVec3::new(0.5, 1.0, 16.0), DVec3::ZERO, 45.0, 1.5, 96, 64).unwrap();
+    let big = Camera {
+        width: camera.width * 4,
+        height: camera.height * 4,
+        ..camera
+    };
+    let reference = render_reference(&scene, &big).unwrap();
+    let mut renderer = validated_renderer();
+    renderer.set_samples(vk::SampleCountFlags::TYPE_4).unwrap();
+    for per_sample_shading in [false, true] {
+        renderer.set_settings(Settings {
+            material: Material {
+                ambient: 1.0,
+                diffuse: 0.0,
+                specular: 0.0,
+                ..Material::default()
+            },
+            per_sample_shading,
+            ..Settings::default()
+        });
+        renderer.upload(&scene).unwrap();
+        let frame = renderer.render_uploaded(&camera, Outputs::ALL).unwrap().0;
+        // The plan of the frame just drawn (its target is the multisampled one now).
+        let plan = renderer.plan(&camera).unwrap();
+        assert_eq!(
+            plan.coverage_samples,
+            if per_sample_shading { 1 } else { 4 }
+        );
+        let background = frame
+            .color
+            .iter()
+            .zip(&frame.id)
+            .find(|(_, &id)| id == NO_INSTANCE)
+            .map(|(c, _)| srgb_to_linear(c[0]))
+            .unwrap();
+        let (mut partly, mut checked) = (0, 0);
+        for j in 0..camera.height {
+            for i in 0..camera.width {
+                let at = |(s, t): (u32, u32)| reference.index(4 * i + s, 4 * j + t);
+                if FOUR.iter().any(|&c| reference.ambiguous[at(c)]) {
+                    continue; // a sample within float32 rounding of a silhouette
+                }
+                let covered = FOUR
+                    .iter()
+                    .filter(|&&c| reference.id[at(c)] != NO_INSTANCE)
+                    .count();
+                let k = frame.index(i, j);
+                let light = srgb_to_linear(frame.color[k][0]);
+                let lit = 4.0 * (light - background) / (1.0 - background);
+                assert!(
+                    (lit - covered as f64).abs() < 0.1,
+                    "per sample {per_sample_shading}: pixel ({i},{j}) lights {lit:.2} of 4 \
+                     samples, the reference covers {covered}"
+                );
+                // The ID output holds sample 0.
+                assert_eq!(
+                    frame.id[k] != NO_INSTANCE,
+                    reference.id[at(FOUR[0])] != NO_INSTANCE,
+                    "pixel ({i},{j}): ID of sample 0"
+                );
+                checked += 1;
+                partly += (covered > 0 && covered < 4) as usize;
+            }
+        }
+        assert!(partly > 200, "only {partly} partly covered pixels");
+        assert!(checked > 5_000, "{checked}");
+    }
+    finish_validated(renderer);
+}
