@@ -8,21 +8,10 @@
 
 use ash::vk;
 use ellipsoid_splat::{Camera, Ellipsoid, Material, Outputs, Scene, Settings, NO_INSTANCE};
+use ellipsoid_splat_reference::coverage::{compare_coverage, reference_coverage, SamplePattern};
 use ellipsoid_splat_reference::reference::render_reference;
 use ellipsoid_splat_reference::testing::{finish_validated, validated_renderer};
 use glam::{DQuat, DVec3};
-
-/// The standard 4x positions as cells of the pixel's 4 x 4 grid.
-const FOUR: [(u32, u32); 4] = [(1, 0), (3, 1), (0, 2), (2, 3)];
-
-fn srgb_to_linear(byte: u8) -> f64 {
-    let c = byte as f64 / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
 
 /// Twelve white glyphs, some overlapping, and one cut by the near plane (its cap shows).
 fn scene() -> Scene {
@@ -66,6 +55,8 @@ fn four_samples_resolve_to_the_exact_covered_fraction_at_both_shading_rates() {
         height: camera.height * 4,
         ..camera
     };
+    let coverage = reference_coverage(&scene, &camera, SamplePattern::Standard4).unwrap();
+    // Sample 0 of the standard pattern is the 4 x 4 grid's cell (1, 0).
     let reference = render_reference(&scene, &big).unwrap();
     let mut renderer = validated_renderer();
     renderer.set_samples(vk::SampleCountFlags::TYPE_4).unwrap();
@@ -88,44 +79,31 @@ fn four_samples_resolve_to_the_exact_covered_fraction_at_both_shading_rates() {
             plan.coverage_samples,
             if per_sample_shading { 1 } else { 4 }
         );
-        let background = frame
-            .color
-            .iter()
-            .zip(&frame.id)
-            .find(|(_, &id)| id == NO_INSTANCE)
-            .map(|(c, _)| srgb_to_linear(c[0]))
-            .unwrap();
-        let (mut partly, mut checked) = (0, 0);
+        let stats = compare_coverage(&frame, &coverage).unwrap();
+        println!("per sample {per_sample_shading}: {stats}");
+        assert_eq!(stats.wrong, 0, "per sample {per_sample_shading}: {stats}");
+        assert!(
+            stats.max_error < 0.1,
+            "per sample {per_sample_shading}: {stats}"
+        );
+        assert!(
+            stats.partly_covered > 200 && stats.compared > 5_000,
+            "{stats}"
+        );
+        // The ID output holds sample 0.
         for j in 0..camera.height {
             for i in 0..camera.width {
-                let at = |(s, t): (u32, u32)| reference.index(4 * i + s, 4 * j + t);
-                if FOUR.iter().any(|&c| reference.ambiguous[at(c)]) {
-                    continue; // a sample within float32 rounding of a silhouette
-                }
-                let covered = FOUR
-                    .iter()
-                    .filter(|&&c| reference.id[at(c)] != NO_INSTANCE)
-                    .count();
                 let k = frame.index(i, j);
-                let light = srgb_to_linear(frame.color[k][0]);
-                let lit = 4.0 * (light - background) / (1.0 - background);
-                assert!(
-                    (lit - covered as f64).abs() < 0.1,
-                    "per sample {per_sample_shading}: pixel ({i},{j}) lights {lit:.2} of 4 \
-                     samples, the reference covers {covered}"
-                );
-                // The ID output holds sample 0.
+                if coverage.ambiguous[k] {
+                    continue;
+                }
                 assert_eq!(
                     frame.id[k] != NO_INSTANCE,
-                    reference.id[at(FOUR[0])] != NO_INSTANCE,
+                    reference.id[reference.index(4 * i + 1, 4 * j)] != NO_INSTANCE,
                     "pixel ({i},{j}): ID of sample 0"
                 );
-                checked += 1;
-                partly += (covered > 0 && covered < 4) as usize;
             }
         }
-        assert!(partly > 200, "only {partly} partly covered pixels");
-        assert!(checked > 5_000, "{checked}");
     }
     finish_validated(renderer);
 }

@@ -2,8 +2,10 @@
 //! and the statistics of a GPU frame's error against it.
 
 pub mod compare;
+pub mod coverage;
 pub mod reference;
 pub mod testing;
 
 pub use compare::{compare, Bounds, ErrorStats};
+pub use coverage::{compare_coverage, reference_coverage, CoverageStats, SamplePattern};
 pub use reference::{render_reference, ReferenceFrame};

@@ -11,6 +11,7 @@
 use ellipsoid_splat::camera::Camera;
 use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::frame::Frame;
+use ellipsoid_splat_reference::coverage::srgb_to_linear;
 
 /// The largest K: 64 samples per pixel.
 pub const MAX_SUPERSAMPLE: u32 = 8;
@@ -27,16 +28,6 @@ pub fn supersampled_camera(camera: &Camera, k: u32) -> Result<Camera> {
         height,
         ..*camera
     })
-}
-
-/// sRGB-encoded byte to linear light.
-fn srgb_to_linear(byte: u8) -> f64 {
-    let c = byte as f64 / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
 }
 
 /// Linear light in [0, 1] to the nearest sRGB-encoded byte.
@@ -112,8 +103,10 @@ pub fn box_filter(frame: &Frame, k: u32) -> Result<Frame> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use ellipsoid_splat::{Ellipsoid, Material, Outputs, Scene, Settings, NO_INSTANCE};
-    use ellipsoid_splat_reference::reference::render_reference;
+    use ellipsoid_splat::{Ellipsoid, Material, Outputs, Scene, Settings};
+    use ellipsoid_splat_reference::coverage::{
+        compare_coverage, reference_coverage, SamplePattern,
+    };
     use ellipsoid_splat_reference::testing::{finish_validated, validated_renderer};
     use glam::{DQuat, DVec3};
 
@@ -149,8 +142,8 @@ mod tests {
     }
 
     /// `--supersample 4` resolves each pixel to the exact fraction of its 16-sample grid that
-    /// the float64 reference finds covered: unlit white glyphs over the background, so a
-    /// pixel's linear light is `bg + f (1 - bg)`, and `16 f` must be the reference's count.
+    /// the float64 reference finds covered (unlit white glyphs over the background: see
+    /// `ellipsoid_splat_reference::coverage`).
     #[test]
     fn four_by_four_supersampling_resolves_the_exact_coverage_fraction() {
         let k = 4;
@@ -186,42 +179,14 @@ mod tests {
         });
         let drawn = renderer.render(&scene, &big, Outputs::ALL).unwrap();
         let out = box_filter(&drawn, k).unwrap();
-        let reference = render_reference(&scene, &big).unwrap();
-        let background = out
-            .color
-            .iter()
-            .zip(&out.id)
-            .find(|(_, &id)| id == NO_INSTANCE)
-            .map(|(c, _)| srgb_to_linear(c[0]))
-            .unwrap();
-        let (mut partly, mut checked) = (0, 0);
-        for j in 0..camera.height {
-            for i in 0..camera.width {
-                let mut covered = 0;
-                let mut ambiguous = false;
-                for t in 0..k {
-                    for s in 0..k {
-                        let at = reference.index(i * k + s, j * k + t);
-                        covered += (reference.id[at] != NO_INSTANCE) as u32;
-                        ambiguous |= reference.ambiguous[at];
-                    }
-                }
-                if ambiguous {
-                    continue; // a sample within float32 rounding of a silhouette
-                }
-                let light = srgb_to_linear(out.color[out.index(i, j)][0]);
-                let fraction = (light - background) / (1.0 - background);
-                assert!(
-                    (fraction * 16.0 - covered as f64).abs() < 0.25,
-                    "pixel ({i},{j}): {:.3} of 16 samples lit, the reference covers {covered}",
-                    fraction * 16.0
-                );
-                checked += 1;
-                partly += (covered > 0 && covered < 16) as usize;
-            }
-        }
-        assert!(partly > 200, "only {partly} partly covered pixels");
-        assert!(checked > 5_000, "{checked}");
+        let coverage = reference_coverage(&scene, &camera, SamplePattern::Grid(k)).unwrap();
+        let stats = compare_coverage(&out, &coverage).unwrap();
+        assert_eq!(stats.wrong, 0, "{stats}");
+        assert!(stats.max_error < 0.25, "{stats}");
+        assert!(
+            stats.partly_covered > 200 && stats.compared > 5_000,
+            "{stats}"
+        );
         finish_validated(renderer);
     }
 }

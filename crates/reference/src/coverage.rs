@@ -1,0 +1,190 @@
+//! Antialiased frames against the reference: each pixel's exact count of covered samples,
+//! over the very sample positions the GPU uses, and the error of the resolved pixels in
+//! samples.
+//!
+//! The positions are cells of a K x K grid in each pixel, `((s + 0.5) / K, (t + 0.5) / K)`:
+//! all K^2 cells for `--supersample K`, and for 4x multisampling the four cells of the
+//! 4 x 4 grid where the Vulkan standard positions lie. The reference drawn K times larger
+//! answers every cell at once.
+//!
+//! A resolved pixel is compared through its light: the glyphs are drawn unlit and white over
+//! the background (the caller sets the material), so a pixel's linear light is
+//! `bg + f (1 - bg)` with `f` the covered fraction of its samples.
+
+use std::fmt;
+
+use ellipsoid_splat::camera::Camera;
+use ellipsoid_splat::error::{Error, Result};
+use ellipsoid_splat::frame::{Frame, NO_INSTANCE};
+use ellipsoid_splat::Scene;
+
+use crate::reference::render_reference;
+
+/// Where a pixel's samples lie.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SamplePattern {
+    /// The Vulkan standard positions of 4x multisampling.
+    Standard4,
+    /// Every cell of a K x K grid (`--supersample K`).
+    Grid(u32),
+}
+
+impl SamplePattern {
+    /// The pattern of `samples` per pixel multisampling, if its positions are known here.
+    pub fn multisampled(samples: u32) -> Option<Self> {
+        match samples {
+            1 => Some(SamplePattern::Grid(1)),
+            4 => Some(SamplePattern::Standard4),
+            _ => None,
+        }
+    }
+
+    /// Side of the grid the positions lie on.
+    pub fn grid(self) -> u32 {
+        match self {
+            SamplePattern::Standard4 => 4,
+            SamplePattern::Grid(k) => k,
+        }
+    }
+
+    /// The cells `(s, t)` of the grid holding a sample.
+    pub fn cells(self) -> Vec<(u32, u32)> {
+        match self {
+            SamplePattern::Standard4 => vec![(1, 0), (3, 1), (0, 2), (2, 3)],
+            SamplePattern::Grid(k) => (0..k * k).map(|n| (n % k, n / k)).collect(),
+        }
+    }
+}
+
+/// The reference's answer per pixel: covered samples, and whether any sample lies within
+/// float32 rounding of a silhouette (such pixels are not compared).
+#[derive(Clone, Debug)]
+pub struct ReferenceCoverage {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Samples per pixel.
+    pub samples: u32,
+    /// Covered samples of each pixel, row-major.
+    pub covered: Vec<u32>,
+    /// Some sample of the pixel is ambiguous in the reference.
+    pub ambiguous: Vec<bool>,
+}
+
+/// The reference's coverage of `scene` seen by `camera`, at `pattern`'s positions.
+pub fn reference_coverage(
+    scene: &Scene,
+    camera: &Camera,
+    pattern: SamplePattern,
+) -> Result<ReferenceCoverage> {
+    let k = pattern.grid();
+    let (Some(width), Some(height)) = (camera.width.checked_mul(k), camera.height.checked_mul(k))
+    else {
+        return Err(Error::invalid("sample pattern", "the image size overflows"));
+    };
+    let big = Camera {
+        width,
+        height,
+        ..*camera
+    };
+    let reference = render_reference(scene, &big)?;
+    let cells = pattern.cells();
+    let pixels = camera.width as usize * camera.height as usize;
+    let (mut covered, mut ambiguous) = (Vec::with_capacity(pixels), Vec::with_capacity(pixels));
+    for j in 0..camera.height {
+        for i in 0..camera.width {
+            let at = |&(s, t): &(u32, u32)| reference.index(k * i + s, k * j + t);
+            covered.push(
+                cells
+                    .iter()
+                    .filter(|c| reference.id[at(c)] != NO_INSTANCE)
+                    .count() as u32,
+            );
+            ambiguous.push(cells.iter().any(|c| reference.ambiguous[at(c)]));
+        }
+    }
+    Ok(ReferenceCoverage {
+        width: camera.width,
+        height: camera.height,
+        samples: cells.len() as u32,
+        covered,
+        ambiguous,
+    })
+}
+
+/// How far a resolved frame's coverage is from the reference's, in samples.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CoverageStats {
+    /// Pixels compared (not ambiguous).
+    pub compared: usize,
+    /// Of those, pixels the reference covers partly (the antialiased ones).
+    pub partly_covered: usize,
+    /// Pixels whose lit samples differ from the reference's count by half a sample or more.
+    pub wrong: usize,
+    /// Mean absolute error over the partly covered pixels, in samples.
+    pub mean_error: f64,
+    /// Largest absolute error, in samples.
+    pub max_error: f64,
+}
+
+impl fmt::Display for CoverageStats {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} px compared, {} partly covered, {} wrong; error mean {:.3} max {:.2} samples",
+            self.compared, self.partly_covered, self.wrong, self.mean_error, self.max_error
+        )
+    }
+}
+
+/// sRGB-encoded byte to linear light.
+pub fn srgb_to_linear(byte: u8) -> f64 {
+    let c = byte as f64 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Compares `resolved` (unlit white glyphs over the background) with the reference's coverage.
+/// The background's light is read from a pixel the reference leaves wholly uncovered.
+pub fn compare_coverage(resolved: &Frame, reference: &ReferenceCoverage) -> Result<CoverageStats> {
+    if (resolved.width, resolved.height) != (reference.width, reference.height)
+        || resolved.color.len() != reference.covered.len()
+    {
+        return Err(Error::invalid(
+            "coverage comparison",
+            format!(
+                "a {}x{} frame against a {}x{} reference",
+                resolved.width, resolved.height, reference.width, reference.height
+            ),
+        ));
+    }
+    let background = (0..reference.covered.len())
+        .find(|&k| reference.covered[k] == 0 && !reference.ambiguous[k])
+        .map(|k| srgb_to_linear(resolved.color[k][0]))
+        .ok_or_else(|| Error::invalid("coverage comparison", "no background pixel"))?;
+    let samples = reference.samples as f64;
+    let mut stats = CoverageStats::default();
+    let mut sum = 0.0;
+    for k in 0..reference.covered.len() {
+        if reference.ambiguous[k] {
+            continue;
+        }
+        let light = srgb_to_linear(resolved.color[k][0]);
+        let lit = samples * (light - background) / (1.0 - background);
+        let covered = reference.covered[k];
+        let error = (lit - covered as f64).abs();
+        stats.compared += 1;
+        stats.wrong += (error >= 0.5) as usize;
+        stats.max_error = stats.max_error.max(error);
+        if covered > 0 && covered < reference.samples {
+            stats.partly_covered += 1;
+            sum += error;
+        }
+    }
+    stats.mean_error = sum / stats.partly_covered.max(1) as f64;
+    Ok(stats)
+}
