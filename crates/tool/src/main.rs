@@ -11,6 +11,9 @@ use ellipsoid_splat::gpu::{Context, ContextOptions};
 use ellipsoid_splat::{draw::DrawConfig, Settings};
 use ellipsoid_splat::{OffscreenRenderer, Result};
 use ellipsoid_splat_loaders::Progress;
+use ellipsoid_splat_tool::antialias_stress::{
+    antialias_points, run_antialias_point, write_antialias_report, AntialiasMode,
+};
 use ellipsoid_splat_tool::bench;
 use ellipsoid_splat_tool::cli::{
     self, BenchArgs, Cli, Command, DeviceArgs, RenderArgs, StressArgs,
@@ -169,10 +172,24 @@ fn run_stress(args: &StressArgs) -> Result<bool> {
         }
     }
     progress.finish();
+    // The antialiased points: each in every mode.
+    let mut antialiased = Vec::new();
+    for point in &antialias_points() {
+        for mode in AntialiasMode::ALL {
+            antialiased.push(run_antialias_point(&mut renderer, point, mode)?);
+        }
+    }
     renderer.context().check_validation()?;
     renderer.finish()?;
     let table = write_report(&results, extent.size(), &args.out)?;
     println!("{table}");
+    println!("{}", write_antialias_report(&antialiased, &args.out)?);
+    let antialias_broken = antialiased.iter().filter(|r| !r.exact()).count();
+    println!(
+        "antialiased: {} of {} points resolve every pixel to the reference's covered samples",
+        antialiased.len() - antialias_broken,
+        antialiased.len()
+    );
     let broken: Vec<&StressResult> = results
         .iter()
         .filter(|r| r.method == Intersection::Stable && r.broken.is_some())
@@ -197,8 +214,11 @@ fn run_stress(args: &StressArgs) -> Result<bool> {
             r.broken.as_deref().unwrap_or_default()
         );
     }
-    println!("wrote {}/stress.csv and stress_*.png", args.out.display());
-    Ok(broken.is_empty())
+    println!(
+        "wrote {}/stress.csv, stress_aa.csv and stress_*.png",
+        args.out.display()
+    );
+    Ok(broken.is_empty() && antialias_broken == 0)
 }
 
 /// Runs the time-versus-error benchmark; exit status 1 when a target is missed, 2 on error.

@@ -80,3 +80,37 @@ fn scale_sweep() {
 fn coincident_surfaces_sweep() {
     run_sweep("coincident");
 }
+
+/// The antialiased points (thin needles, sub-pixel glyphs, a near-plane cut, overlaps) in
+/// every mode -- 4x MSAA shaded per pixel and per sample, 2 x 2 and 4 x 4 supersampling --
+/// resolve every pixel to the float64 reference's count of covered samples.
+#[test]
+fn antialiased_points_resolve_to_the_exact_covered_samples() {
+    use ellipsoid_splat_tool::antialias_stress::{
+        antialias_points, run_antialias_point, AntialiasMode,
+    };
+    let mut renderer = common::validated_renderer();
+    let mut failures = Vec::new();
+    for point in &antialias_points() {
+        for mode in AntialiasMode::ALL {
+            let result = run_antialias_point(&mut renderer, point, mode).expect("render");
+            println!("{:<20} {:<18} {}", point.case, mode.name(), result.stats);
+            assert!(
+                result.stats.partly_covered > 20,
+                "{} {}: {}",
+                point.case,
+                mode.name(),
+                result.stats
+            );
+            if !result.exact() {
+                failures.push(format!("{} {}: {}", point.case, mode.name(), result.stats));
+            }
+        }
+    }
+    common::finish_validated(renderer);
+    assert!(
+        failures.is_empty(),
+        "coverage wrong:\n{}",
+        failures.join("\n")
+    );
+}
