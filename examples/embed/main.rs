@@ -218,13 +218,35 @@ fn run() -> Result<bool> {
     Ok(messages.is_empty())
 }
 
-/// Times 20,000 ellipsoids over the host's plane at 1280x720 with 1 sample per pixel, and with
-/// 4 shaded once per pixel (the default) and once per sample (validation off): the three
-/// interleaved frame by frame, 3 warm-up frames each, then the median submit-to-fence time
-/// of 21 frames each.
+/// Times two scenes over the host's plane at 1280x720 -- 20,000 random ellipsoids, and the
+/// 64,000-glyph tensor field scaled into the same view -- with 1 sample per pixel, and with 4
+/// shaded once per pixel (the default) and once per sample (validation off): the three
+/// interleaved frame by frame, 3 warm-up frames each, then the median submit-to-fence time of
+/// 21 frames each.
 fn run_bench() -> Result<bool> {
     let mut host = Host::new(false)?;
-    let scene = random_cloud(20_000, 5, 2.0, 0.12);
+    let field = ellipsoid_splat_loaders::tensor_field(40);
+    let (centre, radius) = field.bounding_sphere().ok_or("empty tensor field")?;
+    let fitted = field
+        .ellipsoids
+        .iter()
+        .map(|e| {
+            let s = 2.0 / radius;
+            Ellipsoid::new(
+                (e.center - centre) * s,
+                e.radii * s,
+                e.rotation,
+                Some(e.color),
+            )
+        })
+        .collect::<std::result::Result<Vec<_>, _>>()?;
+    let scenes = [
+        (
+            "20,000 random ellipsoids",
+            random_cloud(20_000, 5, 2.0, 0.12),
+        ),
+        ("the tensor field (64,000)", Scene::new(fitted)),
+    ];
     let variants = [
         ("1 sample", vk::SampleCountFlags::TYPE_1, false),
         (
@@ -239,50 +261,53 @@ fn run_bench() -> Result<bool> {
         ),
     ];
     let (kind, depth) = (TargetKind::RenderPass, DepthKind::ReversedInfinite);
-    let mut setups = Vec::new();
-    for (_, samples, per_sample_shading) in variants {
-        let target = HostTarget::new(&mut host, kind, depth, samples, 1280, 720)?;
-        let mesh = MeshPipeline::new(&mut host, &target, &meshes(false))?;
-        let settings = Settings {
-            per_sample_shading,
-            ..Settings::default()
-        };
-        let renderer = renderer_for(&mut host, &target, vk::PipelineCache::null(), settings)?;
-        setups.push((target, mesh, renderer, Vec::new()));
-    }
-    for frame in 0..24u32 {
-        for (target, mesh, renderer, times) in &mut setups {
-            let change = match frame {
-                0 => Change::Upload(&scene),
-                _ => Change::Keep,
+    for (scene_name, scene) in &scenes {
+        let mut setups = Vec::new();
+        for (_, samples, per_sample_shading) in variants {
+            let target = HostTarget::new(&mut host, kind, depth, samples, 1280, 720)?;
+            let mesh = MeshPipeline::new(&mut host, &target, &meshes(false))?;
+            let settings = Settings {
+                per_sample_shading,
+                ..Settings::default()
             };
-            record_frame(&mut host, target, mesh, renderer, frame, change)?;
-            let start = Instant::now();
-            host.submit_and_wait()?;
-            if frame >= 3 {
-                times.push(start.elapsed().as_secs_f64() * 1e3);
+            let renderer = renderer_for(&mut host, &target, vk::PipelineCache::null(), settings)?;
+            setups.push((target, mesh, renderer, Vec::new()));
+        }
+        for frame in 0..24u32 {
+            for (target, mesh, renderer, times) in &mut setups {
+                let change = match frame {
+                    0 => Change::Upload(scene),
+                    _ => Change::Keep,
+                };
+                record_frame(&mut host, target, mesh, renderer, frame, change)?;
+                let start = Instant::now();
+                host.submit_and_wait()?;
+                if frame >= 3 {
+                    times.push(start.elapsed().as_secs_f64() * 1e3);
+                }
             }
         }
-    }
-    let mut medians = Vec::new();
-    for ((name, ..), (target, mesh, renderer, mut times)) in variants.into_iter().zip(setups) {
-        times.sort_by(f64::total_cmp);
-        let median = times[times.len() / 2];
+        let mut medians = Vec::new();
+        for ((name, ..), (target, mesh, renderer, mut times)) in variants.into_iter().zip(setups) {
+            times.sort_by(f64::total_cmp);
+            let median = times[times.len() / 2];
+            println!(
+                "{scene_name}, {name}: median {median:.1} ms per frame ({} frames)",
+                times.len()
+            );
+            medians.push(median);
+            let (device, allocator) = host.device_and_allocator();
+            // SAFETY: every frame was waited for.
+            unsafe { renderer.destroy(device, allocator) };
+            mesh.destroy(&mut host);
+            target.destroy(&mut host);
+        }
         println!(
-            "{name}: median {median:.1} ms per frame ({} frames)",
-            times.len()
+            "{scene_name}: 4x MSAA costs {:.2}x the single-sample frame shaded per pixel, {:.2}x \
+             shaded per sample",
+            medians[1] / medians[0],
+            medians[2] / medians[0]
         );
-        medians.push(median);
-        let (device, allocator) = host.device_and_allocator();
-        // SAFETY: every frame was waited for.
-        unsafe { renderer.destroy(device, allocator) };
-        mesh.destroy(&mut host);
-        target.destroy(&mut host);
     }
-    println!(
-        "4x MSAA costs {:.2}x the single-sample frame shaded per pixel, {:.2}x shaded per sample",
-        medians[1] / medians[0],
-        medians[2] / medians[0]
-    );
     Ok(true)
 }
