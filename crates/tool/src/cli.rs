@@ -147,8 +147,12 @@ pub struct BenchArgs {
     pub scenes: Vec<String>,
     /// Instead: measure each skippable piece of work on and off (culling, outputs, order);
     /// writes skip.csv and skip.png.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "antialias")]
     pub skip: bool,
+    /// Instead: time antialiasing (one sample, 4x MSAA shaded per pixel and per sample, 2 x 2
+    /// supersampling) on the tensor field and a cloud of 16 px glyphs; writes antialias.csv.
+    #[arg(long)]
+    pub antialias: bool,
     /// Device and validation.
     #[command(flatten)]
     pub device: DeviceArgs,

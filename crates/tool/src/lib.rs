@@ -3,6 +3,7 @@
 //! interactive viewer (`view`).
 //! `main.rs` dispatches to these; tests call them directly.
 
+pub mod antialias_bench;
 pub mod antialias_stress;
 pub mod bench;
 pub mod cli;

@@ -11,6 +11,7 @@ use ellipsoid_splat::gpu::{Context, ContextOptions};
 use ellipsoid_splat::{draw::DrawConfig, Settings};
 use ellipsoid_splat::{OffscreenRenderer, Result};
 use ellipsoid_splat_loaders::Progress;
+use ellipsoid_splat_tool::antialias_bench;
 use ellipsoid_splat_tool::antialias_stress::{
     antialias_points, run_antialias_point, write_antialias_report, AntialiasMode,
 };
@@ -240,7 +241,7 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
             "must be at least 1",
         ));
     }
-    if args.skip {
+    if args.skip || args.antialias {
         if !args.methods.is_empty() || !args.scenes.is_empty() {
             return Err(ellipsoid_splat::Error::invalid(
                 if args.methods.is_empty() {
@@ -248,8 +249,18 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
                 } else {
                     "--methods"
                 },
-                "does not apply to --skip, which measures its own methods and scenes",
+                "does not apply to --skip or --antialias, which measure their own methods and \
+                 scenes",
             ));
+        }
+        if args.antialias {
+            output::check_output_dir("--out", &args.out, "antialias.csv")?;
+            let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
+            let results = antialias_bench::run(&mut renderer, args.frames)?;
+            renderer.context().check_validation()?;
+            renderer.finish()?;
+            println!("{}", antialias_bench::write_report(&results, &args.out)?);
+            return Ok(true);
         }
         output::check_output_dir("--out", &args.out, "skip.csv")?;
         return run_skip(args);
