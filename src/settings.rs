@@ -87,10 +87,12 @@ pub struct Settings {
     /// exactly per sample, at about the sample count times the cost of one sample. Off by
     /// default: the fragment stage runs once per pixel, tests every sample position against
     /// the glyph's silhouette (and near-plane cap) with the exact hit and writes those it
-    /// covers in `gl_SampleMask`, and writes one depth per pixel (the hit at the pixel centre,
-    /// or where the centre misses, at the first covered sample): silhouettes are exact per
-    /// sample, intersections with host meshes exact per pixel. Devices without the standard
-    /// sample locations always shade per sample.
+    /// covers in `gl_SampleMask`, and writes one depth per pixel, the nearest of the covered
+    /// samples' (a glyph in front of host geometry at every sample it covers shows at all of
+    /// them); it shades at the first covered sample. Silhouettes are exact per sample;
+    /// where a glyph and a host mesh cross, a pixel's samples may fall on the wrong side.
+    /// Devices without the standard sample locations, and sample counts other than 2 and 4,
+    /// always shade per sample.
     pub per_sample_shading: bool,
 }
 

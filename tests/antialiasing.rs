@@ -90,19 +90,35 @@ fn four_samples_resolve_to_the_exact_covered_fraction_at_both_shading_rates() {
             stats.partly_covered > 200 && stats.compared > 5_000,
             "{stats}"
         );
-        // The ID output holds sample 0.
+        // The ID output holds sample 0's glyph: exactly the reference's when every sample is
+        // shaded; shaded once per pixel, one depth per pixel may let another glyph win
+        // sample 0 where two overlap within the pixel.
+        let mut other_glyph = 0;
         for j in 0..camera.height {
             for i in 0..camera.width {
                 let k = frame.index(i, j);
                 if coverage.ambiguous[k] {
                     continue;
                 }
+                let expected = reference.id[reference.index(4 * i + 1, 4 * j)];
                 assert_eq!(
                     frame.id[k] != NO_INSTANCE,
-                    reference.id[reference.index(4 * i + 1, 4 * j)] != NO_INSTANCE,
-                    "pixel ({i},{j}): ID of sample 0"
+                    expected != NO_INSTANCE,
+                    "pixel ({i},{j}): coverage of sample 0"
                 );
+                other_glyph += (frame.id[k] != expected) as usize;
             }
+        }
+        println!(
+            "per sample {per_sample_shading}: {other_glyph} pixels show another glyph at sample 0"
+        );
+        if per_sample_shading {
+            assert_eq!(other_glyph, 0, "sample 0's glyph differs");
+        } else {
+            assert!(
+                other_glyph <= 20,
+                "{other_glyph} pixels show another glyph at sample 0"
+            );
         }
     }
     finish_validated(renderer);

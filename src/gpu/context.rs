@@ -68,7 +68,8 @@ pub struct DeviceInfo {
     /// Whether `shaderInt64` and `shaderBufferInt64Atomics` were enabled: the compute splat
     /// path ([`crate::Settings::compute_splat`]) needs both.
     pub compute_splat: bool,
-    /// Sample counts the device supports for both colour and depth attachments.
+    /// Sample counts the device supports for the offscreen attachments: colour, depth and
+    /// integer colour (the ID output) alike.
     pub sample_counts: vk::SampleCountFlags,
 }
 
@@ -477,6 +478,30 @@ fn device_info(
         fragment_stores_and_atomics: enabled.fragment_stores_and_atomics,
         compute_splat: enabled.compute_splat,
         sample_counts: props.limits.framebuffer_color_sample_counts
-            & props.limits.framebuffer_depth_sample_counts,
+            & props.limits.framebuffer_depth_sample_counts
+            & attachment_sample_counts(instance, pd, crate::target::NORMAL_FORMAT)
+            & attachment_sample_counts(instance, pd, crate::target::ID_FORMAT),
     }
+}
+
+/// The sample counts a transient colour attachment of `format` may have (the normal and ID
+/// outputs' formats are not covered by the framebuffer limits: the ID is an integer format,
+/// for which only one sample is guaranteed).
+fn attachment_sample_counts(
+    instance: &ash::Instance,
+    pd: vk::PhysicalDevice,
+    format: vk::Format,
+) -> vk::SampleCountFlags {
+    // SAFETY: `pd` belongs to `instance`.
+    let properties = unsafe {
+        instance.get_physical_device_image_format_properties(
+            pd,
+            format,
+            vk::ImageType::TYPE_2D,
+            vk::ImageTiling::OPTIMAL,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
+            vk::ImageCreateFlags::empty(),
+        )
+    };
+    properties.map_or(vk::SampleCountFlags::TYPE_1, |p| p.sample_counts)
 }

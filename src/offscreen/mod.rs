@@ -164,7 +164,11 @@ impl OffscreenRenderer {
             ));
         }
         self.samples = samples;
-        Ok(())
+        // The plan of the next frame (`plan`) sees the new sample count at once.
+        let renderer = self.renderer_mut();
+        let aux = renderer.current_target().aux_outputs;
+        // SAFETY: the offscreen targets are dynamic rendering: no render pass to outlive.
+        unsafe { renderer.set_target(target(aux, samples)) }
     }
 
     /// What a frame of the uploaded scene with `camera` does (see

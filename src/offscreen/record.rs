@@ -39,18 +39,18 @@ impl OffscreenRenderer {
         if let (true, Some((normal, id))) = (outputs.aux(), &targets.aux) {
             colors.extend([normal, id]);
         }
-        let drawn: Option<&Vec<GpuImage>> = targets.multisampled.as_ref().map(|(_, d)| d);
         // The multisampled attachments in the order of `colors`, and the depth one.
-        let (drawn_colors, drawn_depth): (Vec<&GpuImage>, Option<&GpuImage>) = match drawn {
-            Some(d) => (
-                std::iter::once(&d[0])
-                    .chain(d.iter().skip(2))
-                    .take(colors.len())
-                    .collect(),
-                Some(&d[1]),
-            ),
-            None => (Vec::new(), None),
-        };
+        let (drawn_colors, drawn_depth): (Vec<&GpuImage>, Option<&GpuImage>) =
+            match &targets.multisampled {
+                Some(m) => {
+                    let mut drawn = vec![&m.color];
+                    if let (true, Some((normal, id))) = (outputs.aux(), &m.aux) {
+                        drawn.extend([normal, id]);
+                    }
+                    (drawn, Some(&m.depth))
+                }
+                None => (Vec::new(), None),
+            };
         // SAFETY: `cmd` is recording (begin_commands) outside a pass; all recorded handles are
         // owned by `self` and live until the submission, which is waited for, completes.
         unsafe {
@@ -78,9 +78,12 @@ impl OffscreenRenderer {
                 barriers.push(
                     vk::ImageMemoryBarrier::default()
                         .src_access_mask(vk::AccessFlags::empty())
+                        // A resolve into the single-sample image writes it as a colour
+                        // attachment write, whatever the aspect.
                         .dst_access_mask(
                             vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ
-                                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                                | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE
+                                | vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
                         )
                         .old_layout(vk::ImageLayout::UNDEFINED)
                         .new_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
@@ -132,16 +135,19 @@ impl OffscreenRenderer {
                         }),
                 }
             };
+            // Colour and normal are float formats, resolved by the mean; the ID by sample 0.
+            let by_mean = [true, true, false];
             let color_attachments: Vec<vk::RenderingAttachmentInfo> = colors
                 .iter()
                 .zip(clears)
+                .zip(by_mean)
                 .enumerate()
-                .map(|(k, (t, clear))| {
+                .map(|(k, ((t, clear), mean))| {
                     attachment(
                         t,
                         drawn_colors.get(k).copied(),
                         vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                        k < 2,
+                        mean,
                     )
                     .clear_value(vk::ClearValue { color: clear })
                 })

@@ -21,10 +21,18 @@ pub(super) struct Targets {
     pub depth: GpuImage,
     /// Normal and ID.
     pub aux: Option<(GpuImage, GpuImage)>,
-    /// With more than one sample per pixel: the attachments drawn into, in the order colour,
-    /// depth, then normal and ID when asked for.
-    pub multisampled: Option<(vk::SampleCountFlags, Vec<GpuImage>)>,
+    /// With more than one sample per pixel: the attachments drawn into.
+    pub multisampled: Option<Multisampled>,
     pub readback: GpuBuffer,
+}
+
+/// The multisampled attachments a pass draws into and resolves into the single-sample ones.
+pub(super) struct Multisampled {
+    pub samples: vk::SampleCountFlags,
+    pub color: GpuImage,
+    pub depth: GpuImage,
+    /// Normal and ID.
+    pub aux: Option<(GpuImage, GpuImage)>,
 }
 
 /// Bytes per pixel of each output in the readback buffer.
@@ -87,12 +95,22 @@ impl Targets {
         let single = vk::SampleCountFlags::TYPE_1;
         let mut builds: Vec<_> = specs.iter().map(|&spec| (spec, single)).collect();
         if samples != single {
+            // Drawn into and resolved from, never copied: transient.
             let drawn_into = |usage: vk::ImageUsageFlags| {
                 (usage & !vk::ImageUsageFlags::TRANSFER_SRC)
                     | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT
             };
+            let multisampled_name = |name: &str| match name {
+                "colour target" => "multisampled colour target",
+                "depth target" => "multisampled depth target",
+                "normal target" => "multisampled normal target",
+                _ => "multisampled id target",
+            };
             builds.extend(specs.iter().map(|&(name, format, usage, aspect)| {
-                ((name, format, drawn_into(usage), aspect), samples)
+                (
+                    (multisampled_name(name), format, drawn_into(usage), aspect),
+                    samples,
+                )
             }));
         }
         for ((name, format, usage, aspect), samples) in builds {
@@ -113,9 +131,18 @@ impl Targets {
                 }
             }
         }
+        // Colour, depth, then normal and ID, as `specs` lists them.
         let multisampled = (samples != single).then(|| {
-            let drawn: Vec<GpuImage> = made.split_off(specs.len());
-            (samples, drawn)
+            let mut drawn = made.split_off(specs.len()).into_iter();
+            let (Some(color), Some(depth)) = (drawn.next(), drawn.next()) else {
+                unreachable!("multisampled colour and depth targets were made");
+            };
+            Multisampled {
+                samples,
+                color,
+                depth,
+                aux: drawn.next().zip(drawn.next()),
+            }
         });
         let readback = match GpuBuffer::new(
             device,
@@ -128,8 +155,9 @@ impl Targets {
             Ok(b) => b,
             Err(e) => {
                 free(made, allocator);
-                if let Some((_, drawn)) = multisampled {
-                    free(drawn, allocator);
+                if let Some(m) = multisampled {
+                    // SAFETY: just made, never used.
+                    unsafe { m.destroy(device, allocator) };
                 }
                 return Err(e);
             }
@@ -162,10 +190,28 @@ impl Targets {
                 normal.destroy(device, allocator);
                 id.destroy(device, allocator);
             }
-            for image in self.multisampled.into_iter().flat_map(|(_, drawn)| drawn) {
-                image.destroy(device, allocator);
+            if let Some(m) = self.multisampled {
+                m.destroy(device, allocator);
             }
             self.readback.destroy(device, allocator);
+        }
+    }
+}
+
+impl Multisampled {
+    /// Destroys every image.
+    ///
+    /// # Safety
+    /// No pending work uses them.
+    unsafe fn destroy(self, device: &ash::Device, allocator: &mut Allocator) {
+        // SAFETY: caller contract.
+        unsafe {
+            self.color.destroy(device, allocator);
+            self.depth.destroy(device, allocator);
+            if let Some((normal, id)) = self.aux {
+                normal.destroy(device, allocator);
+                id.destroy(device, allocator);
+            }
         }
     }
 }
@@ -178,7 +224,7 @@ impl OffscreenRenderer {
         let samples_of = |t: &Targets| {
             t.multisampled
                 .as_ref()
-                .map_or(vk::SampleCountFlags::TYPE_1, |m| m.0)
+                .map_or(vk::SampleCountFlags::TYPE_1, |m| m.samples)
         };
         if self.targets.as_ref().is_some_and(|t| {
             t.color.extent() == extent && t.outputs.covers(outputs) && samples_of(t) == samples

@@ -333,10 +333,11 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 1, value_parser = parse_samples, allow_negative_numbers = true)]
     pub supersample: u32,
     /// Multisample antialiasing: samples per pixel (1, or a power of two the device offers
-    /// for colour and depth; lavapipe: 4). Shaded once per pixel with each sample's coverage
-    /// exact, unless --per-sample-shading. The depth and ID images hold sample 0, the normal
-    /// image the mean of the samples' normals.
-    #[arg(long, default_value_t = 1, value_parser = parse_samples, allow_negative_numbers = true)]
+    /// for colour, depth and integer attachments; lavapipe: 4). Shaded once per pixel with
+    /// each sample's coverage exact, unless --per-sample-shading. The depth and ID images hold
+    /// sample 0's (shaded once per pixel, the depth written there is the pixel's nearest
+    /// covered sample's), the normal image the mean of the samples' normals.
+    #[arg(long, default_value_t = 1, value_parser = parse_sample_count, allow_negative_numbers = true)]
     pub samples: u32,
     /// With --samples: run the shading at every sample (exact depth per sample; about the
     /// sample count times the cost) instead of once per pixel.
@@ -524,6 +525,12 @@ impl RenderArgs {
                 format!("{} is not a sample count (1, 2, 4, ... 64)", self.samples),
             ));
         }
+        if self.per_sample_shading && self.samples == 1 {
+            return Err(Error::invalid(
+                "--per-sample-shading",
+                "applies to multisampling: give --samples 2 or more",
+            ));
+        }
         let k = self.supersample;
         if !(1..=crate::supersample::MAX_SUPERSAMPLE).contains(&k) {
             return Err(Error::invalid(
@@ -622,6 +629,12 @@ fn parse_samples(text: &str) -> std::result::Result<u32, String> {
             crate::supersample::MAX_SUPERSAMPLE
         )
     })
+}
+
+fn parse_sample_count(text: &str) -> std::result::Result<u32, String> {
+    text.trim()
+        .parse::<u32>()
+        .map_err(|_| format!("'{text}' is not a sample count (1, 2, 4, ... 64)"))
 }
 
 fn parse_vec3(text: &str) -> std::result::Result<DVec3, String> {

@@ -255,10 +255,7 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         }
         if args.antialias {
             output::check_output_dir("--out", &args.out, "antialias.csv")?;
-            let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
-            let results = antialias_bench::run(&mut renderer, args.frames)?;
-            renderer.context().check_validation()?;
-            renderer.finish()?;
+            let results = antialias_bench::run(&context_options(&args.device), args.frames)?;
             println!("{}", antialias_bench::write_report(&results, &args.out)?);
             return Ok(true);
         }

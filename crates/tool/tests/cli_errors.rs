@@ -380,6 +380,8 @@ fn image_size_is_limited_with_a_named_error() {
 fn antialiasing_flags_are_checked_with_named_errors() {
     for (args, reason) in [
         (&["--samples", "3"][..], "not a sample count"),
+        (&["--samples", "four"][..], "not a sample count"),
+        (&["--per-sample-shading"][..], "give --samples 2 or more"),
         (&["--supersample", "9"][..], "outside 1..=8"),
         (&["--supersample", "0"][..], "outside 1..=8"),
         (

@@ -167,8 +167,7 @@ fn the_default_colours_are_the_scenes_own() {
 }
 
 /// `--supersample 3` writes an image of the asked size whose every pixel is the mean, in
-/// linear light, of the 3 x 3 block of the same view drawn at three times the size, and an ID
-/// image holding each block's centre sample.
+/// linear light, of the 3 x 3 block of the same view drawn at three times the size.
 #[test]
 fn supersampling_is_the_box_filter_of_the_larger_picture() {
     let dir = std::env::temp_dir().join(format!("es-supersample-{}", std::process::id()));
@@ -243,15 +242,15 @@ fn supersampling_is_the_box_filter_of_the_larger_picture() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// A sample count the device does not offer is a named error listing what it offers
-/// (lavapipe: 1 and 4).
+/// A sample count the device does not offer (64: no device in this project's reach offers it)
+/// is a named error listing what it does offer.
 #[test]
 fn a_sample_count_the_device_lacks_is_named() {
     let run = Command::new(env!("CARGO_BIN_EXE_ellipsoid-splat"))
         .args([
             "render",
             "--samples",
-            "8",
+            "64",
             "--width",
             "16",
             "--height",
@@ -264,7 +263,7 @@ fn a_sample_count_the_device_lacks_is_named() {
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert_eq!(run.status.code(), Some(1), "{stderr}");
     assert!(
-        stderr.contains("--samples") && stderr.contains("this device offers 1, 4"),
+        stderr.contains("--samples") && stderr.contains("this device offers 1"),
         "{stderr}"
     );
 }
