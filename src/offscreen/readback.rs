@@ -19,7 +19,7 @@ impl OffscreenRenderer {
             what: "readback",
             reason: "not host-visible".into(),
         })?;
-        let extent = targets.color.extent();
+        let extent = targets.read.color.extent();
         let ([color, depth, normal, id], _) = Targets::layout(extent, targets.outputs);
         let pixels = extent.width as usize * extent.height as usize;
         let word = |base: u64, i: usize| {

@@ -33,22 +33,12 @@ impl OffscreenRenderer {
             .renderer
             .as_mut()
             .expect("renderer exists after construction");
-        // Colour always; normal and ID when asked for. Multisampled, the pass draws into
-        // `drawn` and resolves into these.
-        let mut colors: Vec<&GpuImage> = vec![&targets.color];
-        if let (true, Some((normal, id))) = (outputs.aux(), &targets.aux) {
-            colors.extend([normal, id]);
-        }
-        // The multisampled attachments in the order of `colors`, and the depth one.
+        // Colour always; normal and ID when asked for. Multisampled, the pass draws into the
+        // multisampled attachments and resolves into these.
+        let colors = targets.read.colors(outputs);
         let (drawn_colors, drawn_depth): (Vec<&GpuImage>, Option<&GpuImage>) =
             match &targets.multisampled {
-                Some(m) => {
-                    let mut drawn = vec![&m.color];
-                    if let (true, Some((normal, id))) = (outputs.aux(), &m.aux) {
-                        drawn.extend([normal, id]);
-                    }
-                    (drawn, Some(&m.depth))
-                }
+                Some((_, drawn)) => (drawn.colors(outputs), Some(&drawn.depth)),
                 None => (Vec::new(), None),
             };
         // SAFETY: `cmd` is recording (begin_commands) outside a pass; all recorded handles are
@@ -74,7 +64,7 @@ impl OffscreenRenderer {
                         .subresource_range(full_range(vk::ImageAspectFlags::COLOR))
                 })
                 .collect();
-            for depth in std::iter::once(&targets.depth).chain(drawn_depth) {
+            for depth in std::iter::once(&targets.read.depth).chain(drawn_depth) {
                 barriers.push(
                     vk::ImageMemoryBarrier::default()
                         .src_access_mask(vk::AccessFlags::empty())
@@ -153,7 +143,7 @@ impl OffscreenRenderer {
                 })
                 .collect();
             let depth_attachment = attachment(
-                &targets.depth,
+                &targets.read.depth,
                 drawn_depth,
                 vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
                 false,
@@ -209,7 +199,7 @@ impl OffscreenRenderer {
                     .collect();
                 // A resolve writes its image as a colour attachment write, whatever the aspect.
                 barriers.push(to_transfer(
-                    targets.depth.handle(),
+                    targets.read.depth.handle(),
                     vk::ImageAspectFlags::DEPTH,
                     vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
                     vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE
@@ -227,18 +217,18 @@ impl OffscreenRenderer {
                     &barriers,
                 );
                 let (offsets, _) = Targets::layout(extent, targets.outputs);
-                let (normal, id) = match &targets.aux {
+                let (normal, id) = match &targets.read.aux {
                     Some((normal, id)) => (Some(normal), Some(id)),
                     None => (None, None),
                 };
                 let images = [
                     (
-                        Some(&targets.color),
+                        Some(&targets.read.color),
                         vk::ImageAspectFlags::COLOR,
                         offsets[0],
                     ),
                     (
-                        Some(&targets.depth),
+                        Some(&targets.read.depth),
                         vk::ImageAspectFlags::DEPTH,
                         offsets[1],
                     ),

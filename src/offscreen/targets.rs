@@ -13,26 +13,63 @@ use super::{OffscreenRenderer, Outputs, COLOR_FORMAT, DEPTH_FORMAT};
 
 /// The attachments of one size: colour and depth always (the draw needs them), normal and ID
 /// when asked for, and a readback buffer for the outputs that are read back. Multisampled,
-/// the pass draws into `multisampled` and resolves into the single-sample images, which are
-/// read back.
+/// the pass draws into `multisampled` and resolves into `read`, which is read back.
 pub(super) struct Targets {
     pub outputs: Outputs,
-    pub color: GpuImage,
-    pub depth: GpuImage,
-    /// Normal and ID.
-    pub aux: Option<(GpuImage, GpuImage)>,
+    /// Single-sample: drawn into, or resolved into; copied to the readback buffer.
+    pub read: Attachments,
     /// With more than one sample per pixel: the attachments drawn into.
-    pub multisampled: Option<Multisampled>,
+    pub multisampled: Option<(vk::SampleCountFlags, Attachments)>,
     pub readback: GpuBuffer,
 }
 
-/// The multisampled attachments a pass draws into and resolves into the single-sample ones.
-pub(super) struct Multisampled {
-    pub samples: vk::SampleCountFlags,
+/// One set of attachments, all of one sample count.
+pub(super) struct Attachments {
     pub color: GpuImage,
     pub depth: GpuImage,
     /// Normal and ID.
     pub aux: Option<(GpuImage, GpuImage)>,
+}
+
+impl Attachments {
+    /// The colour attachments a frame of `outputs` draws: colour, then normal and ID when
+    /// asked for.
+    pub fn colors(&self, outputs: Outputs) -> Vec<&GpuImage> {
+        let mut colors = vec![&self.color];
+        if let (true, Some((normal, id))) = (outputs.aux(), &self.aux) {
+            colors.extend([normal, id]);
+        }
+        colors
+    }
+
+    /// Takes colour, depth, then normal and ID, in the order `Targets::new` makes them.
+    fn from_made(made: Vec<GpuImage>) -> Self {
+        let mut it = made.into_iter();
+        let (Some(color), Some(depth)) = (it.next(), it.next()) else {
+            unreachable!("colour and depth targets were made");
+        };
+        Self {
+            color,
+            depth,
+            aux: it.next().zip(it.next()),
+        }
+    }
+
+    /// Destroys every image.
+    ///
+    /// # Safety
+    /// No pending work uses them.
+    unsafe fn destroy(self, device: &ash::Device, allocator: &mut Allocator) {
+        // SAFETY: caller contract.
+        unsafe {
+            self.color.destroy(device, allocator);
+            self.depth.destroy(device, allocator);
+            if let Some((normal, id)) = self.aux {
+                normal.destroy(device, allocator);
+                id.destroy(device, allocator);
+            }
+        }
+    }
 }
 
 /// Bytes per pixel of each output in the readback buffer.
@@ -131,19 +168,8 @@ impl Targets {
                 }
             }
         }
-        // Colour, depth, then normal and ID, as `specs` lists them.
-        let multisampled = (samples != single).then(|| {
-            let mut drawn = made.split_off(specs.len()).into_iter();
-            let (Some(color), Some(depth)) = (drawn.next(), drawn.next()) else {
-                unreachable!("multisampled colour and depth targets were made");
-            };
-            Multisampled {
-                samples,
-                color,
-                depth,
-                aux: drawn.next().zip(drawn.next()),
-            }
-        });
+        let multisampled = (samples != single)
+            .then(|| (samples, Attachments::from_made(made.split_off(specs.len()))));
         let readback = match GpuBuffer::new(
             device,
             allocator,
@@ -155,23 +181,16 @@ impl Targets {
             Ok(b) => b,
             Err(e) => {
                 free(made, allocator);
-                if let Some(m) = multisampled {
+                if let Some((_, m)) = multisampled {
                     // SAFETY: just made, never used.
                     unsafe { m.destroy(device, allocator) };
                 }
                 return Err(e);
             }
         };
-        let mut it = made.into_iter();
-        let (Some(color), Some(depth)) = (it.next(), it.next()) else {
-            unreachable!("colour and depth targets were made");
-        };
-        let aux = it.next().zip(it.next());
         Ok(Self {
             outputs,
-            color,
-            depth,
-            aux,
+            read: Attachments::from_made(made),
             multisampled,
             readback,
         })
@@ -184,34 +203,11 @@ impl Targets {
     pub unsafe fn destroy(self, device: &ash::Device, allocator: &mut Allocator) {
         // SAFETY: caller contract.
         unsafe {
-            self.color.destroy(device, allocator);
-            self.depth.destroy(device, allocator);
-            if let Some((normal, id)) = self.aux {
-                normal.destroy(device, allocator);
-                id.destroy(device, allocator);
-            }
-            if let Some(m) = self.multisampled {
+            self.read.destroy(device, allocator);
+            if let Some((_, m)) = self.multisampled {
                 m.destroy(device, allocator);
             }
             self.readback.destroy(device, allocator);
-        }
-    }
-}
-
-impl Multisampled {
-    /// Destroys every image.
-    ///
-    /// # Safety
-    /// No pending work uses them.
-    unsafe fn destroy(self, device: &ash::Device, allocator: &mut Allocator) {
-        // SAFETY: caller contract.
-        unsafe {
-            self.color.destroy(device, allocator);
-            self.depth.destroy(device, allocator);
-            if let Some((normal, id)) = self.aux {
-                normal.destroy(device, allocator);
-                id.destroy(device, allocator);
-            }
         }
     }
 }
@@ -224,10 +220,10 @@ impl OffscreenRenderer {
         let samples_of = |t: &Targets| {
             t.multisampled
                 .as_ref()
-                .map_or(vk::SampleCountFlags::TYPE_1, |m| m.samples)
+                .map_or(vk::SampleCountFlags::TYPE_1, |m| m.0)
         };
         if self.targets.as_ref().is_some_and(|t| {
-            t.color.extent() == extent && t.outputs.covers(outputs) && samples_of(t) == samples
+            t.read.color.extent() == extent && t.outputs.covers(outputs) && samples_of(t) == samples
         }) {
             return Ok(());
         }

@@ -14,7 +14,7 @@ use ellipsoid_splat::offscreen::OffscreenRenderer;
 use ellipsoid_splat::{Outputs, Settings};
 
 use crate::antialias_stress::AntialiasMode;
-use crate::bench::{frustum_cloud, median, tensor_field_scene, BenchScene};
+use crate::bench::{frustum_cloud, median, tensor_field_scene, BenchScene, RoundOrder};
 use crate::report::{format_table, write_csv};
 use crate::supersample::supersampled_camera;
 
@@ -111,18 +111,9 @@ pub fn run(options: &ContextOptions, frames: usize) -> Result<Vec<AntialiasTimin
             });
         }
         let mut times: Vec<Vec<f64>> = vec![Vec::new(); VARIANTS.len()];
-        let mut order: Vec<usize> = (0..VARIANTS.len()).collect();
-        let mut rng = 0x2545_f491_4f6c_dd1d_u64;
+        let mut order = RoundOrder::new(VARIANTS.len());
         for round in 0..=frames {
-            // A fresh order each round (Fisher-Yates, xorshift64), so no variant always runs
-            // first or after the same one (measured: a fixed order cost the first 30 %).
-            for i in (1..order.len()).rev() {
-                rng ^= rng << 13;
-                rng ^= rng >> 7;
-                rng ^= rng << 17;
-                order.swap(i, (rng % (i as u64 + 1)) as usize);
-            }
-            for &k in &order {
+            for &k in order.next_round() {
                 let timing = renderers[k].render_timed(&cameras[k], Outputs::COLOR_DEPTH)?;
                 if round > 0 {
                     times[k].push(timing.gpu_wall.as_secs_f64() * 1e3);

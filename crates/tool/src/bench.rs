@@ -289,19 +289,9 @@ pub fn run(
                 gpu: Vec::new(),
             });
         }
-        let mut order: Vec<usize> = (0..measured.len()).collect();
-        let mut rng = 0x2545_f491_4f6c_dd1d_u64;
+        let mut order = RoundOrder::new(measured.len());
         for _ in 0..frames {
-            // A fresh order each round (Fisher-Yates, xorshift64), so no method always follows
-            // the same one: in a fixed order two methods sharing one pipeline differed by
-            // 10-20 % on lavapipe, depending on which frame came before.
-            for i in (1..order.len()).rev() {
-                rng ^= rng << 13;
-                rng ^= rng >> 7;
-                rng ^= rng << 17;
-                order.swap(i, (rng % (i as u64 + 1)) as usize);
-            }
-            for &k in &order {
+            for &k in order.next_round() {
                 let entry = &mut measured[k];
                 use_method(renderer, entry.method, &mut settings, &bench.scene)?;
                 let timing = renderer.render_timed(&bench.camera, Outputs::COLOR_DEPTH)?;
@@ -337,6 +327,36 @@ struct Measured {
     shaded_pixels: Option<u64>,
     wall: Vec<f64>,
     gpu: Vec<f64>,
+}
+
+/// The order of the variants in each round of a timed comparison: a fresh shuffle each round
+/// (Fisher-Yates, xorshift64), so no variant always runs first or after the same one. In a
+/// fixed order two methods sharing one pipeline differed by 10-20 % on lavapipe, depending on
+/// which frame came before, and the first of five renderers paid 30 % more.
+pub(crate) struct RoundOrder {
+    order: Vec<usize>,
+    rng: u64,
+}
+
+impl RoundOrder {
+    /// An order of `0..count`, from a fixed seed (runs are repeatable).
+    pub fn new(count: usize) -> Self {
+        Self {
+            order: (0..count).collect(),
+            rng: 0x2545_f491_4f6c_dd1d,
+        }
+    }
+
+    /// The next round's order.
+    pub fn next_round(&mut self) -> &[usize] {
+        for i in (1..self.order.len()).rev() {
+            self.rng ^= self.rng << 13;
+            self.rng ^= self.rng >> 7;
+            self.rng ^= self.rng << 17;
+            self.order.swap(i, (self.rng % (i as u64 + 1)) as usize);
+        }
+        &self.order
+    }
 }
 
 /// Linear-interpolated quantile `p` in [0, 1].
