@@ -1,8 +1,15 @@
-//! `ellipsoid-splat bench --antialias`: what antialiasing costs. The tensor field and a cloud
-//! of 16-pixel glyphs at 1920x1080, drawn with one sample, with 4x MSAA shaded once per pixel
-//! and once per sample, and supersampled 2 x 2, interleaved round by round; medians of the
-//! submit-to-fence times and their ratio to one sample. The coverage error of each mode is
-//! `stress`'s (`stress_aa.csv`): exact in every mode.
+//! `ellipsoid-splat bench --antialias`: what antialiasing costs and what it buys. The tensor
+//! field and a cloud of 16-pixel glyphs at 1920x1080, drawn with one sample, with 4x MSAA
+//! shaded once per pixel and once per sample, and supersampled 2 x 2 and 4 x 4, interleaved
+//! round by round; medians of the submit-to-fence times and their ratio to one sample.
+//!
+//! The error: how far each way's resolved pixels are from the area of the pixel the glyphs
+//! cover, approximated by the float64 reference's 16 samples on a 4 x 4 grid -- the mean over
+//! the pixels the reference covers partly, as a fraction of a pixel (one sample per pixel errs
+//! by about a quarter, 4 x 4 supersampling by the 8-bit output's rounding). It is measured on
+//! the same view at a quarter of the size (480 x 270; the reference draws 16 times the pixels),
+//! with the glyphs unlit and white, and charted against the full-size time
+//! (`antialias_vs_error.png`). That each way is exact at its own samples is `stress`'s check.
 
 use std::path::Path;
 
@@ -15,8 +22,11 @@ use ellipsoid_splat::{Outputs, Settings};
 
 use crate::antialias_stress::AntialiasMode;
 use crate::bench::{frustum_cloud, median, tensor_field_scene, BenchScene, RoundOrder};
-use crate::report::{format_table, write_csv};
-use crate::supersample::supersampled_camera;
+use crate::report::{format_table, scatter_chart, write_csv, Axis, Series};
+use crate::supersample::{box_filter, supersampled_camera};
+use ellipsoid_splat::camera::Camera;
+use ellipsoid_splat::Material;
+use ellipsoid_splat_reference::coverage::{compare_coverage, reference_coverage, SamplePattern};
 
 /// One way of drawing a frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,12 +60,15 @@ pub struct AntialiasTiming {
     pub wall_ms: f64,
     /// `wall_ms` over the same scene's one-sample median (the shipped renderer's).
     pub ratio: f64,
+    /// Mean distance of the partly covered pixels from the covered area (16 samples), as a
+    /// fraction of a pixel.
+    pub area_error: f64,
 }
 
-/// The variants timed: one sample (shipped, and drawn without the compute splat, which
-/// multisampled frames cannot use), 4x MSAA per pixel and per sample, 2 x 2 supersampling
-/// (4 x 4 draws 16 times the pixels: its cost is that of a 16 times larger frame).
-const VARIANTS: [Variant; 5] = [
+/// The variants: one sample (shipped, and drawn without the compute splat, which
+/// multisampled frames cannot use), 4x MSAA per pixel and per sample, 2 x 2 and 4 x 4
+/// supersampling.
+const VARIANTS: [Variant; 6] = [
     Variant {
         mode: None,
         compute_splat: true,
@@ -76,7 +89,65 @@ const VARIANTS: [Variant; 5] = [
         mode: Some(AntialiasMode::Supersample(2)),
         compute_splat: true,
     },
+    Variant {
+        mode: Some(AntialiasMode::Supersample(4)),
+        compute_splat: true,
+    },
 ];
+
+/// The view of `camera` at a quarter of its size, where the error is measured.
+fn quarter(camera: &Camera) -> Camera {
+    Camera {
+        width: camera.width / 4,
+        height: camera.height / 4,
+        ..*camera
+    }
+}
+
+/// Each variant's error against the area the glyphs cover (see the module documentation).
+fn area_errors(
+    renderers: &mut [OffscreenRenderer],
+    bench: &BenchScene,
+    settings: &[Settings],
+) -> Result<Vec<f64>> {
+    let small = quarter(&bench.camera);
+    let area = reference_coverage(&bench.scene, &small, SamplePattern::Grid(4))?;
+    let unlit = Material {
+        ambient: 1.0,
+        diffuse: 0.0,
+        specular: 0.0,
+        ..Material::default()
+    };
+    let white = ellipsoid_splat::Scene::new(
+        bench
+            .scene
+            .ellipsoids
+            .iter()
+            .map(|e| ellipsoid_splat::Ellipsoid {
+                color: [1.0, 1.0, 1.0],
+                ..*e
+            })
+            .collect(),
+    );
+    let mut errors = Vec::new();
+    for ((renderer, variant), settings) in renderers.iter_mut().zip(VARIANTS).zip(settings) {
+        renderer.set_settings(Settings {
+            material: unlit,
+            ..*settings
+        });
+        let frame = match variant.mode {
+            Some(AntialiasMode::Supersample(k)) => {
+                let big = supersampled_camera(&small, k)?;
+                box_filter(&renderer.render(&white, &big, Outputs::COLOR_DEPTH)?, k)?
+            }
+            _ => renderer.render(&white, &small, Outputs::COLOR_DEPTH)?,
+        };
+        renderer.set_settings(*settings);
+        renderer.upload(&bench.scene)?;
+        errors.push(compare_coverage(&frame, &area)?.mean_error / 16.0);
+    }
+    Ok(errors)
+}
 
 /// Times every variant on each scene, `frames` interleaved rounds after one warm-up round.
 /// Each variant has a renderer of its own, made with `options`, so no frame pays for
@@ -84,6 +155,7 @@ const VARIANTS: [Variant; 5] = [
 pub fn run(options: &ContextOptions, frames: usize) -> Result<Vec<AntialiasTiming>> {
     let scenes: Vec<BenchScene> = vec![tensor_field_scene(), frustum_cloud(10_000, 16.0, 7)];
     let mut renderers = Vec::new();
+    let mut settings = Vec::new();
     for variant in VARIANTS {
         let mut renderer = OffscreenRenderer::new(options)?;
         let samples = match variant.mode {
@@ -93,11 +165,13 @@ pub fn run(options: &ContextOptions, frames: usize) -> Result<Vec<AntialiasTimin
             _ => vk::SampleCountFlags::TYPE_1,
         };
         renderer.set_samples(samples)?;
-        renderer.set_settings(Settings {
+        let these = Settings {
             per_sample_shading: variant.mode == Some(AntialiasMode::Msaa4PerSample),
             compute_splat: variant.compute_splat,
             ..Settings::default()
-        });
+        };
+        renderer.set_settings(these);
+        settings.push(these);
         renderers.push(renderer);
     }
     let mut out = Vec::new();
@@ -121,12 +195,14 @@ pub fn run(options: &ContextOptions, frames: usize) -> Result<Vec<AntialiasTimin
             }
         }
         let medians: Vec<f64> = times.iter_mut().map(|t| median(t)).collect();
-        for (variant, wall_ms) in VARIANTS.iter().zip(&medians) {
+        let errors = area_errors(&mut renderers, bench, &settings)?;
+        for ((variant, wall_ms), area_error) in VARIANTS.iter().zip(&medians).zip(errors) {
             out.push(AntialiasTiming {
                 scene: bench.name.clone(),
                 variant: *variant,
                 wall_ms: *wall_ms,
                 ratio: wall_ms / medians[0],
+                area_error,
             });
         }
     }
@@ -137,9 +213,16 @@ pub fn run(options: &ContextOptions, frames: usize) -> Result<Vec<AntialiasTimin
     Ok(out)
 }
 
-/// Writes `antialias.csv` into `dir` and returns the table.
+/// Writes `antialias.csv` and `antialias_vs_error.png` (the tensor field) into `dir` and
+/// returns the table.
 pub fn write_report(results: &[AntialiasTiming], dir: &Path) -> Result<String> {
-    let header = ["scene", "variant", "wall_ms", "ratio_to_1_sample"];
+    let header = [
+        "scene",
+        "variant",
+        "wall_ms",
+        "ratio_to_1_sample",
+        "area_error_px",
+    ];
     let rows: Vec<Vec<String>> = results
         .iter()
         .map(|r| {
@@ -148,9 +231,23 @@ pub fn write_report(results: &[AntialiasTiming], dir: &Path) -> Result<String> {
                 r.variant.name(),
                 format!("{:.2}", r.wall_ms),
                 format!("{:.2}", r.ratio),
+                format!("{:.4}", r.area_error),
             ]
         })
         .collect();
     write_csv(&dir.join("antialias.csv"), &header, &rows)?;
+    let series: Vec<Series> = results
+        .iter()
+        .filter(|r| r.scene == "tensor-field")
+        .map(|r| Series::new(r.variant.name(), vec![(r.wall_ms, r.area_error.max(1e-4))]))
+        .collect();
+    scatter_chart(
+        &dir.join("antialias_vs_error.png"),
+        "antialiasing: time versus error, tensor field (1920x1080, lavapipe)",
+        &Axis::log("median frame time, submit to fence (ms)"),
+        &Axis::log("mean error of partly covered pixels against the covered area (px)"),
+        &series,
+        None,
+    )?;
     Ok(format_table(&header, &rows))
 }
