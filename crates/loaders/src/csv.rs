@@ -103,13 +103,18 @@ fn parse_rows(text: &str, file: &Path, skip_invalid: bool) -> Result<Loaded> {
     let header = Header::parse(&first, file, header_line)?;
 
     let mut ellipsoids = Vec::new();
+    let mut origins = Vec::new();
     let (mut skipped, mut first_skipped) = (0, None);
     for record in records {
-        let row = record
-            .map_err(csv_error)
-            .and_then(|record| header.ellipsoid(&record, file, lines.line_of(&record)));
+        let row = record.map_err(csv_error).and_then(|record| {
+            let line = lines.line_of(&record);
+            Ok((header.ellipsoid(&record, file, line)?, line))
+        });
         match row {
-            Ok(e) => ellipsoids.push(e),
+            Ok((e, line)) => {
+                ellipsoids.push(e);
+                origins.push(u32::try_from(line).unwrap_or(u32::MAX));
+            }
             Err(e) if skip_invalid => {
                 skipped += 1;
                 first_skipped.get_or_insert(e);
@@ -132,6 +137,7 @@ fn parse_rows(text: &str, file: &Path, skip_invalid: bool) -> Result<Loaded> {
         scene: Scene::new(ellipsoids),
         skipped,
         notes,
+        origins: crate::load::Origins::Lines(origins),
     })
 }
 

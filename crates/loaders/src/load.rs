@@ -67,6 +67,42 @@ pub struct Loaded {
     pub skipped: usize,
     /// Lines for the user: parameters in effect, records filtered out and why.
     pub notes: Vec<String>,
+    /// Where each glyph came from in the file (a viewer's pick reports it).
+    pub origins: Origins,
+}
+
+/// Where each glyph of a loaded file came from, one entry per glyph in scene order (a few
+/// bytes each: kept for every glyph so that a pick can name its record).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum Origins {
+    /// Not recorded (generated scenes: the index says it all).
+    #[default]
+    None,
+    /// The 1-based line of each glyph's row (Ellipsoid CSV).
+    Lines(Vec<u32>),
+    /// The 0-based vertex index of each splat (3D Gaussian Splatting PLY).
+    Vertices(Vec<u32>),
+    /// The voxel `(i, j, k)` of each glyph (NIfTI tensor volumes).
+    Voxels(Vec<[u16; 3]>),
+    /// The line and label (`atom 5 CA (ALA A 1)`) of each atom (PDB, mmCIF).
+    Atoms(Vec<(u32, String)>),
+}
+
+impl Origins {
+    /// What glyph `index` came from, in words, if recorded.
+    pub fn describe(&self, index: usize) -> Option<String> {
+        match self {
+            Origins::None => None,
+            Origins::Lines(lines) => lines.get(index).map(|l| format!("line {l}")),
+            Origins::Vertices(v) => v.get(index).map(|v| format!("splat (vertex) {v}")),
+            Origins::Voxels(v) => v
+                .get(index)
+                .map(|[i, j, k]| format!("voxel (i, j, k) = ({i}, {j}, {k})")),
+            Origins::Atoms(a) => a
+                .get(index)
+                .map(|(line, label)| format!("{label}, line {line}")),
+        }
+    }
 }
 
 /// The file formats `load` reads.

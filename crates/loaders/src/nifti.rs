@@ -986,6 +986,7 @@ fn build_glyphs(
         scene: Scene::new(ellipsoids),
         skipped: counts.skipped,
         notes,
+        origins: crate::load::Origins::Voxels(voxel_of),
     })
 }
 

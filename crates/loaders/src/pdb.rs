@@ -359,6 +359,7 @@ fn build(structure: Structure, file: &Path, options: &LoadOptions) -> Result<Loa
         aniso_records,
     } = structure;
     let mut ellipsoids = Vec::new();
+    let mut origins = Vec::new();
     let mut missing = Vec::new();
     for atom in &atoms {
         let Some(center) = atom.center else { continue };
@@ -367,7 +368,11 @@ fn build(structure: Structure, file: &Path, options: &LoadOptions) -> Result<Loa
             Aniso::Invalid => {}
             Aniso::Given { u, line, column } => {
                 match thermal_ellipsoid(center, *u, element_color(&atom.element)) {
-                    Ok(e) => ellipsoids.push(e),
+                    Ok(e) => {
+                        ellipsoids.push(e);
+                        let line = u32::try_from(atom.line).unwrap_or(u32::MAX);
+                        origins.push((line, atom.label.clone()));
+                    }
                     Err(reason) => issues.push(Issue::new(
                         *line,
                         column.clone(),
@@ -442,6 +447,7 @@ fn build(structure: Structure, file: &Path, options: &LoadOptions) -> Result<Loa
         scene: Scene::new(ellipsoids),
         skipped,
         notes,
+        origins: crate::load::Origins::Atoms(origins),
     })
 }
 

@@ -174,6 +174,7 @@ fn parse(
         min_opacity: options.min_opacity,
         skip_invalid: options.skip_invalid,
         ellipsoids: Vec::new(),
+        vertices: Vec::new(),
         skipped: 0,
         first_skipped: None,
         transparent: 0,
@@ -809,6 +810,8 @@ struct Splats<'a> {
     min_opacity: f64,
     skip_invalid: bool,
     ellipsoids: Vec<Ellipsoid>,
+    /// The vertex index of each kept splat.
+    vertices: Vec<u32>,
     skipped: usize,
     first_skipped: Option<Error>,
     transparent: usize,
@@ -819,11 +822,16 @@ impl Splats<'_> {
     #[inline]
     fn add(
         &mut self,
+        vertex: usize,
         values: &[f64; 14],
         locate: impl FnOnce(&Path, RecordError) -> Error,
     ) -> Result<()> {
         match splat(values, self.sigma, self.min_opacity) {
-            Ok(Some(e)) => self.ellipsoids.push(e),
+            Ok(Some(e)) => {
+                self.ellipsoids.push(e);
+                self.vertices
+                    .push(u32::try_from(vertex).unwrap_or(u32::MAX));
+            }
             Ok(None) => self.transparent += 1,
             Err(e) => self.invalid(locate(self.file, e))?,
         }
@@ -897,6 +905,7 @@ impl Splats<'_> {
             scene: Scene::new(self.ellipsoids),
             skipped: self.skipped,
             notes,
+            origins: crate::load::Origins::Vertices(self.vertices),
         })
     }
 }
@@ -1103,7 +1112,7 @@ fn read_binary<const BIG_ENDIAN: bool>(
             let values: [f64; 14] = std::array::from_fn(|f| {
                 read_scalar::<BIG_ENDIAN>(record, fields[f].0, fields[f].1)
             });
-            splats.add(&values, locate(k))?;
+            splats.add(k, &values, locate(k))?;
             ticker.at(k + 1);
         }
         return Ok(if vertex_index + 1 == elements.len() {
@@ -1128,7 +1137,7 @@ fn read_binary<const BIG_ENDIAN: bool>(
             }
             pos = next;
         }
-        splats.add(&values, locate(k))?;
+        splats.add(k, &values, locate(k))?;
         ticker.at(k + 1);
     }
     Ok(if vertex_index + 1 == elements.len() {
@@ -1259,7 +1268,7 @@ fn read_ascii(
             )
         };
         match ascii_values(line, vertex, layout) {
-            Ok(values) => splats.add(&values, locate)?,
+            Ok(values) => splats.add(k, &values, locate)?,
             Err(e) => splats.invalid(locate(file, e))?,
         }
         ticker.at(k + 1);

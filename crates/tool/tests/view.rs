@@ -253,7 +253,8 @@ fn resize_and_minimise_keep_the_picture_exact() {
 }
 
 /// Three spheres on the x axis seen from +z: a click on the centre of the third picks glyph 2
-/// (with its centre and semi-axes), a click beside them picks the background, and the
+/// (with its centre, semi-axes and the file line it came from: line 4, after the header), a
+/// click beside them picks the background, and the
 /// picked glyph is highlighted exactly as `render` draws it in the highlight colour.
 #[test]
 fn a_click_picks_the_glyph_under_the_cursor() {
@@ -300,8 +301,8 @@ fn a_click_picks_the_glyph_under_the_cursor() {
     assert_eq!(picks.len(), 3, "{out}");
     let glyph = format!(
         "pick ({x}, 120): glyph 2 of 3: centre (2.000000, 0.000000, 0.000000), semi-axes \
-         (0.500000, 0.500000, 0.500000), colour (sRGB) (0.400, 0.800, 0.300); from data row 3 \
-         of three.csv"
+         (0.500000, 0.500000, 0.500000), colour (sRGB) (0.400, 0.800, 0.300); from line 4 of \
+         three.csv"
     );
     assert!(picks[0].starts_with(&glyph), "{}", picks[0]);
     assert!(

@@ -70,12 +70,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     for note in &loaded.notes {
         eprintln!("{}: {note}", render.scene);
     }
-    // The loaders report records they dropped in notes that start "left out" or "skipped".
-    let filtered = loaded.skipped > 0
-        || loaded
-            .notes
-            .iter()
-            .any(|n| n.starts_with("left out") || n.starts_with("skipped"));
+    let origins = loaded.origins;
     // The glyphs as loaded keep the file's colours, so the colour key can return to them.
     let file_colors: Vec<[f32; 3]> = loaded.scene.ellipsoids.iter().map(|e| e.color).collect();
     let color_mode = render.load.color_mode();
@@ -102,7 +97,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         render,
         options: args.clone(),
         spec: plan.scene,
-        filtered,
+        origins,
         settings,
         scene,
         file_colors,
@@ -153,7 +148,8 @@ struct App {
     render: cli::RenderArgs,
     options: ViewArgs,
     spec: SceneSpec,
-    filtered: bool,
+    /// Where each glyph came from (a pick reports it).
+    origins: ellipsoid_splat_loaders::Origins,
     settings: Settings,
     /// The scene as drawn now (colour mode, highlight and animation included).
     scene: Scene,
@@ -660,7 +656,7 @@ impl App {
             return Ok(());
         };
         let glyph = self.scene.ellipsoids[index as usize];
-        let source = pick::source(&self.spec, index, self.filtered);
+        let source = pick::source(&self.spec, index, &self.origins);
         println!(
             "pick ({x}, {y}): {} ({latency:.1} ms)",
             pick::report(index, self.scene.len(), &glyph, &source)

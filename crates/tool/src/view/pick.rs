@@ -1,12 +1,10 @@
 //! What a click reports: the glyph under the cursor (read from the renderer's ID output), its
-//! centre, semi-axes and colour, and what it came from as far as the loaders tell. The
-//! loaders return ellipsoids only, so the source is exact for generated scenes and for files
-//! whose every record became a glyph, and otherwise says what is missing.
-
-use std::path::Path;
+//! centre, semi-axes and colour, and what it came from: the lattice cell or cloud index of a
+//! generated scene, and for a file the record the loader kept for it (`Origins`: CSV line,
+//! PLY vertex, NIfTI voxel, PDB/mmCIF atom with its name and residue).
 
 use ellipsoid_splat::Ellipsoid;
-use ellipsoid_splat_loaders::load::{detect_format, Format};
+use ellipsoid_splat_loaders::Origins;
 
 use crate::cli::SceneSpec;
 
@@ -14,9 +12,9 @@ use crate::cli::SceneSpec;
 /// colouring uses.
 pub const HIGHLIGHT: [f32; 3] = [1.0, 0.1, 0.9];
 
-/// Where glyph `index` of `count` came from, for a scene named by `spec` loaded with
-/// nothing filtered out (`filtered` says whether records were dropped or filtered).
-pub fn source(spec: &SceneSpec, index: u32, filtered: bool) -> String {
+/// Where glyph `index` of the scene named by `spec` came from; `origins` is what its loader
+/// recorded.
+pub fn source(spec: &SceneSpec, index: u32, origins: &Origins) -> String {
     match spec {
         SceneSpec::TensorField(n) => {
             let n = *n as u32;
@@ -24,34 +22,10 @@ pub fn source(spec: &SceneSpec, index: u32, filtered: bool) -> String {
             format!("tensor-field lattice cell (i, j, k) = ({i}, {j}, {k})")
         }
         SceneSpec::Random(_) => format!("random cloud glyph {index}"),
-        SceneSpec::File(path) => file_source(path, index, filtered),
-    }
-}
-
-fn file_source(path: &Path, index: u32, filtered: bool) -> String {
-    let name = path.display();
-    let caveat = if filtered {
-        " -- but records were filtered or skipped on loading, and the loader keeps no \
-         source index, so the record is unknown"
-    } else {
-        ""
-    };
-    match detect_format(path) {
-        Ok(Format::Csv) => format!(
-            "data row {} of {name} (the loader keeps no line numbers: comment and blank lines \
-             are not counted){caveat}",
-            index + 1
-        ),
-        Ok(Format::GaussianPly) => format!("splat (vertex) {index} of {name}{caveat}"),
-        Ok(Format::Nifti) => format!(
-            "a voxel of {name}: the loader keeps no voxel index (voxels outside the mask, \
-             with FA below --min-fa or not positive definite are left out)"
-        ),
-        Ok(Format::Pdb | Format::MmCif) => format!(
-            "atom record {index} with anisotropic displacements in {name}: the loader keeps no \
-             atom name or residue{caveat}"
-        ),
-        Err(_) => format!("glyph {index} of {name}"),
+        SceneSpec::File(path) => match origins.describe(index as usize) {
+            Some(record) => format!("{record} of {}", path.display()),
+            None => format!("glyph {index} of {}", path.display()),
+        },
     }
 }
 
@@ -73,14 +47,29 @@ mod tests {
 
     #[test]
     fn sources_name_what_is_known() {
-        let field = source(&SceneSpec::TensorField(4), 4 * 4 + 4 + 1, false);
+        let none = Origins::None;
+        let field = source(&SceneSpec::TensorField(4), 4 * 4 + 4 + 1, &none);
         assert!(field.ends_with("(1, 1, 1)"), "{field}");
-        let csv = source(&SceneSpec::File("a.csv".into()), 2, false);
-        assert!(csv.starts_with("data row 3 of a.csv"), "{csv}");
-        let ply = source(&SceneSpec::File("a.ply".into()), 7, true);
-        assert!(
-            ply.contains("splat (vertex) 7") && ply.contains("unknown"),
-            "{ply}"
+        let csv = source(
+            &SceneSpec::File("a.csv".into()),
+            1,
+            &Origins::Lines(vec![3, 7]),
         );
+        assert_eq!(csv, "line 7 of a.csv");
+        let ply = source(
+            &SceneSpec::File("a.ply".into()),
+            0,
+            &Origins::Vertices(vec![12]),
+        );
+        assert_eq!(ply, "splat (vertex) 12 of a.ply");
+        let atoms = Origins::Atoms(vec![(40, "atom 5 CA (ALA A 1)".into())]);
+        let pdb = source(&SceneSpec::File("a.pdb".into()), 0, &atoms);
+        assert_eq!(pdb, "atom 5 CA (ALA A 1), line 40 of a.pdb");
+        let voxel = source(
+            &SceneSpec::File("a.nii".into()),
+            0,
+            &Origins::Voxels(vec![[1, 2, 3]]),
+        );
+        assert_eq!(voxel, "voxel (i, j, k) = (1, 2, 3) of a.nii");
     }
 }
