@@ -15,9 +15,10 @@ use crate::report::{
     Series,
 };
 use ellipsoid_splat::camera::{Camera, Projection};
-use ellipsoid_splat::draw::{DrawConfig, Geometry, Method};
+use ellipsoid_splat::draw::{Geometry, Method};
 use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::offscreen::OffscreenRenderer;
+use ellipsoid_splat::FramePlan;
 use ellipsoid_splat::{Outputs, Scene, Settings};
 use ellipsoid_splat_loaders::{random_cloud, tensor_field, Progress};
 use ellipsoid_splat_reference::render_reference;
@@ -211,19 +212,13 @@ pub fn cloud_specs(quick: bool) -> Vec<(usize, f64)> {
     }
 }
 
-/// Vertices a method pushes per instance of a scene of `count` (for the skip budget): none
-/// where it may splat so many glyphs (the shipped impostor's configuration with the splat on,
-/// on a device that has it; the plan may still draw large glyphs, which the budget then
-/// does not cover).
-fn vertices_per_instance(method: Method, count: usize, splat_capable: bool) -> f64 {
-    let settings = method.settings();
-    let splats = splat_capable
-        && settings.compute_splat
-        && count >= settings.compute_splat_min_glyphs as usize
-        && method.config() == DrawConfig::default();
+/// Vertices a method pushes per instance (for the skip budget), as the frame's `plan` decides:
+/// none where it splats (the few glyphs too large for the splat, drawn in the same frame,
+/// are not counted), the resolved footprint's otherwise.
+fn vertices_per_instance(method: Method, plan: &FramePlan) -> f64 {
     match method.config().geometry {
-        Geometry::Impostor if splats => 0.0,
-        Geometry::Impostor => method.config().footprint.vertices() as f64,
+        Geometry::Impostor if plan.compute_splat => 0.0,
+        Geometry::Impostor => plan.config.footprint.vertices() as f64,
         Geometry::BoxProxy => 36.0,
         Geometry::Mesh(level) => 10.0 * 4f64.powi(level as i32) + 2.0,
     }
@@ -245,29 +240,29 @@ pub fn run(
     for bench in scenes {
         progress.inc(&bench.name);
         let count = bench.scene.len();
-        let active: Vec<Method> = methods
-            .iter()
-            .copied()
-            .filter(|&m| {
-                // The visibility-buffer draw needs the splat's 64-bit atomics.
-                if m == Method::ImpostorVisbuffer && !splat_capable {
-                    skipped.push(format!("{} (no 64-bit buffer atomics)", m.name()));
-                    return false;
-                }
-                let vertices = vertices_per_instance(m, count, splat_capable);
-                let keep = count as f64 * vertices <= VERTEX_BUDGET;
-                if !keep {
-                    skipped.push(format!("{} on {} ({count})", m.name(), bench.name));
-                }
-                keep
-            })
-            .collect();
         renderer.set_settings(Settings::default());
         renderer.upload(&bench.scene)?;
+        let mut settings = Settings::default();
+        // Each method's vertex work as its frame plan decides (uploading the scene again only
+        // where the method's settings differ).
+        let mut active = Vec::new();
+        for &m in methods {
+            // The visibility-buffer draw needs the splat's 64-bit atomics.
+            if m == Method::ImpostorVisbuffer && !splat_capable {
+                skipped.push(format!("{} (no 64-bit buffer atomics)", m.name()));
+                continue;
+            }
+            use_method(renderer, m, &mut settings, &bench.scene)?;
+            let vertices = vertices_per_instance(m, &renderer.plan(&bench.camera)?);
+            if count as f64 * vertices <= VERTEX_BUDGET {
+                active.push(m);
+            } else {
+                skipped.push(format!("{} on {} ({count})", m.name(), bench.name));
+            }
+        }
         let reference = render_reference(&bench.scene, &bench.camera)?;
         let silhouette_pixels = reference.silhouette_pixels();
         let mut measured: Vec<Measured> = Vec::new();
-        let mut settings = Settings::default();
         for &method in &active {
             use_method(renderer, method, &mut settings, &bench.scene)?;
             let (frame, timing) = renderer.render_uploaded(&bench.camera, Outputs::ALL)?;
