@@ -30,15 +30,6 @@ pub enum SamplePattern {
 }
 
 impl SamplePattern {
-    /// The pattern of `samples` per pixel multisampling, if its positions are known here.
-    pub fn multisampled(samples: u32) -> Option<Self> {
-        match samples {
-            1 => Some(SamplePattern::Grid(1)),
-            4 => Some(SamplePattern::Standard4),
-            _ => None,
-        }
-    }
-
     /// Side of the grid the positions lie on.
     pub fn grid(self) -> u32 {
         match self {
