@@ -925,6 +925,8 @@ fn build_glyphs(
         glyph.radii *= scale;
         if glyph.radii.is_finite() && glyph.radii.min_element() > 0.0 {
             ellipsoids[kept] = glyph;
+            // The origins stay parallel to the glyphs.
+            voxel_of[kept] = voxel_of[n];
             kept += 1;
         } else {
             let [i, j, k] = voxel_of[n];
@@ -940,6 +942,7 @@ fn build_glyphs(
         }
     }
     ellipsoids.truncate(kept);
+    voxel_of.truncate(kept);
     counts.kept = ellipsoids.len();
     let summary = counts.summary(voxels, options.min_fa);
     if ellipsoids.is_empty() {

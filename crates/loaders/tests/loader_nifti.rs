@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use ellipsoid_splat::{Ellipsoid, Error};
 use ellipsoid_splat_loaders::nifti::{load_nifti, parse_nifti};
-use ellipsoid_splat_loaders::{LoadOptions, Loaded, TensorOrder};
+use ellipsoid_splat_loaders::{LoadOptions, Loaded, Origins, TensorOrder};
 use glam::{DMat3, DVec3};
 use support::{
     assert_close, assert_contains, assert_io_error, assert_note, loaded, options, parse_error,
@@ -525,6 +525,38 @@ fn non_positive_definite_tensor() {
     // A singular tensor (zero eigenvalue) is not positive definite either.
     let nii = Nii::tensors([1, 1, 1], |_, _, _| diag(1e-3, 1e-3, 0.0));
     assert_err(&nii.bytes(), "voxel 0,0,0", &["not positive definite"]);
+}
+
+#[test]
+fn glyph_dropped_at_scaling_leaves_the_right_origins() {
+    // FLOAT64 for a dynamic range FLOAT32 cannot hold: voxel 3's 1e150 sets the volume's
+    // scale, at which voxel 1's 1e-180 semi-axes underflow to 0 and it is dropped.
+    let mut nii = Nii::tensors([4, 1, 1], |i, _, _| match i {
+        0 => diag(2e-3, 0.5e-3, 0.3e-3),
+        1 => diag(3e-180, 2e-180, 1e-180),
+        2 => diag(1.2e-3, 1.2e-3, 0.2e-3),
+        _ => diag(1e150, 0.2e150, 0.2e150),
+    });
+    nii.datatype = 64;
+    assert_err(
+        &nii.bytes(),
+        "voxel 1,0,0",
+        &["give no usable semi-axes at the volume's scale"],
+    );
+    let loaded = parse(&nii.bytes(), &skipping());
+    assert_eq!((loaded.scene.len(), loaded.skipped), (3, 1));
+    // The glyphs after the dropped one still name their own voxels.
+    assert_eq!(
+        loaded.origins,
+        Origins::Voxels(vec![[0, 0, 0], [2, 0, 0], [3, 0, 0]])
+    );
+    assert_eq!(
+        loaded.origins.describe(1).as_deref(),
+        Some("voxel (i, j, k) = (2, 0, 0)")
+    );
+    // 1 mm voxels, no transform: a glyph's centre is its voxel index.
+    let centres: Vec<f64> = loaded.scene.ellipsoids.iter().map(|e| e.center.x).collect();
+    assert_eq!(centres, [0.0, 2.0, 3.0]);
 }
 
 #[test]
