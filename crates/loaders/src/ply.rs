@@ -1107,7 +1107,9 @@ fn read_binary<const BIG_ENDIAN: bool>(
             ));
         }
         let end = pos + count * stride;
+        // The origins grow alongside the glyphs.
         splats.ellipsoids.reserve_exact(count);
+        splats.vertices.reserve_exact(count);
         for (k, record) in body[pos..end].chunks_exact(stride).enumerate() {
             let values: [f64; 14] = std::array::from_fn(|f| {
                 read_scalar::<BIG_ENDIAN>(record, fields[f].0, fields[f].1)
@@ -1124,9 +1126,9 @@ fn read_binary<const BIG_ENDIAN: bool>(
 
     // Records with list properties: walked property by property.
     let min_record: usize = vertex.properties.iter().map(|p| p.kind.min_size()).sum();
-    splats
-        .ellipsoids
-        .reserve(count.min((body.len() - pos) / min_record.max(1)));
+    let at_most = count.min((body.len() - pos) / min_record.max(1));
+    splats.ellipsoids.reserve(at_most);
+    splats.vertices.reserve(at_most);
     let mut values = [0.0f64; 14];
     for k in 0..count {
         for (p, property) in vertex.properties.iter().enumerate() {
@@ -1252,9 +1254,9 @@ fn read_ascii(
     let vertex = &elements[vertex_index];
     // A line holds at least one character and a separator per property.
     let min_line = 2 * vertex.properties.len();
-    splats
-        .ellipsoids
-        .reserve(vertex.count.min(body.len() / min_line.max(1)));
+    let at_most = vertex.count.min(body.len() / min_line.max(1));
+    splats.ellipsoids.reserve(at_most);
+    splats.vertices.reserve(at_most);
     for k in 0..vertex.count {
         let Some((number, line)) = lines.next() else {
             return Err(truncated(vertex, k, lines.number));
