@@ -80,7 +80,8 @@ pub enum Origins {
     None,
     /// The 1-based line of each glyph's row (Ellipsoid CSV).
     Lines(Vec<u32>),
-    /// The 0-based vertex index of each splat (3D Gaussian Splatting PLY).
+    /// The 0-based vertex index of each splat (3D Gaussian Splatting PLY); described 1-based,
+    /// as the PLY loader's errors number vertices.
     Vertices(Vec<u32>),
     /// The voxel `(i, j, k)` of each glyph (NIfTI tensor volumes).
     Voxels(Vec<[u16; 3]>),
@@ -94,7 +95,10 @@ impl Origins {
         match self {
             Origins::None => None,
             Origins::Lines(lines) => lines.get(index).map(|l| format!("line {l}")),
-            Origins::Vertices(v) => v.get(index).map(|v| format!("splat (vertex) {v}")),
+            // 1-based like the loader's "vertex N" errors; u64 so u32::MAX cannot overflow.
+            Origins::Vertices(v) => v
+                .get(index)
+                .map(|&v| format!("splat (vertex) {}", u64::from(v) + 1)),
             Origins::Voxels(v) => v
                 .get(index)
                 .map(|[i, j, k]| format!("voxel (i, j, k) = ({i}, {j}, {k})")),

@@ -53,6 +53,11 @@ fn splats_keep_their_vertex_indices_when_some_are_left_out() {
     let n = kept.len() / 2;
     let at_vertex = every.iter().position(|&v| v == kept[n]).unwrap();
     assert_eq!(some.scene.ellipsoids[n], all.scene.ellipsoids[at_vertex]);
+    // Described 1-based, as the loader's "vertex N" errors number them.
+    assert_eq!(
+        some.origins.describe(n),
+        Some(format!("splat (vertex) {}", kept[n] + 1))
+    );
 }
 
 #[test]
@@ -69,6 +74,12 @@ fn atoms_are_named_with_residue_and_line() {
             "{name}: {label}"
         );
     }
+    // The README's pick example: the sample's atom 5 is the second with ANISOU parameters.
+    let loaded = load(&sample("thermal.pdb"), &LoadOptions::default()).unwrap();
+    assert_eq!(
+        loaded.origins.describe(1).as_deref(),
+        Some("atom 5 CA1 (GSH A 1), line 11")
+    );
 }
 
 #[test]

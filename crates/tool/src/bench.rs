@@ -225,7 +225,8 @@ fn vertices_per_instance(method: Method, plan: &FramePlan) -> f64 {
 }
 
 /// Runs `methods` on every scene; `frames` timed rounds per scene (at least 15 for the report).
-/// Methods whose vertex work exceeds the budget on a scene are skipped and named in `skipped`.
+/// Methods whose vertex work exceeds the budget on a scene, or that cannot be set up or
+/// planned on it, are skipped and named in `skipped`.
 pub fn run(
     renderer: &mut OffscreenRenderer,
     scenes: &mut dyn Iterator<Item = BenchScene>,
@@ -242,7 +243,7 @@ pub fn run(
         let count = bench.scene.len();
         renderer.set_settings(Settings::default());
         renderer.upload(&bench.scene)?;
-        let mut settings = Settings::default();
+        let mut settings = Some(Settings::default());
         // Each method's vertex work as its frame plan decides (uploading the scene again only
         // where the method's settings differ).
         let mut active = Vec::new();
@@ -252,8 +253,17 @@ pub fn run(
                 skipped.push(format!("{} (no 64-bit buffer atomics)", m.name()));
                 continue;
             }
-            use_method(renderer, m, &mut settings, &bench.scene)?;
-            let vertices = vertices_per_instance(m, &renderer.plan(&bench.camera)?);
+            // One method failing here skips that method on this scene, not the bench.
+            let planned = use_method(renderer, m, &mut settings, &bench.scene)
+                .and_then(|()| renderer.plan(&bench.camera));
+            let plan = match planned {
+                Ok(plan) => plan,
+                Err(e) => {
+                    skipped.push(format!("{} on {} ({e})", m.name(), bench.name));
+                    continue;
+                }
+            };
+            let vertices = vertices_per_instance(m, &plan);
             if count as f64 * vertices <= VERTEX_BUDGET {
                 active.push(m);
             } else {
@@ -327,7 +337,7 @@ struct Measured {
 /// The order of the variants in each round of a timed comparison: a fresh shuffle each round
 /// (Fisher-Yates, xorshift64), so no variant always runs first or after the same one. In a
 /// fixed order two methods sharing one pipeline differed by 10-20 % on lavapipe, depending on
-/// which frame came before, and the first of five renderers paid 30 % more.
+/// which frame came before, and of several renderers the one always run first paid 30 % more.
 pub(crate) struct RoundOrder {
     order: Vec<usize>,
     rng: u64,
@@ -727,17 +737,21 @@ pub fn write_report(results: &[BenchResult], dir: &Path) -> Result<(String, Stri
 }
 
 /// Sets up `renderer` for `method`: its draw configuration and its settings (the scene is
-/// uploaded again when they change; uploads are outside the timed frames).
+/// uploaded again when they change; uploads are outside the timed frames). `settings` are
+/// those of the uploaded scene, `None` after a failed upload.
 fn use_method(
     renderer: &mut OffscreenRenderer,
     method: Method,
-    settings: &mut Settings,
+    settings: &mut Option<Settings>,
     scene: &Scene,
 ) -> Result<()> {
-    if method.settings() != *settings {
-        *settings = method.settings();
-        renderer.set_settings(*settings);
+    if *settings != Some(method.settings()) {
+        // Unknown until the upload succeeds, so a method skipped for a failed upload does not
+        // leave the next one drawing a scene uploaded with other settings.
+        *settings = None;
+        renderer.set_settings(method.settings());
         renderer.upload(scene)?;
+        *settings = Some(method.settings());
     }
     renderer.set_draw_config(method.config());
     renderer.set_splat_floor(method.splat_floor());

@@ -337,7 +337,11 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
     println!("{table}");
     println!("headline scene (Markdown):\n{markdown}");
     if !skipped.is_empty() {
-        println!("skipped (vertex work over budget): {}", skipped.join(", "));
+        // Over-budget entries give the glyph count, the others their reason.
+        println!(
+            "skipped (vertex work over budget: glyph count; else why): {}",
+            skipped.join(", ")
+        );
     }
     let checks = bench::check_targets(&results);
     let mut all = true;

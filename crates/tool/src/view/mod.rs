@@ -3,12 +3,20 @@
 //! instance, device, swapchain and output images, the renderer driven through the public
 //! embedding API only.
 //!
-//! - `device.rs`: instance, surface, device, allocator; `swapchain.rs`: the swapchain;
-//!   `targets.rs`: the renderer's output images; `frames.rs`: two frames in flight;
-//!   `viewer.rs`: drawing, probing and screenshots.
-//! - `controls.rs`: the camera and what mouse and keys do; `script.rs`: scripted input;
-//!   `pick.rs`: what a click reports; `subset.rs`: the moving frames' sample;
-//!   `stats.rs`: frame times and memory.
+//! - `mod.rs`: the window and its event loop, turning events into actions.
+//! - `actions.rs`: what an action does: orbit, pan, zoom, the keys, colour modes, picking.
+//! - `controls.rs`: the camera and what mouse and keys do to it.
+//! - `script.rs`: scripted input.
+//! - `pick.rs`: what a click reports.
+//! - `subset.rs`: the moving frames' sample.
+//! - `stats.rs`: frame times and memory.
+//! - `device.rs`: instance, surface, device, allocator.
+//! - `swapchain.rs`: the swapchain.
+//! - `targets.rs`: the renderer's output images.
+//! - `frames.rs`: two frames in flight.
+//! - `viewer/mod.rs`: the GPU side, drawing a frame through the embedding API.
+//! - `viewer/record.rs`: recording one frame's commands.
+//! - `viewer/readback.rs`: screenshots and the ID and depth under the cursor.
 //!
 //! The window's events and a script's lines become the same [`script::Action`]s, so tests
 //! drive exactly the code a person does.

@@ -61,7 +61,8 @@ mod tests {
             0,
             &Origins::Vertices(vec![12]),
         );
-        assert_eq!(ply, "splat (vertex) 12 of a.ply");
+        // Numbered from 1, as the PLY loader's errors number vertices.
+        assert_eq!(ply, "splat (vertex) 13 of a.ply");
         let atoms = Origins::Atoms(vec![(40, "atom 5 CA (ALA A 1)".into())]);
         let pdb = source(&SceneSpec::File("a.pdb".into()), 0, &atoms);
         assert_eq!(pdb, "atom 5 CA (ALA A 1), line 40 of a.pdb");
