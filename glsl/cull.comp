@@ -4,7 +4,9 @@
 // change a pixel, and their count into the indirect draw. Exact: an instance is dropped only
 // if its silhouette lies off screen or before the near plane (frustum), its silhouette's
 // bounding rectangle holds no pixel centre (pixel centres), or every pixel centre of that
-// rectangle is already covered by some ellipsoid lying wholly nearer (occlusion).
+// rectangle is already covered by some ellipsoid lying wholly nearer (occlusion). On
+// multisampled targets both proofs are about the samples (SAMPLE_GRID): the pixels with a
+// sample in the rectangle, and tiles whose every sample the occluder covers.
 //
 // The steps, one dispatch each over groups of 256 instances (CULL_STEP):
 //   OCCLUDERS  each ellipsoid lowers, on the pixel tiles its inscribed sphere covers for
@@ -41,21 +43,45 @@ layout(std430, set = 0, binding = 2) writeonly buffer Visible {
 const int MAX_TESTED_TILES = 256;
 // An occluder writes at most this many tiles across (a subset of its tiles stays exact).
 const int MAX_WRITTEN_TILES = 64;
+// How far a pixel's samples may lie from its centre along each axis, in pixels: 0 for the
+// centre alone; half a pixel less the half step of a finer grid; a half pixel anywhere.
+float sample_spread() {
+    return SAMPLE_GRID == 0 ? 0.5 : 0.5 - 0.5 / float(SAMPLE_GRID);
+}
 
 uint group_index() {
     return gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
 }
 
-// The pixel centres inside an NDC rectangle with y up: (first column, first row, last column,
-// last row), rows from the top, unclamped (may lie off screen); empty when first > last.
-vec4 pixel_centres(vec4 rect) {
-    // Pixel centre i sits at NDC (2i + 1) / W - 1. The sizes are exact integers (2 / (2 / H)
-    // in float32 can fall just short of H).
-    vec2 size = vec2(screen_size());
+// The cell centres of a grid of `size` cells over the screen inside an NDC rectangle with y up:
+// (first column, first row, last column, last row), rows from the top, unclamped (may lie off
+// screen); empty when first > last.
+vec4 cell_centres(vec4 rect, vec2 size) {
+    // Cell centre i sits at NDC (2i + 1) / W - 1.
     vec2 lo = ceil(((rect.xy + 1.0) * size - 1.0) * 0.5);
     vec2 hi = floor(((rect.zw + 1.0) * size - 1.0) * 0.5);
     // Rows count from the top.
     return vec4(lo.x, size.y - 1.0 - hi.y, hi.x, size.y - 1.0 - lo.y);
+}
+
+// The pixels with a sample inside an NDC rectangle with y up, as `cell_centres`; empty when
+// first > last. The sizes are exact integers (2 / (2 / H) in float32 can fall just short of
+// H).
+vec4 pixels_sampled(vec4 rect) {
+    vec2 size = vec2(screen_size());
+    if (SAMPLE_GRID == 0) {
+        // Samples anywhere: the pixels whose centre lies within half a pixel of the rectangle.
+        vec2 half_pixel = 0.5 * cam.ndc_per_pixel;
+        return cell_centres(rect + vec4(-half_pixel, half_pixel), size);
+    }
+    // The samples are centres of a grid SAMPLE_GRID times finer: its cell k lies in pixel
+    // floor(k / SAMPLE_GRID).
+    float grid = float(SAMPLE_GRID);
+    vec4 cells = cell_centres(rect, size * grid);
+    if (any(greaterThan(cells.xy, cells.zw))) {
+        return vec4(0.0, 0.0, -1.0, -1.0);
+    }
+    return floor(cells / grid);
 }
 
 // The tiles (inclusive) holding the on-screen pixel centres of `centres`; empty when lo > hi.
@@ -92,6 +118,8 @@ void write_occluder(uint index) {
     // Most glyphs vouch for no whole tile: leave before the costlier tests.
     float per_pixel = cam.ndc_scale_y * cam.ndc_per_pixel.y;
     float pixels = 0.99 * reach / per_pixel - 0.05;
+    // Multisampled: a tile's samples reach SAMPLE_SPREAD beyond its pixel centres.
+    float e = sample_spread();
     if (!(pixels >= 0.5 * float(TILE))) {
         return;
     }
@@ -119,13 +147,13 @@ void write_occluder(uint index) {
     if (any(isnan(p))) {
         return;
     }
-    // Tile rows, then the tiles of each row whose pixel centres all lie in the disc; a tile
-    // cut by the screen's edge holds only its on-screen pixels. Large occluders write a
+    // Tile rows, then the tiles of each row whose samples all lie in the disc; a tile cut by
+    // the screen's edge holds only its on-screen pixels. Large occluders write a
     // central subset of their tiles: still exact, far fewer atomics. Clamped in float before
     // any conversion to int, so far-off discs stay harmless.
     ivec2 grid = tile_grid();
-    float y_lo = clamp(ceil(p.y - pixels), 0.0, float(size.y));
-    float y_hi = clamp(floor(p.y + pixels), -1.0, float(size.y - 1));
+    float y_lo = clamp(ceil(p.y - pixels + e), 0.0, float(size.y));
+    float y_hi = clamp(floor(p.y + pixels - e), -1.0, float(size.y - 1));
     if (y_lo > y_hi) {
         return;
     }
@@ -137,13 +165,13 @@ void write_occluder(uint index) {
     uint bits = floatBitsToUint(bound);
     for (int ty = ty0; ty <= ty1; ty++) {
         float top = float(ty * TILE), bottom = float(min(ty * TILE + TILE - 1, size.y - 1));
-        float dy = max(abs(top - p.y), abs(bottom - p.y));
+        float dy = max(abs(top - e - p.y), abs(bottom + e - p.y));
         if (dy > pixels) {
             continue;
         }
         float half_width = sqrt(pixels * pixels - dy * dy);
-        float x_lo = clamp(ceil(p.x - half_width), 0.0, float(size.x));
-        float x_hi = clamp(floor(p.x + half_width), -1.0, float(size.x - 1));
+        float x_lo = clamp(ceil(p.x - half_width + e), 0.0, float(size.x));
+        float x_hi = clamp(floor(p.x + half_width - e), -1.0, float(size.x - 1));
         if (x_lo > x_hi) {
             continue;
         }
@@ -160,7 +188,7 @@ void write_occluder(uint index) {
     }
 }
 
-// Is every pixel centre of the rectangle covered by something at least DEPTH_GAP nearer than
+// Is every sample of the pixels `centres` covered by something at least DEPTH_GAP nearer than
 // the ellipsoid's nearest point?
 bool occluded(uint index, vec4 centres) {
     vec2 z = depth_range(load_instance(index));
@@ -204,7 +232,7 @@ bool needed(uint index, bool reaches, vec4 rect) {
     if (!CULL_PIXEL_CENTRES && !CULL_OCCLUSION) {
         return true;
     }
-    vec4 centres = pixel_centres(rect);
+    vec4 centres = pixels_sampled(rect);
     if (CULL_PIXEL_CENTRES && any(greaterThan(centres.xy, centres.zw))) {
         return false;
     }

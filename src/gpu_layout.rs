@@ -224,6 +224,12 @@ pub struct SpecConstants {
     /// `COVERAGE_SAMPLES` (19): on a multisampled target shaded once per pixel, its sample
     /// count (the fragment stage tests each standard sample position); 1 otherwise.
     pub coverage_samples: u32,
+    /// `SAMPLE_GRID` (20): where the culling pre-pass finds a pixel's samples (see
+    /// `FramePlan::sample_grid`).
+    pub sample_grid: u32,
+    /// `FAR_PLANE` (21): the camera has a finite far plane (pixel-rate coverage tests every
+    /// sample in full).
+    pub far_plane: vk::Bool32,
 }
 
 impl Default for SpecConstants {
@@ -248,13 +254,15 @@ impl Default for SpecConstants {
             splat_floor: 0,
             splat_max_box_pixels: 4096,
             coverage_samples: 1,
+            sample_grid: 1,
+            far_plane: 0,
         }
     }
 }
 
 impl SpecConstants {
     /// `(constant_id, byte offset)` of every field.
-    pub const IDS: [(u32, usize); 18] = [
+    pub const IDS: [(u32, usize); 20] = [
         (0, offset_of!(SpecConstants, orthographic)),
         (2, offset_of!(SpecConstants, textbook)),
         (3, offset_of!(SpecConstants, bounds)),
@@ -273,11 +281,13 @@ impl SpecConstants {
         (17, offset_of!(SpecConstants, splat_floor)),
         (18, offset_of!(SpecConstants, splat_max_box_pixels)),
         (19, offset_of!(SpecConstants, coverage_samples)),
+        (20, offset_of!(SpecConstants, sample_grid)),
+        (21, offset_of!(SpecConstants, far_plane)),
     ];
 
     /// The map entries of [`SpecConstants::IDS`], for a `VkSpecializationInfo` over
     /// `bytemuck::bytes_of(self)`.
-    pub fn map_entries() -> [vk::SpecializationMapEntry; 18] {
+    pub fn map_entries() -> [vk::SpecializationMapEntry; 20] {
         Self::IDS.map(|(constant_id, offset)| vk::SpecializationMapEntry {
             constant_id,
             offset: offset as u32,
@@ -311,5 +321,5 @@ const _: () = {
     assert!(offset_of!(ShadingRecord, ray_c) == 48);
     assert!(offset_of!(ShadingRecord, depth_gradient) == 64);
     assert!(offset_of!(ShadingRecord, to_normal_x) == 80);
-    assert!(size_of::<SpecConstants>() == 72);
+    assert!(size_of::<SpecConstants>() == 80);
 };

@@ -37,6 +37,9 @@ pub(crate) struct PipelineKey {
     /// `COVERAGE_SAMPLES`: shaded once per pixel with this many samples tested (1: each
     /// sample shaded on its own, or a single-sample target).
     pub coverage_samples: u32,
+    /// `FAR_PLANE`: pixel-rate coverage tests every sample in full (only read, so only set,
+    /// with `coverage_samples` above 1).
+    pub far_plane: bool,
 }
 
 impl PipelineKey {
@@ -74,6 +77,7 @@ impl PipelineKey {
             no_caps: plan.no_caps,
             compute_splat: false,
             coverage_samples: plan.coverage_samples,
+            far_plane: plan.far_plane && plan.coverage_samples > 1,
         }
     }
 
@@ -91,6 +95,7 @@ impl PipelineKey {
             compact: self.compact as u32,
             reversed_z: self.reversed_z as u32,
             coverage_samples: self.coverage_samples,
+            far_plane: self.far_plane as u32,
             ..SpecConstants::default()
         }
     }
@@ -148,6 +153,8 @@ pub(crate) struct CullKey {
     pub setup: Option<DrawConfig>,
     pub spheres: bool,
     pub compact: bool,
+    /// `SAMPLE_GRID`: where the proofs find a pixel's samples.
+    pub sample_grid: u32,
 }
 
 impl CullKey {
@@ -160,6 +167,7 @@ impl CullKey {
             setup: plan.setup_once.then_some(plan.config),
             spheres: plan.spheres,
             compact: plan.compact,
+            sample_grid: plan.sample_grid,
         }
     }
 
@@ -179,6 +187,7 @@ impl CullKey {
             corners: config.footprint.vertices(),
             spheres: self.spheres as u32,
             compact: self.compact as u32,
+            sample_grid: self.sample_grid,
             ..SpecConstants::default()
         }
     }

@@ -24,48 +24,7 @@ layout(depth_less) out float gl_FragDepth;
 
 #include "impostor_hit.glsl"
 
-// Sample `s` of COVERAGE_SAMPLES in the Vulkan standard locations, from the pixel's top-left
-// corner (2 and 4 samples; the plan shades per sample for other counts).
-vec2 standard_sample_position(int s) {
-    if (COVERAGE_SAMPLES == 2) {
-        return s == 0 ? vec2(0.75, 0.75) : vec2(0.25, 0.25);
-    }
-    const vec2 four[4] = vec2[](vec2(0.375, 0.125), vec2(0.875, 0.375), vec2(0.125, 0.625),
-                                vec2(0.625, 0.875));
-    return four[s];
-}
-
-// Shaded once per pixel on a multisampled target: which samples the glyph covers, each by the
-// exact hit at its position (caps and planes included); the pixel's one depth, the nearest of
-// the covered samples' (so wherever the glyph lies in front of host geometry at every sample
-// it covers, it shows at all of them: silhouettes stay exact against meshes behind); and its
-// unit world normal at the first covered sample, where it is shaded (the standard positions
-// all lie 0.4 px from the centre). Returns the coverage mask (0: nothing).
-int pixel_coverage(out float nearest, out vec3 n) {
-    vec2 corner = floor(gl_FragCoord.xy);
-    nearest = REVERSED_Z ? 0.0 : 1.0;
-    n = vec3(0.0);
-    vec3 first_normal = vec3(0.0);
-    bool first_cap = false;
-    int mask = 0;
-    for (int s = 0; s < COVERAGE_SAMPLES; s++) {
-        float z;
-        vec3 normal;
-        bool cap;
-        if (impostor_depth(corner + standard_sample_position(s), z, normal, cap)) {
-            if (mask == 0) {
-                first_normal = normal;
-                first_cap = cap;
-            }
-            mask |= 1 << s;
-            nearest = REVERSED_Z ? max(nearest, z) : min(nearest, z);
-        }
-    }
-    if (mask != 0) {
-        n = impostor_world_normal(first_normal, first_cap);
-    }
-    return mask;
-}
+#include "pixel_coverage.glsl"
 
 void main() {
     count_fragment();

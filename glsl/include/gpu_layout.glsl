@@ -117,6 +117,13 @@ layout(constant_id = 18) const int SPLAT_MAX_BOX_PIXELS = 4096;
 // each standard sample position against the glyph and writes gl_SampleMask. 1 otherwise
 // (single-sample targets, and sample-rate shading, where each sample runs the stage).
 layout(constant_id = 19) const int COVERAGE_SAMPLES = 1;
+// Where the culling pre-pass finds a pixel's samples: 1 the pixel centre (one sample); R > 1
+// the cell centres of a grid R times finer than the pixels (the standard locations of 2, 4
+// and 8 samples); 0 anywhere in the pixel.
+layout(constant_id = 20) const int SAMPLE_GRID = 1;
+// The camera has a finite far plane, which may cut a glyph inside a pixel: pixel-rate
+// coverage tests every sample in full.
+layout(constant_id = 21) const bool FAR_PLANE = false;
 
 #if defined(CULL_PASS) || defined(SPLAT_PASS)
 // The culled draw's `VkDrawIndirectCommand` followed by the number of instances in the chunk

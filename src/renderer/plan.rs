@@ -82,11 +82,18 @@ pub struct FramePlan {
     pub orthographic: bool,
     /// Depth is reversed Z.
     pub reversed_z: bool,
+    /// Where the pre-pass's pixel-centre and occlusion proofs find a pixel's samples: 1 at its
+    /// centre (single-sample targets); R > 1 at the cell centres of a grid R times finer
+    /// than the pixels (the standard locations of 2, 4 and 8 samples); 0 anywhere in it.
+    pub sample_grid: u32,
     /// On a multisampled target shaded once per pixel, its sample count (the fragment stage
     /// tests each standard sample position and writes `gl_SampleMask`); 1 for single-sample
     /// targets and for sample-rate shading ([`Settings::per_sample_shading`], and devices
     /// without the standard sample locations or counts other than 2 and 4).
     pub coverage_samples: u32,
+    /// The camera has a finite far plane, which may cut a glyph inside a pixel: pixel-rate
+    /// coverage then tests every sample in full, never only the silhouette.
+    pub far_plane: bool,
     /// Index of the renderer's target drawn into.
     pub(crate) target: usize,
     /// Fragment shaders count shaded pixels.
@@ -151,15 +158,13 @@ impl FramePlan {
         let small_glyphs = exact_impostor
             && config.footprint != Footprint::WorldQuad
             && mean_area_px.is_some_and(|area| area <= SETUP_ONCE_MAX_AREA_PX);
-        // Pixel-centre and occlusion culling reason about pixel centres, so multisampled
-        // targets (whose samples lie elsewhere) keep frustum culling only; occlusion needs
-        // float32 depth (its 1e-4 depth gap must survive the depth buffer's rounding).
+        // Occlusion needs float32 depth (its 1e-4 depth gap must survive the depth buffer's
+        // rounding). On multisampled targets the pre-pass's proofs cover every sample of a
+        // pixel, not only its centre (`sample_grid`).
         let single = !target.multisampled();
         let culling = Culling {
             occlusion: settings.culling.occlusion
-                && single
                 && target.depth_format() == vk::Format::D32_SFLOAT,
-            pixel_centres: settings.culling.pixel_centres && single,
             ..settings.culling
         };
         // The compute splat takes scenes of many glyphs, small on average, on devices with its
@@ -230,6 +235,17 @@ impl FramePlan {
             reversed_z: camera.depth.reversed,
             // Pixel-rate shading needs the sample positions in the shader: the standard ones,
             // written out there for 2 and 4 samples.
+            sample_grid: match target.samples {
+                vk::SampleCountFlags::TYPE_1 => 1,
+                vk::SampleCountFlags::TYPE_2
+                | vk::SampleCountFlags::TYPE_4
+                | vk::SampleCountFlags::TYPE_8
+                    if standard_sample_locations =>
+                {
+                    target.samples.as_raw()
+                }
+                _ => 0,
+            },
             coverage_samples: match target.samples {
                 vk::SampleCountFlags::TYPE_2 | vk::SampleCountFlags::TYPE_4
                     if standard_sample_locations && !settings.per_sample_shading =>
@@ -238,6 +254,7 @@ impl FramePlan {
                 }
                 _ => 1,
             },
+            far_plane: camera.depth.far.is_some(),
             target: target_index,
             count_fragments,
         })
