@@ -66,6 +66,20 @@ impl Footprint {
         }
     }
 
+    /// The footprint `Auto` resolves to on multisampled targets. There lavapipe finds each
+    /// primitive's coverage at every sample of every 4 x 4 block it touches, which costs more
+    /// than the fragments a tighter polygon saves: the triangle below
+    /// [`Footprint::TRIANGLE_AREA`], the oriented rectangle above. Measured with 4x MSAA
+    /// (`examples/embed --bench`, 2026-11-25): glyphs of 559 px^2, rectangle 196.7 ms against
+    /// hexagon 234.0; of 29 px^2, triangle 173.4 ms against rectangle 209.1.
+    pub fn for_area_multisampled(mean_area_px: f64) -> Footprint {
+        if mean_area_px >= Self::TRIANGLE_AREA {
+            Footprint::OrientedRect
+        } else {
+            Footprint::Triangle
+        }
+    }
+
     /// Vertices per instance (a triangle strip over the polygon).
     pub fn vertices(self) -> u32 {
         match self {

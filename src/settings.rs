@@ -50,9 +50,10 @@ pub struct Settings {
     /// Leave out the near-plane cap code when no ellipsoid reaches in front of the near
     /// plane (on by default).
     pub cap_free_path: bool,
-    /// Draw glyphs of a few pixels as one triangle instead of the oriented rectangle. Off by
-    /// default: fewer vertices and primitives, but 1.65 shaded fragments per covered pixel
-    /// instead of 1.27.
+    /// Draw glyphs of a few pixels as one triangle instead of the oriented rectangle on
+    /// single-sample targets. Off by default: fewer vertices and primitives, but 1.65 shaded
+    /// fragments per covered pixel instead of 1.27. Multisampled targets always do
+    /// ([`crate::draw::Footprint::for_area_multisampled`]).
     pub small_glyph_triangles: bool,
     /// How `upload` stores instances: full float32 (default) or the compact 32-byte records,
     /// a third less memory at a measured accuracy cost.

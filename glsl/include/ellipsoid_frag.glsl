@@ -32,11 +32,8 @@ void main() {
     float z;
     vec3 n;
     if (COVERAGE_SAMPLES > 1) {
-        int mask = pixel_coverage(z, n);
-        if (mask == 0) {
-            discard;
-        }
-        gl_SampleMask[0] = mask;
+        // An empty mask writes no sample.
+        gl_SampleMask[0] = pixel_coverage(z, n);
     } else {
         // The stage declares the output, so every invocation writes it: the coverage as is.
         gl_SampleMask[0] = gl_SampleMaskIn[0];

@@ -145,9 +145,16 @@ impl FramePlan {
         // The benchmark's footprint variants measure the draw: only the shipped choice splats.
         let auto_footprint = config.footprint == Footprint::Auto;
         if auto_footprint {
-            config.footprint = match Footprint::for_area(mean_area_px.unwrap_or(0.0)) {
-                Footprint::Triangle if !settings.small_glyph_triangles => Footprint::OrientedRect,
-                chosen => chosen,
+            let area = mean_area_px.unwrap_or(0.0);
+            config.footprint = if target.multisampled() {
+                Footprint::for_area_multisampled(area)
+            } else {
+                match Footprint::for_area(area) {
+                    Footprint::Triangle if !settings.small_glyph_triangles => {
+                        Footprint::OrientedRect
+                    }
+                    chosen => chosen,
+                }
             };
         }
         // Only impostors with the exact hit go through the pre-pass (the culling proofs assume
@@ -352,6 +359,34 @@ mod tests {
         ] {
             let plan = plan(&scene, &camera, samples, true, settings);
             assert_eq!(plan.coverage_samples, expected, "{samples:?} {settings:?}");
+        }
+    }
+
+    /// Multisampled frames keep every culling, proved at their samples' grid, and draw one
+    /// or two triangles per glyph.
+    #[test]
+    fn multisampled_frames_cull_at_their_samples_with_few_primitives() {
+        use vk::SampleCountFlags as S;
+        let shipped = Settings::default();
+        for (scale, single, multi) in [
+            (1.0, Footprint::OrientedRect, Footprint::Triangle),
+            (60.0, Footprint::Hexagon, Footprint::OrientedRect),
+        ] {
+            let (scene, camera) = scene_of(false, scale);
+            for (samples, grid) in [
+                (S::TYPE_1, 1),
+                (S::TYPE_2, 2),
+                (S::TYPE_4, 4),
+                (S::TYPE_8, 8),
+            ] {
+                let plan = plan(&scene, &camera, samples, false, &shipped);
+                assert_eq!(plan.sample_grid, grid, "{samples:?}");
+                assert_eq!(plan.culling, Culling::ON, "{samples:?}");
+                let expected = if samples == S::TYPE_1 { single } else { multi };
+                assert_eq!(plan.config.footprint, expected, "{samples:?} at {scale}x");
+            }
+            let sixteen = plan(&scene, &camera, S::TYPE_16, false, &shipped);
+            assert_eq!(sixteen.sample_grid, 0);
         }
     }
 
