@@ -18,7 +18,7 @@ use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::frame::{Frame, NO_INSTANCE};
 use ellipsoid_splat::Scene;
 
-use crate::reference::render_reference;
+use crate::reference::{render_reference, ReferenceFrame};
 
 /// Where a pixel's samples lie.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -80,6 +80,32 @@ pub fn reference_coverage(
         ..*camera
     };
     let reference = render_reference(scene, &big)?;
+    coverage_from(&reference, camera, pattern)
+}
+
+/// The coverage at `pattern`'s positions of the pixels of `camera`, read from `reference`, the
+/// reference drawn `pattern.grid()` times larger (several patterns on one grid share it).
+/// Errors when `reference` has another size.
+pub fn coverage_from(
+    reference: &ReferenceFrame,
+    camera: &Camera,
+    pattern: SamplePattern,
+) -> Result<ReferenceCoverage> {
+    let k = pattern.grid();
+    if (reference.width as u64, reference.height as u64)
+        != (
+            camera.width as u64 * k as u64,
+            camera.height as u64 * k as u64,
+        )
+    {
+        return Err(Error::invalid(
+            "reference coverage",
+            format!(
+                "a {}x{} reference cannot give the {k} x {k} grid of a {}x{} image",
+                reference.width, reference.height, camera.width, camera.height
+            ),
+        ));
+    }
     let cells = pattern.cells();
     let pixels = camera.width as usize * camera.height as usize;
     let (mut covered, mut ambiguous) = (Vec::with_capacity(pixels), Vec::with_capacity(pixels));
@@ -178,4 +204,60 @@ pub fn compare_coverage(resolved: &Frame, reference: &ReferenceCoverage) -> Resu
     }
     stats.mean_error = sum / stats.partly_covered.max(1) as f64;
     Ok(stats)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ellipsoid_splat::Ellipsoid;
+    use glam::{DQuat, DVec3};
+
+    /// One sphere filling part of a small view.
+    fn sphere_view() -> (Scene, Camera) {
+        let sphere = Ellipsoid::new(DVec3::ZERO, DVec3::splat(1.0), DQuat::IDENTITY, None).unwrap();
+        let camera =
+            Camera::look_at(DVec3::new(0.0, 0.0, 6.0), DVec3::ZERO, 40.0, 0.1, 24, 16).unwrap();
+        (Scene::new(vec![sphere]), camera)
+    }
+
+    /// The standard 4x positions and the 4 x 4 grid read from one reference drawn 4 times
+    /// larger: each pixel's standard samples are among its grid's, and fully inside or
+    /// outside pixels agree.
+    #[test]
+    fn patterns_on_one_grid_share_a_reference() {
+        let (scene, camera) = sphere_view();
+        let big = Camera {
+            width: camera.width * 4,
+            height: camera.height * 4,
+            ..camera
+        };
+        let reference = render_reference(&scene, &big).unwrap();
+        let standard = coverage_from(&reference, &camera, SamplePattern::Standard4).unwrap();
+        let grid = coverage_from(&reference, &camera, SamplePattern::Grid(4)).unwrap();
+        assert_eq!(
+            standard.covered,
+            reference_coverage(&scene, &camera, SamplePattern::Standard4)
+                .unwrap()
+                .covered
+        );
+        assert_eq!((standard.samples, grid.samples), (4, 16));
+        for (s, g) in standard.covered.iter().zip(&grid.covered) {
+            assert!(s <= g && g - s <= 12, "{s} of 4 against {g} of 16");
+            if *g == 16 {
+                assert_eq!(*s, 4);
+            }
+            if *g == 0 {
+                assert_eq!(*s, 0);
+            }
+        }
+        assert!(grid.covered.iter().any(|&g| g == 16) && grid.covered.iter().any(|&g| g == 0));
+    }
+
+    #[test]
+    fn a_reference_of_another_size_is_refused() {
+        let (scene, camera) = sphere_view();
+        let reference = render_reference(&scene, &camera).unwrap();
+        let error = coverage_from(&reference, &camera, SamplePattern::Grid(2)).unwrap_err();
+        assert!(error.to_string().contains("24x16 reference"), "{error}");
+    }
 }

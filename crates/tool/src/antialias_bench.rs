@@ -11,8 +11,13 @@
 //! with the glyphs unlit and white, and charted against the full-size time
 //! (`antialias_vs_error.png`). There every glyph is 4 times smaller in pixels, so the error is
 //! in that view's pixels, on another scale than the timed full-size frames: it compares the
-//! ways with each other, not with a full-size frame's error. That each way is exact at its own
-//! samples is `stress`'s check.
+//! ways with each other, not with a full-size frame's error.
+//!
+//! The error at its own samples: on the same small view, how many pixels are lit off the
+//! reference's count of covered samples at the way's own positions (the pixel centre, the
+//! standard 4x positions, the supersampling grid), as a ratio to the coverage bound, floored
+//! at 1 -- the axis of `bench`'s time-versus-error chart, which the main `bench` run joins the
+//! antialiased ways to. `stress` checks the same on scenes built to break it.
 
 use std::path::Path;
 
@@ -28,8 +33,10 @@ use crate::bench::{frustum_cloud, median, tensor_field_scene, BenchScene, RoundO
 use crate::report::{format_table, scatter_chart, write_csv, Axis, Series};
 use crate::supersample::{box_filter, supersampled_camera};
 use ellipsoid_splat::camera::Camera;
+use ellipsoid_splat::error::Error;
 use ellipsoid_splat::Material;
-use ellipsoid_splat_reference::coverage::{compare_coverage, reference_coverage, SamplePattern};
+use ellipsoid_splat_reference::coverage::{compare_coverage, coverage_from, SamplePattern};
+use ellipsoid_splat_reference::{render_reference, Bounds};
 
 /// One way of drawing a frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,6 +73,10 @@ pub struct AntialiasTiming {
     /// Mean distance of the partly covered pixels from the covered area (16 samples), as a
     /// fraction of a pixel.
     pub area_error: f64,
+    /// The error at the variant's own samples over its strict bound, as `bench` charts every
+    /// method: the fraction of pixels whose light is off the reference's count of covered
+    /// samples by half a sample or more, over the coverage bound, floored at 1 (1: exact).
+    pub sample_error_ratio: f64,
 }
 
 /// The variants: one sample (shipped, and drawn without the compute splat, which
@@ -107,14 +118,39 @@ fn quarter(camera: &Camera) -> Camera {
     }
 }
 
-/// Each variant's error against the area the glyphs cover (see the module documentation).
-fn area_errors(
+/// Where the samples of a variant lie.
+fn pattern(variant: Variant) -> SamplePattern {
+    variant
+        .mode
+        .map_or(SamplePattern::Grid(1), AntialiasMode::pattern)
+}
+
+/// Each variant's error against the area the glyphs cover and its error ratio at its own
+/// samples (see the module documentation and [`AntialiasTiming`]).
+fn errors(
     renderers: &mut [OffscreenRenderer],
     bench: &BenchScene,
     settings: &[Settings],
-) -> Result<Vec<f64>> {
+) -> Result<Vec<(f64, f64)>> {
     let small = quarter(&bench.camera);
-    let area = reference_coverage(&bench.scene, &small, SamplePattern::Grid(4))?;
+    // The reference on each grid the variants' samples lie on, drawn once.
+    let mut grids = Vec::new();
+    for k in [1, 2, 4] {
+        let big = Camera {
+            width: small.width * k,
+            height: small.height * k,
+            ..small
+        };
+        grids.push((k, render_reference(&bench.scene, &big)?));
+    }
+    let coverage = |pattern: SamplePattern| {
+        let (_, reference) = grids
+            .iter()
+            .find(|(k, _)| *k == pattern.grid())
+            .ok_or_else(|| Error::invalid("antialiasing bench", "no reference on that grid"))?;
+        coverage_from(reference, &small, pattern)
+    };
+    let area = coverage(SamplePattern::Grid(4))?;
     let unlit = Material {
         ambient: 1.0,
         diffuse: 0.0,
@@ -147,16 +183,29 @@ fn area_errors(
         };
         // No upload back: the next scene's timed frames upload their own scene.
         renderer.set_settings(*settings);
-        errors.push(compare_coverage(&frame, &area)?.mean_error / 16.0);
+        let own = compare_coverage(&frame, &coverage(pattern(variant))?)?;
+        let wrong = own.wrong as f64 / own.compared.max(1) as f64;
+        errors.push((
+            compare_coverage(&frame, &area)?.mean_error / 16.0,
+            (wrong / Bounds::STRICT.coverage_fraction).max(1.0),
+        ));
     }
     Ok(errors)
 }
 
-/// Times every variant on each scene, `frames` interleaved rounds after one warm-up round.
-/// Each variant has a renderer of its own, made with `options`, so no frame pays for
+/// The scenes of `bench --antialias`: the tensor field and a cloud of 16-pixel glyphs.
+pub fn scenes() -> Vec<BenchScene> {
+    vec![tensor_field_scene(), frustum_cloud(10_000, 16.0, 7)]
+}
+
+/// Times every variant on each of `scenes`, `frames` interleaved rounds after one warm-up
+/// round. Each variant has a renderer of its own, made with `options`, so no frame pays for
 /// re-making another variant's targets.
-pub fn run(options: &ContextOptions, frames: usize) -> Result<Vec<AntialiasTiming>> {
-    let scenes: Vec<BenchScene> = vec![tensor_field_scene(), frustum_cloud(10_000, 16.0, 7)];
+pub fn run(
+    options: &ContextOptions,
+    frames: usize,
+    scenes: &[BenchScene],
+) -> Result<Vec<AntialiasTiming>> {
     let mut renderers = Vec::new();
     let mut settings = Vec::new();
     for variant in VARIANTS {
@@ -178,7 +227,7 @@ pub fn run(options: &ContextOptions, frames: usize) -> Result<Vec<AntialiasTimin
         renderers.push(renderer);
     }
     let mut out = Vec::new();
-    for bench in &scenes {
+    for bench in scenes {
         let mut cameras = Vec::new();
         for (renderer, variant) in renderers.iter_mut().zip(VARIANTS) {
             renderer.upload(&bench.scene)?;
@@ -198,14 +247,17 @@ pub fn run(options: &ContextOptions, frames: usize) -> Result<Vec<AntialiasTimin
             }
         }
         let medians: Vec<f64> = times.iter_mut().map(|t| median(t)).collect();
-        let errors = area_errors(&mut renderers, bench, &settings)?;
-        for ((variant, wall_ms), area_error) in VARIANTS.iter().zip(&medians).zip(errors) {
+        let errors = errors(&mut renderers, bench, &settings)?;
+        for ((variant, wall_ms), (area_error, sample_error_ratio)) in
+            VARIANTS.iter().zip(&medians).zip(errors)
+        {
             out.push(AntialiasTiming {
                 scene: bench.name.clone(),
                 variant: *variant,
                 wall_ms: *wall_ms,
                 ratio: wall_ms / medians[0],
                 area_error,
+                sample_error_ratio,
             });
         }
     }
@@ -225,6 +277,7 @@ pub fn write_report(results: &[AntialiasTiming], dir: &Path) -> Result<String> {
         "wall_ms",
         "ratio_to_1_sample",
         "area_error_px",
+        "sample_error_ratio",
     ];
     let rows: Vec<Vec<String>> = results
         .iter()
@@ -235,6 +288,7 @@ pub fn write_report(results: &[AntialiasTiming], dir: &Path) -> Result<String> {
                 format!("{:.2}", r.wall_ms),
                 format!("{:.2}", r.ratio),
                 format!("{:.4}", r.area_error),
+                format!("{:.2}", r.sample_error_ratio),
             ]
         })
         .collect();

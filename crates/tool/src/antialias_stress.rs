@@ -48,7 +48,8 @@ impl AntialiasMode {
         }
     }
 
-    fn pattern(self) -> SamplePattern {
+    /// The positions its samples lie at.
+    pub fn pattern(self) -> SamplePattern {
         match self {
             AntialiasMode::Msaa4 | AntialiasMode::Msaa4PerSample => SamplePattern::Standard4,
             AntialiasMode::Supersample(k) => SamplePattern::Grid(k),

@@ -10,6 +10,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
+use crate::antialias_bench::AntialiasTiming;
 use crate::report::{
     bar_chart, fmt_sci, format_table, line_chart, markdown_table, scatter_chart, write_csv, Axis,
     Series,
@@ -603,8 +604,15 @@ pub fn check_targets(results: &[BenchResult]) -> Vec<TargetCheck> {
 }
 
 /// Writes `results.csv`, `time_vs_error.png`, `fill_efficiency.png` and `scaling.png` into
-/// `dir` and returns the printed table and the Markdown table of headline ratios.
-pub fn write_report(results: &[BenchResult], dir: &Path) -> Result<(String, String)> {
+/// `dir` and returns the printed table and the Markdown table of headline ratios. The
+/// `antialiased` ways of the headline scene join its time-versus-error chart, each at its
+/// error at its own samples (they resolve several per pixel, so the pixel-centre comparison
+/// does not apply).
+pub fn write_report(
+    results: &[BenchResult],
+    antialiased: &[AntialiasTiming],
+    dir: &Path,
+) -> Result<(String, String)> {
     std::fs::create_dir_all(dir).map_err(|source| Error::Io {
         path: dir.to_path_buf(),
         source,
@@ -630,10 +638,22 @@ pub fn write_report(results: &[BenchResult], dir: &Path) -> Result<(String, Stri
         .into_iter()
         .map(|i| points[i])
         .collect();
+    let headline_scene = headline.first().map_or("", |r| r.scene.as_str());
     let series: Vec<Series> = headline
         .iter()
         .zip(&points)
         .map(|(r, &p)| Series::new(r.method.name(), vec![p]))
+        .chain(
+            antialiased
+                .iter()
+                .filter(|a| a.variant.mode.is_some() && a.scene == headline_scene)
+                .map(|a| {
+                    Series::new(
+                        format!("{} (antialiased)", a.variant.name()),
+                        vec![(a.wall_ms, a.sample_error_ratio)],
+                    )
+                }),
+        )
         .collect();
     scatter_chart(
         &dir.join("time_vs_error.png"),

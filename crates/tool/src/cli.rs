@@ -130,7 +130,8 @@ impl ViewArgs {
 /// Arguments of `bench`.
 #[derive(Debug, Clone, Args)]
 pub struct BenchArgs {
-    /// Directory for results.csv and the plots.
+    /// Directory for results.csv and the plots (with the tensor field among the scenes, also
+    /// antialias.csv and antialias_vs_error.png: its antialiased ways join its chart).
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
     /// Fewer and smaller scenes: the whole run stays under 10 minutes on 2 cores.
@@ -151,8 +152,8 @@ pub struct BenchArgs {
     pub skip: bool,
     /// Instead: time antialiasing (one sample, 4x MSAA shaded per pixel and per sample, 2 x 2
     /// and 4 x 4 supersampling) on the tensor field and a cloud of 16 px glyphs, and report
-    /// each way's area error (measured at a quarter of the size); writes antialias.csv and
-    /// antialias_vs_error.png.
+    /// each way's area error and its error at its own samples (both measured at a quarter of
+    /// the size); writes antialias.csv and antialias_vs_error.png.
     #[arg(long)]
     pub antialias: bool,
     /// Device and validation.

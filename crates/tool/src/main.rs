@@ -255,7 +255,11 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         }
         if args.antialias {
             output::check_output_dir("--out", &args.out, "antialias.csv")?;
-            let results = antialias_bench::run(&context_options(&args.device), args.frames)?;
+            let results = antialias_bench::run(
+                &context_options(&args.device),
+                args.frames,
+                &antialias_bench::scenes(),
+            )?;
             println!("{}", antialias_bench::write_report(&results, &args.out)?);
             return Ok(true);
         }
@@ -333,8 +337,25 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
     let device = renderer.context().info().name.clone();
     renderer.context().check_validation()?;
     renderer.finish()?;
-    let (table, markdown) = bench::write_report(&results, &args.out)?;
+    // The antialiased ways join the headline scene's chart (their own interleaved run).
+    let antialiased = if with_field {
+        antialias_bench::run(
+            &context_options(&args.device),
+            args.frames,
+            &[bench::tensor_field_scene()],
+        )?
+    } else {
+        Vec::new()
+    };
+    let (table, markdown) = bench::write_report(&results, &antialiased, &args.out)?;
     println!("{table}");
+    if !antialiased.is_empty() {
+        println!("antialiased (tensor field; antialias.csv):");
+        println!(
+            "{}",
+            antialias_bench::write_report(&antialiased, &args.out)?
+        );
+    }
     println!("headline scene (Markdown):\n{markdown}");
     if !skipped.is_empty() {
         // Over-budget entries give the glyph count, the others their reason.
@@ -355,10 +376,15 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         all &= c.holds;
     }
     println!(
-        "{} results in {:.0} s on {device}; wrote {}/results.csv, time_vs_error.png, fill_efficiency.png, scaling.png",
+        "{} results in {:.0} s on {device}; wrote {}/results.csv, time_vs_error.png, fill_efficiency.png, scaling.png{}",
         results.len(),
         started.elapsed().as_secs_f64(),
-        args.out.display()
+        args.out.display(),
+        if antialiased.is_empty() {
+            ""
+        } else {
+            ", antialias.csv, antialias_vs_error.png"
+        }
     );
     Ok(all)
 }
