@@ -250,7 +250,7 @@ mod tests {
                 assert_eq!(*s, 0);
             }
         }
-        assert!(grid.covered.iter().any(|&g| g == 16) && grid.covered.iter().any(|&g| g == 0));
+        assert!(grid.covered.contains(&16) && grid.covered.contains(&0));
     }
 
     #[test]
