@@ -84,11 +84,12 @@ vec4 pixels_sampled(vec4 rect) {
     return floor(cells / grid);
 }
 
-// The tiles (inclusive) holding the on-screen pixel centres of `centres`; empty when lo > hi.
-void tiles_touched(vec4 centres, out ivec2 lo, out ivec2 hi) {
+// The tiles (inclusive) holding the on-screen ones of the pixels `sampled` (first column,
+// first row, last column, last row, as `pixels_sampled` gives them); empty when lo > hi.
+void tiles_touched(vec4 sampled, out ivec2 lo, out ivec2 hi) {
     vec2 last = vec2(screen_size() - 1);
-    lo = ivec2(clamp(centres.xy, vec2(0.0), last + 1.0)) / TILE;
-    hi = ivec2(clamp(centres.zw, vec2(-1.0), last));
+    lo = ivec2(clamp(sampled.xy, vec2(0.0), last + 1.0)) / TILE;
+    hi = ivec2(clamp(sampled.zw, vec2(-1.0), last));
     hi = (hi + TILE) / TILE - 1; // floor division that keeps -1 below 0
 }
 
@@ -118,11 +119,11 @@ void write_occluder(uint index) {
     // Most glyphs vouch for no whole tile: leave before the costlier tests.
     float per_pixel = cam.ndc_scale_y * cam.ndc_per_pixel.y;
     float pixels = 0.99 * reach / per_pixel - 0.05;
-    // Multisampled: a tile's samples reach SAMPLE_SPREAD beyond its pixel centres.
-    float e = sample_spread();
     if (!(pixels >= 0.5 * float(TILE))) {
         return;
     }
+    // Multisampled: a tile's samples reach e beyond its pixel centres on each axis.
+    float e = sample_spread();
     // Only ellipsoids wholly beyond the near plane (no cap) and in front of the eye.
     vec2 z = depth_range(inst);
     if (!(z.x - z.y > cam.near_plane) || !(z.x - z.y > 0.0)) {
@@ -188,9 +189,9 @@ void write_occluder(uint index) {
     }
 }
 
-// Is every sample of the pixels `centres` covered by something at least DEPTH_GAP nearer than
+// Is every sample of the pixels `sampled` covered by something at least DEPTH_GAP nearer than
 // the ellipsoid's nearest point?
-bool occluded(uint index, vec4 centres) {
+bool occluded(uint index, vec4 sampled) {
     vec2 z = depth_range(load_instance(index));
     float nearest = z.x - z.y;
     if (!(nearest > 0.0)) {
@@ -198,7 +199,7 @@ bool occluded(uint index, vec4 centres) {
     }
     ivec2 grid = tile_grid();
     ivec2 t0, t1;
-    tiles_touched(centres, t0, t1);
+    tiles_touched(sampled, t0, t1);
     ivec2 n = t1 - t0 + 1;
     if (any(lessThanEqual(n, ivec2(0))) || n.x * n.y > MAX_TESTED_TILES) {
         return false;
@@ -232,11 +233,11 @@ bool needed(uint index, bool reaches, vec4 rect) {
     if (!CULL_PIXEL_CENTRES && !CULL_OCCLUSION) {
         return true;
     }
-    vec4 centres = pixels_sampled(rect);
-    if (CULL_PIXEL_CENTRES && any(greaterThan(centres.xy, centres.zw))) {
+    vec4 sampled = pixels_sampled(rect);
+    if (CULL_PIXEL_CENTRES && any(greaterThan(sampled.xy, sampled.zw))) {
         return false;
     }
-    return !(CULL_OCCLUSION && occluded(index, centres));
+    return !(CULL_OCCLUSION && occluded(index, sampled));
 }
 
 // The rectangle of `needed` from a set-up instance: around the ellipse its footprint polygon

@@ -13,10 +13,12 @@ use crate::gpu_layout::{IndirectDraw, PushConstants};
 pub struct Culling {
     /// Drop instances whose silhouette lies off screen or before the near plane.
     pub frustum: bool,
-    /// Drop instances whose silhouette's bounding rectangle holds no pixel centre.
+    /// Drop instances whose silhouette's bounding rectangle holds no pixel centre (on
+    /// multisampled targets: no sample).
     pub pixel_centres: bool,
-    /// Drop instances whose every pixel centre is covered by an ellipsoid lying wholly nearer
-    /// (each ellipsoid vouches for the pixels of its inscribed sphere).
+    /// Drop instances whose every pixel centre (multisampled: every sample) is covered by an
+    /// ellipsoid lying wholly nearer (each ellipsoid vouches for the pixels of its inscribed
+    /// sphere).
     pub occlusion: bool,
 }
 

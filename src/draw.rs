@@ -21,7 +21,8 @@ pub enum Footprint {
     /// Chosen per draw from the glyphs' mean projected area (the shipped default): the
     /// oriented rectangle for small glyphs (or, opted into, the triangle), where vertex work
     /// dominates; the hexagon and then the octagon as glyphs grow and fragments dominate. See
-    /// [`Footprint::for_area`].
+    /// [`Footprint::for_area`]. Multisampled targets take the fewest primitives instead
+    /// ([`Footprint::for_area_multisampled`]).
     #[default]
     Auto,
     /// A triangle around the projected ellipse (area ratio 1.65; 3 vertices, one primitive).
@@ -69,9 +70,12 @@ impl Footprint {
     /// The footprint `Auto` resolves to on multisampled targets. There lavapipe finds each
     /// primitive's coverage at every sample of every 4 x 4 block it touches, which costs more
     /// than the fragments a tighter polygon saves: the triangle below
-    /// [`Footprint::TRIANGLE_AREA`], the oriented rectangle above. Measured with 4x MSAA
-    /// (`examples/embed --bench`, 2026-11-25): glyphs of 559 px^2, rectangle 196.7 ms against
-    /// hexagon 234.0; of 29 px^2, triangle 173.4 ms against rectangle 209.1.
+    /// [`Footprint::TRIANGLE_AREA`], the oriented rectangle above. Measured with 4x MSAA in
+    /// `examples/embed --bench` with the footprint forced in a patched build (2026-11-25,
+    /// variants interleaved): glyphs of 559 px^2, rectangle 196.7 ms against hexagon 234.0;
+    /// of 29 px^2, triangle 173.4 ms against rectangle 209.1. The 250 px^2 crossover is the
+    /// single-sample one, not measured with multisampling; nor are glyphs beyond 1,200 px^2,
+    /// where the octagon might pay again.
     pub fn for_area_multisampled(mean_area_px: f64) -> Footprint {
         if mean_area_px >= Self::TRIANGLE_AREA {
             Footprint::OrientedRect

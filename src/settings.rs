@@ -52,7 +52,8 @@ pub struct Settings {
     pub cap_free_path: bool,
     /// Draw glyphs of a few pixels as one triangle instead of the oriented rectangle on
     /// single-sample targets. Off by default: fewer vertices and primitives, but 1.65 shaded
-    /// fragments per covered pixel instead of 1.27. Multisampled targets always do
+    /// fragments per covered pixel instead of 1.27. On multisampled targets `Auto` takes the
+    /// triangle below the same size whatever this says
     /// ([`crate::draw::Footprint::for_area_multisampled`]).
     pub small_glyph_triangles: bool,
     /// How `upload` stores instances: full float32 (default) or the compact 32-byte records,
@@ -86,11 +87,12 @@ pub struct Settings {
     /// On multisampled targets, run the fragment stage at every sample (sample-rate
     /// shading): each sample gets its own hit and depth, so host meshes intersect the glyphs
     /// exactly per sample, at about the sample count times the cost of one sample. Off by
-    /// default: the fragment stage runs once per pixel, tests every sample position against
-    /// the glyph's silhouette (and near-plane cap) with the exact hit and writes those it
-    /// covers in `gl_SampleMask`, and writes one depth per pixel, the nearest of the covered
-    /// samples' (a glyph in front of host geometry at every sample it covers shows at all of
-    /// them); it shades at the first covered sample. Silhouettes are exact per sample;
+    /// default: the fragment stage runs once per pixel, decides exactly which sample
+    /// positions the glyph covers (by the silhouette's quadratic form, or the full hit where
+    /// a cap or far plane may cut the glyph) and writes them in `gl_SampleMask`, and writes
+    /// one depth per pixel, the nearest of the covered samples' (a glyph in front of host
+    /// geometry at every sample it covers shows at all of them); it shades at that sample.
+    /// Silhouettes are exact per sample;
     /// where a glyph and a host mesh cross, a pixel's samples may fall on the wrong side.
     /// Devices without the standard sample locations, and sample counts other than 2 and 4,
     /// always shade per sample.

@@ -222,7 +222,7 @@ fn run() -> Result<bool> {
 /// 64,000-glyph tensor field scaled into the same view -- with 1 sample per pixel, and with 4
 /// shaded once per pixel (the default) and once per sample (validation off): the three
 /// interleaved frame by frame, 3 warm-up frames each, then the median submit-to-fence time of
-/// 21 frames each.
+/// 31 frames each.
 fn run_bench() -> Result<bool> {
     let mut host = Host::new(false)?;
     let field = ellipsoid_splat_loaders::tensor_field(40);
@@ -273,7 +273,7 @@ fn run_bench() -> Result<bool> {
             let renderer = renderer_for(&mut host, &target, vk::PipelineCache::null(), settings)?;
             setups.push((target, mesh, renderer, Vec::new()));
         }
-        for frame in 0..24u32 {
+        for frame in 0..34u32 {
             for (target, mesh, renderer, times) in &mut setups {
                 let change = match frame {
                     0 => Change::Upload(scene),

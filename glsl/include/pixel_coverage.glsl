@@ -4,15 +4,16 @@
 //
 // Depth: the nearest covered sample's. Wherever the glyph lies in front of host geometry at
 // every sample it covers, it then shows at all of them, so silhouettes stay exact against
-// meshes behind. The pixel is shaded at that sample (the standard positions lie 0.4 px from
-// the centre).
+// meshes behind. The pixel is shaded at that sample (the standard positions lie 0.35 px (2
+// samples) and 0.4 px (4) from the centre).
 //
 // lavapipe runs both sides of a divergent branch, so the two ways are chosen at compile time:
 // - in perspective, with nothing in front of the near plane and no far plane, the silhouette
 //   alone decides each sample (a quadratic form per sample, no division), and the hit is
 //   computed once, at the nearest covered sample;
-// - otherwise each sample runs the full hit (caps, eye inside and both planes included).
-const bool SILHOUETTE_DECIDES = !ORTHOGRAPHIC && NO_CAPS && !FAR_PLANE;
+// - otherwise each sample runs the full hit (caps, eye inside and both planes included; the
+//   benchmark's textbook hit too, whose frame differs).
+const bool SILHOUETTE_DECIDES = !ORTHOGRAPHIC && !TEXTBOOK && NO_CAPS && !FAR_PLANE;
 
 // Sample `s` of COVERAGE_SAMPLES in the Vulkan standard locations, from the pixel's top-left
 // corner (2 and 4 samples; the plan shades per sample for other counts).
@@ -63,7 +64,9 @@ int silhouette_coverage(out float nearest, out vec3 n) {
     float alpha = best_root / best_den;
     float r = v_k.w, r2 = v_misc.z, scale = v_misc.w;
     vec3 p = vec3(r * q, -(u + alpha)) / (1.0 + u * alpha);
-    nearest = clamp(depth_value(r2 * scale / most), 0.0, 1.0);
+    // Selects, not a branch (see the top of this file); an empty mask writes nothing anyway.
+    nearest = mask != 0 ? clamp(depth_value(r2 * scale / most), 0.0, 1.0)
+                        : (REVERSED_Z ? 0.0 : 1.0);
     n = mask != 0 ? impostor_world_normal(p, false) : vec3(0.0);
     return mask;
 }

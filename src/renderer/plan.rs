@@ -240,8 +240,8 @@ impl FramePlan {
             compact: scene.format == InstanceFormat::Compact,
             orthographic,
             reversed_z: camera.depth.reversed,
-            // Pixel-rate shading needs the sample positions in the shader: the standard ones,
-            // written out there for 2 and 4 samples.
+            // The standard locations of 2, 4 and 8 samples are odd multiples of 1 / (2 R);
+            // those of 16 include 0 and 1/2, on no such grid.
             sample_grid: match target.samples {
                 vk::SampleCountFlags::TYPE_1 => 1,
                 vk::SampleCountFlags::TYPE_2
@@ -253,6 +253,8 @@ impl FramePlan {
                 }
                 _ => 0,
             },
+            // Pixel-rate shading needs the sample positions in the shader: the standard ones,
+            // written out there for 2 and 4 samples.
             coverage_samples: match target.samples {
                 vk::SampleCountFlags::TYPE_2 | vk::SampleCountFlags::TYPE_4
                     if standard_sample_locations && !settings.per_sample_shading =>

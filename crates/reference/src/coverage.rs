@@ -135,6 +135,8 @@ pub fn coverage_from(
 pub struct CoverageStats {
     /// Pixels compared (not ambiguous).
     pub compared: usize,
+    /// Of those, pixels the reference covers at any sample.
+    pub covered: usize,
     /// Of those, pixels the reference covers partly (the antialiased ones).
     pub partly_covered: usize,
     /// Pixels whose lit samples differ from the reference's count by half a sample or more.
@@ -197,6 +199,7 @@ pub fn compare_coverage(resolved: &Frame, reference: &ReferenceCoverage) -> Resu
         stats.compared += 1;
         stats.wrong += (error >= 0.5) as usize;
         stats.max_error = stats.max_error.max(error);
+        stats.covered += (covered > 0) as usize;
         if covered > 0 && covered < reference.samples {
             stats.partly_covered += 1;
             sum += error;

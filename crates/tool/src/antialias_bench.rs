@@ -74,8 +74,9 @@ pub struct AntialiasTiming {
     /// fraction of a pixel.
     pub area_error: f64,
     /// The error at the variant's own samples over its strict bound, as `bench` charts every
-    /// method: the fraction of pixels whose light is off the reference's count of covered
-    /// samples by half a sample or more, over the coverage bound, floored at 1 (1: exact).
+    /// method's coverage: the fraction of the covered pixels whose light is off the
+    /// reference's count of covered samples by half a sample or more, over the coverage
+    /// bound, floored at 1 (1: exact). Coverage only: depth and normal are one sample's.
     pub sample_error_ratio: f64,
 }
 
@@ -127,7 +128,7 @@ fn pattern(variant: Variant) -> SamplePattern {
 
 /// Each variant's error against the area the glyphs cover and its error ratio at its own
 /// samples (see the module documentation and [`AntialiasTiming`]).
-fn errors(
+fn measure_errors(
     renderers: &mut [OffscreenRenderer],
     bench: &BenchScene,
     settings: &[Settings],
@@ -184,7 +185,8 @@ fn errors(
         // No upload back: the next scene's timed frames upload their own scene.
         renderer.set_settings(*settings);
         let own = compare_coverage(&frame, &coverage(pattern(variant))?)?;
-        let wrong = own.wrong as f64 / own.compared.max(1) as f64;
+        // As `bench` counts coverage mismatches: over the pixels the glyphs cover.
+        let wrong = own.wrong as f64 / own.covered.max(1) as f64;
         errors.push((
             compare_coverage(&frame, &area)?.mean_error / 16.0,
             (wrong / Bounds::STRICT.coverage_fraction).max(1.0),
@@ -247,7 +249,7 @@ pub fn run(
             }
         }
         let medians: Vec<f64> = times.iter_mut().map(|t| median(t)).collect();
-        let errors = errors(&mut renderers, bench, &settings)?;
+        let errors = measure_errors(&mut renderers, bench, &settings)?;
         for ((variant, wall_ms), (area_error, sample_error_ratio)) in
             VARIANTS.iter().zip(&medians).zip(errors)
         {

@@ -9,6 +9,7 @@ use ash::vk;
 use glam::{DQuat, DVec3};
 
 use ellipsoid_splat::camera::Camera;
+use ellipsoid_splat::draw::DrawConfig;
 use ellipsoid_splat::error::Result;
 use ellipsoid_splat::offscreen::OffscreenRenderer;
 use ellipsoid_splat::{Ellipsoid, Material, Outputs, Scene, Settings};
@@ -177,6 +178,8 @@ pub fn run_antialias_point(
     point: &AntialiasPoint,
     mode: AntialiasMode,
 ) -> Result<AntialiasResult> {
+    // The shipped draw, whatever a sweep point before it drew with (the textbook baseline).
+    renderer.set_draw_config(DrawConfig::default());
     renderer.set_settings(Settings {
         material: Material {
             ambient: 1.0,

@@ -649,7 +649,10 @@ pub fn write_report(
                 .filter(|a| a.variant.mode.is_some() && a.scene == headline_scene)
                 .map(|a| {
                     Series::new(
-                        format!("{} (antialiased)", a.variant.name()),
+                        format!(
+                            "{} (antialiased: coverage at its samples)",
+                            a.variant.name()
+                        ),
                         vec![(a.wall_ms, a.sample_error_ratio)],
                     )
                 }),

@@ -134,7 +134,7 @@ pub struct BenchArgs {
     /// antialias.csv and antialias_vs_error.png: its antialiased ways join its chart).
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
-    /// Fewer and smaller scenes: the whole run stays under 10 minutes on 2 cores.
+    /// Fewer and smaller scenes, for a run of minutes rather than hours on 2 cores.
     #[arg(long)]
     pub quick: bool,
     /// Timed frames per method and scene (median reported).
