@@ -10,7 +10,9 @@
 // lavapipe runs both sides of a divergent branch, so the two ways are chosen at compile time:
 // - in perspective, with nothing in front of the near plane and no far plane, the silhouette
 //   alone decides each sample (a quadratic form per sample, no division), and the hit is
-//   computed once, at the nearest covered sample;
+//   computed once, at the nearest covered sample (NO_CAPS keeps every glyph beyond the near
+//   plane by a margin far above float32 rounding, so the full hit's near-plane rejection
+//   could not apply);
 // - otherwise each sample runs the full hit (caps, eye inside and both planes included; the
 //   benchmark's textbook hit too, whose frame differs).
 const bool SILHOUETTE_DECIDES = !ORTHOGRAPHIC && !TEXTBOOK && NO_CAPS && !FAR_PLANE;
