@@ -89,7 +89,8 @@ pub struct Settings {
     /// exactly per sample, at about the sample count times the cost of one sample. Off by
     /// default: the fragment stage runs once per pixel, decides exactly which sample
     /// positions the glyph covers (by the silhouette's quadratic form, or the full hit where
-    /// a cap or far plane may cut the glyph) and writes them in `gl_SampleMask`, and writes
+    /// a cap or far plane may cut the glyph or the view is orthographic) and writes them in
+    /// `gl_SampleMask`, and writes
     /// one depth per pixel, the nearest of the covered samples' (a glyph in front of host
     /// geometry at every sample it covers shows at all of them); it shades at that sample.
     /// Silhouettes are exact per sample;

@@ -68,8 +68,8 @@ fn set_sampling(renderer: &mut OffscreenRenderer, sampling: Sampling) {
 
 /// Renders `scene` without culling and with each variant; asserts identical frames (resolved,
 /// when multisampled: colour and normal are the samples' means, depth and ID sample 0's, so
-/// the other samples are checked through the means) and returns the vertex shader invocations of each culled frame (in
-/// `VARIANTS` order) and of the plain one.
+/// the other samples are checked through the means) and returns the vertex shader
+/// invocations of each culled frame (in `VARIANTS` order) and of the plain one.
 fn assert_culling_exact(
     renderer: &mut OffscreenRenderer,
     scene: &Scene,

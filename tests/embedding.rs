@@ -494,8 +494,9 @@ fn multisampled_silhouettes_and_intersections_are_exact_per_sample() {
     assert!(messages.is_empty(), "validation: {messages:#?}");
 }
 
-/// Pixel-rate shading (the default): each sample's coverage is the exact hit at its position
-/// (written in `gl_SampleMask`), so silhouettes resolve to the exact fraction as with
+/// Pixel-rate shading (the default): each sample's coverage is decided exactly at its position
+/// (the silhouette's quadratic form, or the full hit where the far plane may cut; written in
+/// `gl_SampleMask`), so silhouettes resolve to the exact fraction as with
 /// sample-rate shading; the depth is one per pixel, so along the intersection with the mesh
 /// a pixel may put all its samples on one side. That error is measured: in samples per
 /// pixel near the curve, and never beyond the pixels the curve passes through.

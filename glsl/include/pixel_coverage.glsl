@@ -66,10 +66,12 @@ int silhouette_coverage(out float nearest, out vec3 n) {
     float alpha = best_root / best_den;
     float r = v_k.w, r2 = v_misc.z, scale = v_misc.w;
     vec3 p = vec3(r * q, -(u + alpha)) / (1.0 + u * alpha);
-    // Selects, not a branch (see the top of this file); an empty mask writes nothing anyway.
-    nearest = mask != 0 ? clamp(depth_value(r2 * scale / most), 0.0, 1.0)
-                        : (REVERSED_Z ? 0.0 : 1.0);
-    n = mask != 0 ? impostor_world_normal(p, false) : vec3(0.0);
+    // Both computed, then selected (see the top of this file): an empty mask writes nothing
+    // anyway, but its depth is the far one rather than a division by zero.
+    float z = clamp(depth_value(r2 * scale / most), 0.0, 1.0);
+    vec3 world = impostor_world_normal(p, false);
+    nearest = mask != 0 ? z : (REVERSED_Z ? 0.0 : 1.0);
+    n = mask != 0 ? world : vec3(0.0);
     return mask;
 }
 
