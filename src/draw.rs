@@ -73,9 +73,10 @@ impl Footprint {
     /// [`Footprint::TRIANGLE_AREA`], the oriented rectangle above. Measured with 4x MSAA in
     /// `examples/embed --bench` with the footprint forced in a patched build (2026-11-25,
     /// lavapipe on 2 CPU cores, variants interleaved): glyphs of 559 px^2, rectangle 196.7 ms
-    /// against hexagon 234.0; of 29 px^2, triangle 173.4 ms against rectangle 209.1. The 250 px^2 crossover is the
-    /// single-sample one, not measured with multisampling; nor are glyphs beyond 1,200 px^2,
-    /// where the octagon might pay again.
+    /// against hexagon 234.0; of 29 px^2, triangle 173.4 ms against rectangle 209.1. The
+    /// 250 px^2 crossover is the single-sample one; offscreen at 1920x1080 (same patch) the
+    /// triangle matched the rectangle at 80 px^2 and beat it at about 200 px^2. Glyphs beyond
+    /// 1,200 px^2, where the octagon might pay again, were not measured.
     pub fn for_area_multisampled(mean_area_px: f64) -> Footprint {
         if mean_area_px >= Self::TRIANGLE_AREA {
             Footprint::OrientedRect

@@ -37,8 +37,7 @@ pub(crate) struct PipelineKey {
     /// `COVERAGE_SAMPLES`: shaded once per pixel with this many samples tested (1: each
     /// sample shaded on its own, or a single-sample target).
     pub coverage_samples: u32,
-    /// `FAR_PLANE`: pixel-rate coverage tests every sample in full (only read, so only set,
-    /// with `coverage_samples` above 1).
+    /// `FAR_PLANE`: pixel-rate coverage tests every sample in full.
     pub far_plane: bool,
 }
 
@@ -77,7 +76,7 @@ impl PipelineKey {
             no_caps: plan.no_caps,
             compute_splat: false,
             coverage_samples: plan.coverage_samples,
-            far_plane: plan.far_plane && plan.coverage_samples > 1,
+            far_plane: plan.far_plane,
         }
     }
 

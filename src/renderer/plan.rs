@@ -91,8 +91,9 @@ pub struct FramePlan {
     /// targets and for sample-rate shading ([`Settings::per_sample_shading`], and devices
     /// without the standard sample locations or counts other than 2 and 4).
     pub coverage_samples: u32,
-    /// The camera has a finite far plane, which may cut a glyph inside a pixel: pixel-rate
-    /// coverage then tests every sample in full, never only the silhouette.
+    /// Shaded once per pixel (`coverage_samples` above 1) with a camera whose finite far
+    /// plane may cut a glyph inside a pixel: the coverage then tests every sample in full,
+    /// never only the silhouette.
     pub far_plane: bool,
     /// Index of the renderer's target drawn into.
     pub(crate) target: usize,
@@ -218,6 +219,16 @@ impl FramePlan {
         let prepass = scene.count > 0
             && (visibility_draw
                 || draws_through_prepass && (culling.any() || setup_once || compute_splat));
+        // Pixel-rate shading needs the sample positions in the shader: the standard ones,
+        // written out there for 2 and 4 samples.
+        let coverage_samples = match target.samples {
+            vk::SampleCountFlags::TYPE_2 | vk::SampleCountFlags::TYPE_4
+                if standard_sample_locations && !settings.per_sample_shading =>
+            {
+                target.samples.as_raw()
+            }
+            _ => 1,
+        };
         Ok(Self {
             compute_splat,
             splat_max_box_pixels: SPLAT_MAX_BOX_PIXELS,
@@ -253,17 +264,8 @@ impl FramePlan {
                 }
                 _ => 0,
             },
-            // Pixel-rate shading needs the sample positions in the shader: the standard ones,
-            // written out there for 2 and 4 samples.
-            coverage_samples: match target.samples {
-                vk::SampleCountFlags::TYPE_2 | vk::SampleCountFlags::TYPE_4
-                    if standard_sample_locations && !settings.per_sample_shading =>
-                {
-                    target.samples.as_raw()
-                }
-                _ => 1,
-            },
-            far_plane: camera.depth.far.is_some(),
+            coverage_samples,
+            far_plane: coverage_samples > 1 && camera.depth.far.is_some(),
             target: target_index,
             count_fragments,
         })

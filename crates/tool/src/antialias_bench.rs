@@ -134,9 +134,18 @@ fn measure_errors(
     settings: &[Settings],
 ) -> Result<Vec<(f64, f64)>> {
     let small = quarter(&bench.camera);
-    // The reference on each grid the variants' samples lie on, drawn once.
+    // The reference on each grid the variants' samples (and the area's 4 x 4) lie on, drawn
+    // once.
     let mut grids = Vec::new();
-    for k in [1, 2, 4] {
+    for pattern in VARIANTS
+        .map(pattern)
+        .into_iter()
+        .chain([SamplePattern::Grid(4)])
+    {
+        let k = pattern.grid();
+        if grids.iter().any(|(g, _)| *g == k) {
+            continue;
+        }
         let big = Camera {
             width: small.width * k,
             height: small.height * k,
