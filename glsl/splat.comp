@@ -22,8 +22,47 @@
 #include "visibility.glsl"
 #include "cull_groups.glsl"
 
+// The benchmark's counter (COUNT_RAY_CASTS): the second word takes the splat's ray casts.
+layout(std430, set = 0, binding = 1) buffer FragmentCounter {
+    uint shaded_fragments;
+    uint compute_ray_casts;
+};
+
+// The visible-pixel floor's lists (SPLAT_FLOOR_VISIBLE; `set_floor_pixels`): the scene's glyph
+// count N, per scene glyph its first entry (and N + 1 after the last), then the entries, each
+// a pixel `x | y << 16`.
+layout(std430, set = 0, binding = 9) readonly buffer FloorPixels {
+    uint floor_pixels[];
+};
+
 layout(local_size_x = 64) in;
 const uint GROUP = 64u;
+
+// The visible-pixel floor: glyph `k` is set up and ray casts the pixels it shows, each once,
+// keeping nothing (the depths feed a sum the compiler cannot drop).
+void visible_floor(uint k) {
+    Setup f = setup_instance(load_instance(k));
+    use_setup(f);
+    uint glyph = k + cam.first_instance;
+    uint entries = floor_pixels[0] + 2u;
+    uint first = floor_pixels[1u + glyph], last = floor_pixels[2u + glyph];
+    uint depth_sum = 0u, ray_casts = 0u;
+    for (uint e = first; e < last; e++) {
+        uint xy = floor_pixels[entries + e];
+        float z;
+        vec3 normal;
+        bool cap;
+        impostor_depth(vec2(float(xy & 0xffffu) + 0.5, float(xy >> 16) + 0.5), z, normal, cap);
+        depth_sum ^= floatBitsToUint(z) + xy;
+        ray_casts++;
+    }
+    if (COUNT_RAY_CASTS) {
+        atomicAdd(compute_ray_casts, ray_casts);
+    }
+    if (depth_sum == 0x5eed5eedu) {
+        visibility[0] = 1ul;
+    }
+}
 
 void main() {
     uint k = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * GROUP;
@@ -33,6 +72,10 @@ void main() {
         return;
     }
     uint id = k;
+    if (SPLAT_FLOOR == SPLAT_FLOOR_VISIBLE) {
+        visible_floor(k);
+        return;
+    }
     if (SPLAT_FLOOR == SPLAT_FLOOR_MEMORY) {
         // Every instance read once, nothing computed (the store never happens: radii > 0).
         Instance inst = load_instance(id);
@@ -81,6 +124,7 @@ void main() {
     uint scene_id = id + cam.first_instance;
     bool any_hit = false;
     uint depth_sum = 0u;
+    uint ray_casts = 0u;
     // Each row walks only the pixel centres of the silhouette ellipse's chord through the
     // row's centre (the ellipse holds the exact silhouette with a margin, as the draw's
     // footprint does): |A^-1 d| <= 1 for d the offset from the centre, A = (axis1 axis2) in
@@ -103,6 +147,7 @@ void main() {
             float z;
             vec3 normal;
             bool cap;
+            ray_casts++;
             if (!impostor_depth(vec2(float(x) + 0.5, float(y) + 0.5), z, normal, cap)) {
                 continue;
             }
@@ -119,6 +164,9 @@ void main() {
                 atomicMin(visibility[at], key);
             }
         }
+    }
+    if (COUNT_RAY_CASTS) {
+        atomicAdd(compute_ray_casts, ray_casts);
     }
     if (SPLAT_FLOOR == SPLAT_FLOOR_ARITHMETIC && depth_sum == 0x5eed5eedu) {
         visibility[0] = 1ul;

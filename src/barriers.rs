@@ -187,7 +187,7 @@ pub const VISIBILITY_DRAW_TO_RESOLVE: Barrier = Barrier {
 };
 
 /// Every barrier above that a host's frames may record (the two `research` ones are in
-/// [`RESEARCH`]).
+/// `RESEARCH`, with that feature).
 pub const ALL: [Barrier; 7] = [
     INSTANCES_BEFORE_COPY,
     INSTANCES_AFTER_COPY,

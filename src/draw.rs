@@ -194,6 +194,10 @@ pub enum Method {
     /// The roofline's arithmetic floor: the compute splat's ray casts of every pixel centre
     /// without its atomics (frames that would splat; nothing is drawn).
     FloorArithmetic,
+    /// The visible-pixel floor: every instance read and set up once, and only the pixels each
+    /// glyph shows ray cast, each once (given by the reference's IDs; frames that would
+    /// splat; nothing is drawn or kept).
+    FloorVisible,
     /// Oriented bounding box, ray-cast inside.
     BoxProxy,
     /// Instanced icosphere of the given level.
@@ -205,7 +209,7 @@ pub enum Method {
 #[cfg(feature = "research")]
 impl Method {
     /// Every method, in the order of the tables.
-    pub const ALL: [Method; 22] = [
+    pub const ALL: [Method; 23] = [
         Method::Impostor,
         Method::ImpostorOrientedRect,
         Method::ImpostorWorldQuad,
@@ -221,6 +225,7 @@ impl Method {
         Method::ImpostorVisbuffer,
         Method::FloorMemory,
         Method::FloorArithmetic,
+        Method::FloorVisible,
         Method::BoxProxy,
         Method::Mesh(0),
         Method::Mesh(1),
@@ -235,6 +240,7 @@ impl Method {
         match self {
             Method::FloorMemory => 1,
             Method::FloorArithmetic => 2,
+            Method::FloorVisible => 3,
             _ => 0,
         }
     }
@@ -257,6 +263,7 @@ impl Method {
             Method::ImpostorVisbuffer => "impostor-visbuffer".into(),
             Method::FloorMemory => "floor-memory".into(),
             Method::FloorArithmetic => "floor-arithmetic".into(),
+            Method::FloorVisible => "floor-visible".into(),
             Method::BoxProxy => "box-proxy".into(),
             Method::Mesh(level) => format!("mesh-L{level}"),
             Method::FlatFill => "flat-fill".into(),
@@ -272,13 +279,14 @@ impl Method {
                 instance_format: crate::instances::InstanceFormat::Compact,
                 ..shipped
             },
-            Method::ImpostorCompute | Method::FloorMemory | Method::FloorArithmetic => {
-                crate::Settings {
-                    compute_splat: true,
-                    compute_splat_min_glyphs: 0,
-                    ..shipped
-                }
-            }
+            Method::ImpostorCompute
+            | Method::FloorMemory
+            | Method::FloorArithmetic
+            | Method::FloorVisible => crate::Settings {
+                compute_splat: true,
+                compute_splat_min_glyphs: 0,
+                ..shipped
+            },
             Method::ImpostorDraw => crate::Settings {
                 compute_splat: false,
                 ..shipped
@@ -296,7 +304,8 @@ impl Method {
             | Method::ImpostorCompute
             | Method::ImpostorDraw
             | Method::FloorMemory
-            | Method::FloorArithmetic => base,
+            | Method::FloorArithmetic
+            | Method::FloorVisible => base,
             Method::ImpostorWorldQuad => DrawConfig {
                 footprint: Footprint::WorldQuad,
                 ..base

@@ -230,6 +230,9 @@ pub struct SpecConstants {
     /// `FAR_PLANE` (21): the camera has a finite far plane (pixel-rate coverage tests every
     /// sample in full).
     pub far_plane: vk::Bool32,
+    /// `COUNT_RAY_CASTS` (22): the compute splat counts its ray casts (the benchmark's
+    /// counting frames).
+    pub count_ray_casts: vk::Bool32,
 }
 
 impl Default for SpecConstants {
@@ -256,13 +259,14 @@ impl Default for SpecConstants {
             coverage_samples: 1,
             sample_grid: 1,
             far_plane: 0,
+            count_ray_casts: 0,
         }
     }
 }
 
 impl SpecConstants {
     /// `(constant_id, byte offset)` of every field.
-    pub const IDS: [(u32, usize); 20] = [
+    pub const IDS: [(u32, usize); 21] = [
         (0, offset_of!(SpecConstants, orthographic)),
         (2, offset_of!(SpecConstants, textbook)),
         (3, offset_of!(SpecConstants, bounds)),
@@ -283,11 +287,12 @@ impl SpecConstants {
         (19, offset_of!(SpecConstants, coverage_samples)),
         (20, offset_of!(SpecConstants, sample_grid)),
         (21, offset_of!(SpecConstants, far_plane)),
+        (22, offset_of!(SpecConstants, count_ray_casts)),
     ];
 
     /// The map entries of [`SpecConstants::IDS`], for a `VkSpecializationInfo` over
     /// `bytemuck::bytes_of(self)`.
-    pub fn map_entries() -> [vk::SpecializationMapEntry; 20] {
+    pub fn map_entries() -> [vk::SpecializationMapEntry; 21] {
         Self::IDS.map(|(constant_id, offset)| vk::SpecializationMapEntry {
             constant_id,
             offset: offset as u32,
@@ -321,5 +326,5 @@ const _: () = {
     assert!(offset_of!(ShadingRecord, ray_c) == 48);
     assert!(offset_of!(ShadingRecord, depth_gradient) == 64);
     assert!(offset_of!(ShadingRecord, to_normal_x) == 80);
-    assert!(size_of::<SpecConstants>() == 80);
+    assert!(size_of::<SpecConstants>() == 84);
 };

@@ -112,6 +112,8 @@ pub(crate) struct SplatKey {
     pub floor: u32,
     /// `SPLAT_MAX_BOX_PIXELS`.
     pub max_box_pixels: u32,
+    /// `COUNT_RAY_CASTS`: the benchmark's counting frames.
+    pub count_ray_casts: bool,
 }
 
 impl SplatKey {
@@ -125,6 +127,7 @@ impl SplatKey {
             compact: plan.compact,
             floor: 0,
             max_box_pixels: plan.splat_max_box_pixels,
+            count_ray_casts: plan.count_fragments,
         }
     }
 
@@ -137,6 +140,7 @@ impl SplatKey {
             compact: self.compact as u32,
             splat_floor: self.floor,
             splat_max_box_pixels: self.max_box_pixels,
+            count_ray_casts: self.count_ray_casts as u32,
             ..SpecConstants::default()
         }
     }

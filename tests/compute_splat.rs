@@ -504,3 +504,78 @@ fn visibility_buffer_draw_matches_the_draw_bit_for_bit() {
     }
     finish_validated(renderer);
 }
+
+/// The benchmark's ray-cast counts (`research`): the visible-pixel floor ray casts exactly
+/// the pixels the float64 reference shows a glyph at, each once; the splat ray casts every
+/// covered pixel centre of every glyph (hidden layers included) at least once, and its
+/// resolve one more per pixel it shades; the draw one per fragment it shades.
+#[cfg(feature = "research")]
+#[test]
+fn ray_casts_are_counted_against_the_reference() {
+    use ellipsoid_splat::draw::Method;
+    use ellipsoid_splat_reference::reference::render_reference;
+
+    // Glyphs of a few to tens of pixels, several layers deep.
+    let camera = Camera::look_at(
+        DVec3::new(3.0, -2.0, 24.0),
+        DVec3::ZERO,
+        45.0,
+        1.0,
+        240,
+        180,
+    )
+    .unwrap();
+    let scene = random_cloud(6_000, 23, 10.0, 0.3);
+    let reference = render_reference(&scene, &camera).unwrap();
+    let visible = reference.id.iter().filter(|&&id| id != NO_INSTANCE).count() as u64;
+    let centres = reference.silhouette_pixels();
+    assert!(
+        2 * centres > 3 * visible,
+        "{centres} covered centres, {visible} visible pixels"
+    );
+    let mut renderer = validated_renderer();
+    renderer.set_count_fragments(true);
+    let mut counts = |method: Method| {
+        renderer.set_settings(method.settings());
+        renderer.set_draw_config(method.config());
+        renderer.set_splat_floor(method.splat_floor());
+        renderer.upload(&scene).expect("upload");
+        if method == Method::FloorVisible {
+            renderer
+                .set_floor_pixels(&reference.id, reference.width)
+                .expect("floor pixels");
+        }
+        let timing = renderer.render_uploaded(&camera, Outputs::ALL).unwrap().1;
+        (
+            timing.compute_ray_casts.expect("counted"),
+            timing.shaded_fragments.expect("counted"),
+        )
+    };
+    assert_eq!(counts(Method::FloorVisible), (visible, 0));
+    let (walked, resolved) = counts(Method::ImpostorCompute);
+    assert!(
+        walked >= centres,
+        "{walked} ray casts for {centres} covered centres"
+    );
+    assert!(
+        walked < centres * 2,
+        "{walked} ray casts for {centres} covered centres"
+    );
+    assert_eq!(
+        resolved, visible,
+        "the resolve shades each visible pixel once"
+    );
+    let (arithmetic, none) = counts(Method::FloorArithmetic);
+    assert_eq!(
+        (arithmetic, none),
+        (walked, 0),
+        "the floor walks what the splat walks"
+    );
+    let (compute, fragments) = counts(Method::ImpostorDraw);
+    assert_eq!(compute, 0);
+    assert!(
+        fragments >= centres,
+        "{fragments} fragments for {centres} covered centres"
+    );
+    finish_validated(renderer);
+}

@@ -51,7 +51,8 @@ fn every_method_renders_what_it_promises() {
             | Method::ImpostorVisbuffer
             // The floors replace only frames that splat, which glyphs this large never do.
             | Method::FloorMemory
-            | Method::FloorArithmetic => {
+            | Method::FloorArithmetic
+            | Method::FloorVisible => {
                 assert_eq!(
                     stats.check(&Bounds::STRICT),
                     Ok(()),

@@ -104,10 +104,12 @@ layout(constant_id = 14) const bool NO_CAPS = false;       // nothing reaches th
 layout(constant_id = 15) const bool COMPACT = false;       // instances are CompactInstance
 layout(constant_id = 16) const bool REVERSED_Z = true;     // larger depth is nearer
 // The benchmark's floors of the compute splat: 1 reads every instance and nothing else, 2 ray
-// casts every pixel centre but keeps no hit.
+// casts every pixel centre but keeps no hit, 3 ray casts only the pixels each glyph shows
+// (given by the host), each once, and keeps no hit.
 const int SPLAT_FLOOR_NONE = 0;
 const int SPLAT_FLOOR_MEMORY = 1;
 const int SPLAT_FLOOR_ARITHMETIC = 2;
+const int SPLAT_FLOOR_VISIBLE = 3;
 layout(constant_id = 17) const int SPLAT_FLOOR = SPLAT_FLOOR_NONE;
 // The most pixel centres a glyph's box may hold for the compute splat to walk it (one
 // invocation walks each glyph, so a larger one would hold up its workgroup); larger glyphs
@@ -124,6 +126,9 @@ layout(constant_id = 20) const int SAMPLE_GRID = 1;
 // The camera has a finite far plane, which may cut a glyph inside a pixel: pixel-rate
 // coverage tests every sample in full.
 layout(constant_id = 21) const bool FAR_PLANE = false;
+// The benchmark's counting frames: the compute splat adds its ray casts to the second word of
+// the fragment counter (binding 1).
+layout(constant_id = 22) const bool COUNT_RAY_CASTS = false;
 
 #if defined(CULL_PASS) || defined(SPLAT_PASS)
 // The culled draw's `VkDrawIndirectCommand` followed by the number of instances in the chunk

@@ -61,6 +61,9 @@ pub struct FrameTiming {
     /// `research` feature and `set_count_fragments(true)`, on devices with
     /// `fragmentStoresAndAtomics`).
     pub shaded_fragments: Option<u64>,
+    /// Ray casts the compute splat's passes made (counted alongside `shaded_fragments`; each
+    /// shaded fragment of a ray-casting shader is one ray cast too).
+    pub compute_ray_casts: Option<u64>,
     /// Copying the readback into a [`Frame`].
     pub readback: Duration,
 }
@@ -196,6 +199,19 @@ impl OffscreenRenderer {
         self.renderer_mut().set_splat_floor(floor);
     }
 
+    /// Gives the visible-pixel floor the pixels each glyph shows (see
+    /// [`EllipsoidRenderer::set_floor_pixels`]).
+    #[cfg(feature = "research")]
+    pub fn set_floor_pixels(&mut self, ids: &[u32], width: u32) -> Result<()> {
+        let (device, allocator) = self.context.device_and_allocator();
+        let renderer = self
+            .renderer
+            .as_mut()
+            .expect("renderer exists after construction");
+        // SAFETY: the renderer was made on this context's device and allocator.
+        unsafe { renderer.set_floor_pixels(device, allocator, ids, width) }
+    }
+
     /// With `true`, read-back frames run the counting shader builds and report
     /// `FrameTiming::shaded_fragments` (needs `fragmentStoresAndAtomics`).
     #[cfg(feature = "research")]
@@ -327,17 +343,22 @@ impl OffscreenRenderer {
             None => QueryResults::default(),
         };
         #[cfg(feature = "research")]
-        let shaded_fragments = if counting {
-            self.renderer().fragment_count().map(u64::from)
+        let (shaded_fragments, compute_ray_casts) = if counting {
+            let renderer = self.renderer();
+            (
+                renderer.fragment_count().map(u64::from),
+                renderer.compute_ray_count().map(u64::from),
+            )
         } else {
-            None
+            (None, None)
         };
         #[cfg(not(feature = "research"))]
-        let shaded_fragments = None;
+        let (shaded_fragments, compute_ray_casts) = (None, None);
         Ok(FrameTiming {
             gpu_wall,
             gpu,
             shaded_fragments,
+            compute_ray_casts,
             readback: Duration::ZERO,
         })
     }

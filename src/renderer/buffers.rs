@@ -15,7 +15,7 @@ use crate::gpu::GpuBuffer;
 pub(crate) enum Binding {
     /// The instance records.
     Instances = 0,
-    /// The benchmark's count of shaded pixels.
+    /// The benchmark's counts of shaded pixels and of the compute splat's ray casts.
     FragmentCounter = 1,
     /// Instance indices kept by the pre-pass.
     Visible = 2,
@@ -31,11 +31,13 @@ pub(crate) enum Binding {
     FootprintRecords = 7,
     /// The compute splat's nearest hit per pixel.
     Visibility = 8,
+    /// The benchmark's visible-pixel floor: per glyph, the pixels it shows.
+    FloorPixels = 9,
 }
 
 impl Binding {
     /// Every binding, in binding order.
-    pub const ALL: [Binding; 9] = [
+    pub const ALL: [Binding; 10] = [
         Binding::Instances,
         Binding::FragmentCounter,
         Binding::Visible,
@@ -45,6 +47,7 @@ impl Binding {
         Binding::ShadingRecords,
         Binding::FootprintRecords,
         Binding::Visibility,
+        Binding::FloorPixels,
     ];
 
     /// The shader stages that read or write the binding.
@@ -54,10 +57,14 @@ impl Binding {
             // The compute splat's resolve reads the instances in the fragment stage.
             Binding::Instances => vertex_and_compute | vk::ShaderStageFlags::FRAGMENT,
             Binding::Visible | Binding::FootprintRecords => vertex_and_compute,
-            Binding::FragmentCounter => vk::ShaderStageFlags::FRAGMENT,
-            Binding::IndirectDraw | Binding::CullGroups | Binding::OcclusionTiles => {
-                vk::ShaderStageFlags::COMPUTE
+            // Fragments count shaded pixels, the compute splat its ray casts.
+            Binding::FragmentCounter => {
+                vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE
             }
+            Binding::IndirectDraw
+            | Binding::CullGroups
+            | Binding::OcclusionTiles
+            | Binding::FloorPixels => vk::ShaderStageFlags::COMPUTE,
             Binding::ShadingRecords => {
                 vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT
             }
@@ -70,7 +77,7 @@ impl Binding {
     fn name(self) -> &'static str {
         match self {
             Binding::Instances => "ellipsoid instances",
-            Binding::FragmentCounter => "fragment counter",
+            Binding::FragmentCounter => "fragment and ray-cast counters",
             Binding::Visible => "visible instances",
             Binding::IndirectDraw => "culled draw",
             Binding::CullGroups => "culling groups",
@@ -78,6 +85,7 @@ impl Binding {
             Binding::ShadingRecords => "shading set-up",
             Binding::FootprintRecords => "footprint set-up",
             Binding::Visibility => "visibility buffer",
+            Binding::FloorPixels => "visible-pixel floor",
         }
     }
 
@@ -97,10 +105,12 @@ impl Binding {
         vk::BufferUsageFlags::STORAGE_BUFFER | extra
     }
 
-    /// Where the buffer lives: the counter is read by the host, the rest only by the GPU.
+    /// Where the buffer lives: the counter is read by the host and the floor's pixel lists
+    /// written by it; the rest only the GPU touches.
     fn location(self) -> MemoryLocation {
         match self {
             Binding::FragmentCounter => MemoryLocation::GpuToCpu,
+            Binding::FloorPixels => MemoryLocation::CpuToGpu,
             _ => MemoryLocation::GpuOnly,
         }
     }
@@ -109,7 +119,7 @@ impl Binding {
 /// One buffer per [`Binding`], each made on first need and grown on demand.
 #[derive(Default)]
 pub(crate) struct SceneBuffers {
-    buffers: [Option<GpuBuffer>; 9],
+    buffers: [Option<GpuBuffer>; 10],
     /// A buffer was replaced since the descriptor sets were written.
     pub replaced: bool,
 }
@@ -172,6 +182,31 @@ impl SceneBuffers {
         )?);
         self.replaced = true;
         Ok(())
+    }
+
+    /// Replaces `binding`'s buffer by a new one of `bytes` (the old one retired into `slots`
+    /// until no recorded frame can use it), for a host-visible buffer rewritten whole.
+    #[cfg(feature = "research")]
+    pub fn replace(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        slots: &mut FrameSlots<Retired>,
+        binding: Binding,
+        bytes: u64,
+    ) -> Result<&mut GpuBuffer> {
+        if let Some(old) = self.buffers[binding as usize].take() {
+            slots.retire(Retired::Buffer(old));
+        }
+        self.replaced = true;
+        Ok(self.buffers[binding as usize].insert(GpuBuffer::new(
+            device,
+            allocator,
+            binding.name(),
+            bytes,
+            binding.usage(),
+            binding.location(),
+        )?))
     }
 
     /// Bytes of GPU memory all buffers take.

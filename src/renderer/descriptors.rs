@@ -86,7 +86,10 @@ pub(crate) fn create_chunk_sets(
         };
         let ranges = Binding::ALL.map(|binding| match binding {
             Binding::Instances => slice(instance_stride),
-            Binding::FragmentCounter | Binding::OcclusionTiles | Binding::Visibility => whole,
+            Binding::FragmentCounter
+            | Binding::OcclusionTiles
+            | Binding::Visibility
+            | Binding::FloorPixels => whole,
             Binding::Visible => slice(4),
             Binding::IndirectDraw => (k as u64 * SLICE_ALIGN, size_of::<IndirectDraw>() as u64),
             Binding::CullGroups => (k as u64 * groups, culling::groups_bytes(count as u32)),

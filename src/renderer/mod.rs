@@ -327,7 +327,8 @@ impl EllipsoidRenderer {
             1
         };
         let sizes = [
-            (Binding::FragmentCounter, 4),
+            (Binding::FragmentCounter, 8),
+            (Binding::FloorPixels, 8),
             (Binding::Visible, 4 * count.max(1) as u64),
             (
                 Binding::IndirectDraw,

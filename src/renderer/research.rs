@@ -31,7 +31,34 @@ impl EllipsoidRenderer {
     /// every instance and nothing else, 2 ray casts every pixel centre without the atomics
     /// (and neither resolves); 0 is the splat itself. Frames that do not splat are unchanged.
     pub fn set_splat_floor(&mut self, floor: u32) {
-        self.splat_floor = floor.min(2);
+        self.splat_floor = floor.min(3);
+    }
+
+    /// Gives the visible-pixel floor (`set_splat_floor(3)`) the pixels each glyph shows:
+    /// `ids` holds, row-major in rows of `width`, the scene index of the glyph each pixel
+    /// shows (`u32::MAX` or any index beyond the scene: none), e.g. the float64 reference's.
+    /// The floor's pass then reads every instance once and ray casts exactly these pixels,
+    /// each once, keeping nothing. Writes a new host-visible buffer of 4 bytes per glyph and
+    /// per visible pixel (the old one is retired).
+    ///
+    /// # Safety
+    /// `device` is the renderer's device and `allocator` allocates from it.
+    pub unsafe fn set_floor_pixels(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut Allocator,
+        ids: &[u32],
+        width: u32,
+    ) -> Result<()> {
+        let lists = floor_pixel_lists(self.scene.count, ids, width)?;
+        let buffer = self.buffers.replace(
+            device,
+            allocator,
+            &mut self.slots,
+            Binding::FloorPixels,
+            4 * lists.len().max(2) as u64,
+        )?;
+        buffer.write(bytemuck::cast_slice(&lists))
     }
 
     /// Counts shaded pixels with an atomic in separate builds of the fragment shaders (needs
@@ -41,10 +68,10 @@ impl EllipsoidRenderer {
         self.count_fragments = on;
     }
 
-    /// Zeroes the fragment counter; call before submitting a counting frame.
+    /// Zeroes the fragment and ray-cast counters; call before submitting a counting frame.
     pub fn reset_fragment_counter(&mut self) -> Result<()> {
         match self.buffers.get_mut(Binding::FragmentCounter) {
-            Some(c) => c.write(&0u32.to_ne_bytes()),
+            Some(c) => c.write(&[0; 8]),
             None => Ok(()),
         }
     }
@@ -56,6 +83,13 @@ impl EllipsoidRenderer {
         Some(u32::from_ne_bytes(bytes.get(..4)?.try_into().ok()?))
     }
 
+    /// Ray casts the compute splat's passes made in the last counting frame (each evaluation
+    /// of the exact hit at a pixel centre; the fragment stages' own are their shaded pixels).
+    pub fn compute_ray_count(&self) -> Option<u32> {
+        let bytes = self.buffers.get(Binding::FragmentCounter)?.mapped()?;
+        Some(u32::from_ne_bytes(bytes.get(4..8)?.try_into().ok()?))
+    }
+
     /// Makes the counter's atomic writes visible to the host; record after the pass.
     ///
     /// # Safety
@@ -64,6 +98,37 @@ impl EllipsoidRenderer {
         // SAFETY: caller contract.
         unsafe { barriers::COUNTER_TO_HOST.record(device, cmd) };
     }
+}
+
+/// The visible-pixel floor's lists (GLSL `floor_pixels` in `splat.comp`): `count`, then
+/// `count + 1` offsets, then per glyph its pixels as `x | y << 16`, in scene order.
+fn floor_pixel_lists(count: u32, ids: &[u32], width: u32) -> Result<Vec<u32>> {
+    if width == 0 || width > 1 << 16 || ids.len() % width as usize != 0 {
+        return Err(Error::invalid(
+            "floor pixels",
+            format!("{} ids are no whole rows of {width} pixels", ids.len()),
+        ));
+    }
+    let n = count as usize;
+    let mut offsets = vec![0u32; n + 1];
+    for &id in ids {
+        if (id as usize) < n {
+            offsets[id as usize + 1] += 1;
+        }
+    }
+    for k in 0..n {
+        offsets[k + 1] += offsets[k];
+    }
+    let mut pixels = vec![0u32; offsets[n] as usize];
+    let mut next: Vec<u32> = offsets[..n].to_vec();
+    for (at, &id) in ids.iter().enumerate() {
+        if (id as usize) < n {
+            let (x, y) = (at as u32 % width, at as u32 / width);
+            pixels[next[id as usize] as usize] = x | y << 16;
+            next[id as usize] += 1;
+        }
+    }
+    Ok([&[count][..], &offsets, &pixels].concat())
 }
 
 /// One icosphere level on the GPU.
@@ -181,5 +246,28 @@ impl Meshes {
                 mesh.indices.destroy(device, allocator);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn floor_lists_group_each_glyphs_pixels_in_order() {
+        // 3 x 2 pixels: glyph 1 shows at (0,0) and (2,1), glyph 0 at (1,0); the rest nothing
+        // or a glyph beyond the scene.
+        let none = u32::MAX;
+        let ids = [1, 0, none, 7, none, 1];
+        let lists = floor_pixel_lists(3, &ids, 3).unwrap();
+        assert_eq!(lists[0], 3);
+        assert_eq!(
+            &lists[1..5],
+            &[0, 1, 3, 3],
+            "offsets: glyph 0 one pixel, 1 two, 2 none"
+        );
+        assert_eq!(&lists[5..], &[1, 0, 2 | 1 << 16]);
+        assert!(floor_pixel_lists(3, &ids, 4).is_err());
+        assert!(floor_pixel_lists(3, &ids, 0).is_err());
     }
 }

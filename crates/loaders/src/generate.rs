@@ -134,6 +134,34 @@ pub fn packed_block(n: usize, seed: u64) -> Scene {
     Scene::new(ellipsoids)
 }
 
+/// Gumhold's lattice as a CPU ray tracer is benchmarked on: an `n x n x n` lattice, spacing 1,
+/// centred on the origin, of uniformly randomly rotated ellipsoids whose three semi-axes are
+/// each uniform in `[0.1, 0.45]` (neighbours never touch), coloured by shape. The same `seed`
+/// gives the same scene.
+pub fn lattice(n: usize, seed: u64) -> Scene {
+    let mut rng = SplitMix64(seed);
+    let offset = 0.5 * (n as f64 - 1.0);
+    let mut ellipsoids = Vec::with_capacity(n * n * n);
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let center = DVec3::new(i as f64, j as f64, k as f64) - offset;
+                let radii = DVec3::new(
+                    rng.range(0.1, 0.45),
+                    rng.range(0.1, 0.45),
+                    rng.range(0.1, 0.45),
+                );
+                let rotation = rng.rotation();
+                ellipsoids.push(
+                    Ellipsoid::new(center, radii, rotation, None)
+                        .expect("lattice builds valid ellipsoids"),
+                );
+            }
+        }
+    }
+    Scene::new(ellipsoids)
+}
+
 /// Steele, Lea and Flood's SplitMix64: tiny, fast and good enough for test scenes.
 struct SplitMix64(u64);
 
@@ -238,6 +266,24 @@ mod tests {
                 let d = (pair[1].radii - pair[0].radii).abs().max_element();
                 assert!(d < 0.15, "jump {d} between {:?} and {:?}", pair[0], pair[1]);
             }
+        }
+    }
+
+    #[test]
+    fn lattice_is_deterministic_centred_and_within_its_radii() {
+        let a = lattice(4, 3);
+        assert_eq!(a, lattice(4, 3));
+        assert_ne!(a, lattice(4, 4));
+        assert_eq!(a.len(), 64);
+        assert_eq!(a.ellipsoids[0].center, DVec3::splat(-1.5));
+        assert_eq!(a.ellipsoids[1].center, DVec3::new(-0.5, -1.5, -1.5));
+        assert_eq!(a.ellipsoids[63].center, DVec3::splat(1.5));
+        for e in &a.ellipsoids {
+            assert!(
+                e.radii.min_element() >= 0.1 && e.radii.max_element() < 0.45,
+                "{e:?}"
+            );
+            assert!((e.rotation.length() - 1.0).abs() < 1e-12);
         }
     }
 

@@ -53,7 +53,7 @@ pub struct Hit {
 }
 
 /// The reference image: float64 depth and normal, instance ID and ambiguity per pixel,
-/// row-major with row 0 at the top (the layout of [`crate::Frame`]).
+/// row-major with row 0 at the top (the layout of [`ellipsoid_splat::Frame`]).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ReferenceFrame {
     /// Image width in pixels.

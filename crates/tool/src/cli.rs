@@ -53,7 +53,7 @@ pub enum Command {
 /// Arguments of `view`: `render`'s (scene, loading, camera, device) and the window's own.
 #[derive(Debug, Clone, Args)]
 pub struct ViewArgs {
-    /// The scene, as `--scene` takes it (a file, `tensor-field[:N]` or `random:COUNT`).
+    /// The scene, as `--scene` takes it (a file, `tensor-field[:N]`, `lattice[:N]` or `random:COUNT`).
     #[arg(value_name = "SCENE")]
     pub scene_name: Option<String>,
     /// Everything `render` takes; the depth, normal and ID image flags do not apply.
@@ -316,7 +316,8 @@ pub struct RenderArgs {
     /// A scene file -- Ellipsoid CSV (`.csv`), 3D Gaussian Splatting (`.ply`), diffusion tensor
     /// NIfTI (`.nii`, `.nii.gz`), PDB (`.pdb`, `.ent`) or mmCIF (`.cif`) with anisotropic
     /// displacements; other names are recognised by content -- or `tensor-field[:N]` (N^3
-    /// glyphs, default 40) or `random:COUNT`. At most 4294967295 ellipsoids (u32 instance
+    /// glyphs, default 40), `lattice[:N]` (N^3 randomly rotated ellipsoids, default 40) or
+    /// `random:COUNT`. At most 4294967295 ellipsoids (u32 instance
     /// indices), and no more than the machine's memory can hold.
     #[arg(long, default_value = "tensor-field")]
     pub scene: String,
@@ -661,7 +662,10 @@ fn parse_vec3(text: &str) -> std::result::Result<DVec3, String> {
 /// ([`NO_INSTANCE`]) marks background pixels in ID images, so indices run up to 0xFFFFFFFE.
 pub const MAX_ELLIPSOIDS: u64 = NO_INSTANCE as u64;
 
-/// The side of the largest `tensor-field:N` lattice: the largest N with N^3 <=
+/// The seed of `--scene lattice[:N]` (the benchmark's `lattice` scene).
+pub const LATTICE_SEED: u64 = 1;
+
+/// The side of the largest `tensor-field:N` or `lattice:N`: the largest N with N^3 <=
 /// [`MAX_ELLIPSOIDS`].
 pub const MAX_TENSOR_FIELD_SIDE: u64 = 1625;
 
@@ -728,6 +732,9 @@ fn gib(bytes: u64) -> String {
 pub enum SceneSpec {
     /// `tensor-field[:N]`: the N x N x N glyph lattice.
     TensorField(usize),
+    /// `lattice[:N]`: N x N x N randomly rotated ellipsoids, semi-axes 0.1 to 0.45 (the
+    /// benchmark's `lattice`, seed 1).
+    Lattice(usize),
     /// `random:COUNT`: a random cloud.
     Random(usize),
     /// A scene file.
@@ -740,7 +747,8 @@ impl SceneSpec {
     pub fn parse(spec: &str) -> Result<Self> {
         let invalid = |reason: String| Error::invalid("--scene", reason);
         let side = format!(
-            " (tensor-field:N has N^3 glyphs, so N can be at most {MAX_TENSOR_FIELD_SIDE})"
+            " (tensor-field:N and lattice:N have N^3 glyphs, so N can be at most \
+             {MAX_TENSOR_FIELD_SIDE})"
         );
         let too_many = |count: String, note: &str| {
             invalid(format!(
@@ -760,21 +768,29 @@ impl SceneSpec {
                 _ => invalid(format!("{what} needs a whole number, got '{text}'")),
             })
         };
-        if spec == "tensor-field" {
-            return Ok(SceneSpec::TensorField(40));
-        }
-        if let Some(text) = spec.strip_prefix("tensor-field:") {
-            let n = count(text, "tensor-field:N", true)?;
-            if n == 0 {
-                return Err(invalid("tensor-field:N needs N >= 1".to_string()));
+        // The cubes: `name` alone is 40^3, `name:N` is N^3.
+        type Cube = fn(usize) -> SceneSpec;
+        let cubes: [(&str, Cube); 2] = [
+            ("tensor-field", SceneSpec::TensorField),
+            ("lattice", SceneSpec::Lattice),
+        ];
+        for (name, make) in cubes {
+            if spec == name {
+                return Ok(make(40));
             }
-            if n > MAX_TENSOR_FIELD_SIDE {
-                let glyphs = u128::from(n)
-                    .checked_pow(3)
-                    .map_or(format!("{n}^3"), |c| format!("{n}^3 = {c}"));
-                return Err(too_many(glyphs, &side));
+            if let Some(text) = spec.strip_prefix(name).and_then(|t| t.strip_prefix(':')) {
+                let n = count(text, &format!("{name}:N"), true)?;
+                if n == 0 {
+                    return Err(invalid(format!("{name}:N needs N >= 1")));
+                }
+                if n > MAX_TENSOR_FIELD_SIDE {
+                    let glyphs = u128::from(n)
+                        .checked_pow(3)
+                        .map_or(format!("{n}^3"), |c| format!("{n}^3 = {c}"));
+                    return Err(too_many(glyphs, &side));
+                }
+                return Ok(make(n as usize));
             }
-            return Ok(SceneSpec::TensorField(n as usize));
         }
         if let Some(text) = spec.strip_prefix("random:") {
             let n = count(text, "random:COUNT", false)?;
@@ -792,7 +808,7 @@ impl SceneSpec {
     /// How many ellipsoids a generated scene has (`None` for a file).
     pub fn generated_count(&self) -> Option<u64> {
         match *self {
-            SceneSpec::TensorField(n) => Some((n as u64).pow(3)),
+            SceneSpec::TensorField(n) | SceneSpec::Lattice(n) => Some((n as u64).pow(3)),
             SceneSpec::Random(n) => Some(n as u64),
             SceneSpec::File(_) => None,
         }
@@ -806,6 +822,7 @@ impl SceneSpec {
         };
         match self {
             SceneSpec::TensorField(n) => Ok(generated(scene::tensor_field(*n))),
+            SceneSpec::Lattice(n) => Ok(generated(scene::lattice(*n, LATTICE_SEED))),
             SceneSpec::Random(n) => {
                 let extent = (*n as f64).cbrt() * 2.0;
                 Ok(generated(scene::random_cloud(*n, 1, extent, 1.0)))
@@ -1033,6 +1050,7 @@ mod tests {
             "random:99999999999999999999999999",
             "tensor-field:1626",
             "tensor-field:99999999999999999999999999",
+            "lattice:1626",
         ] {
             let e = SceneSpec::parse(spec).unwrap_err().to_string();
             assert!(
@@ -1047,6 +1065,13 @@ mod tests {
             Some(1625u64.pow(3))
         );
         assert!(1625u64.pow(3) <= MAX_ELLIPSOIDS && 1626u64.pow(3) > MAX_ELLIPSOIDS);
+        assert_eq!(SceneSpec::parse("lattice").unwrap(), SceneSpec::Lattice(40));
+        assert_eq!(
+            SceneSpec::parse("lattice:3").unwrap(),
+            SceneSpec::Lattice(3)
+        );
+        let e = SceneSpec::parse("lattice:0").unwrap_err().to_string();
+        assert!(e.contains("lattice:N needs N >= 1"), "{e}");
         let e = SceneSpec::parse("random:12x").unwrap_err().to_string();
         assert!(e.contains("needs a whole number, got '12x'"), "{e}");
     }

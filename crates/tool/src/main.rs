@@ -296,9 +296,10 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         .filter(|&(_, size)| wanted(&format!("cloud-{size}px")))
         .collect();
     let with_field = wanted("tensor-field");
-    let scene_count = specs.len() + with_field as usize;
+    let with_lattice = wanted("lattice");
+    let scene_count = specs.len() + with_field as usize + with_lattice as usize;
     if scene_count == 0 {
-        let mut names = vec!["tensor-field".to_string()];
+        let mut names = vec!["tensor-field".to_string(), "lattice".to_string()];
         for (_, size) in bench::cloud_specs(args.quick) {
             let name = format!("cloud-{size}px");
             if !names.contains(&name) {
@@ -318,6 +319,7 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
     let mut scenes = with_field
         .then(bench::tensor_field_scene)
         .into_iter()
+        .chain(with_lattice.then(bench::lattice_scene))
         .chain(
             specs
                 .into_iter()

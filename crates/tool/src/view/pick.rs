@@ -16,10 +16,14 @@ pub const HIGHLIGHT: [f32; 3] = [1.0, 0.1, 0.9];
 /// recorded.
 pub fn source(spec: &SceneSpec, index: u32, origins: &Origins) -> String {
     match spec {
-        SceneSpec::TensorField(n) => {
+        SceneSpec::TensorField(n) | SceneSpec::Lattice(n) => {
             let n = *n as u32;
             let (i, j, k) = (index % n, index / n % n, index / (n * n));
-            format!("tensor-field lattice cell (i, j, k) = ({i}, {j}, {k})")
+            let name = match spec {
+                SceneSpec::TensorField(_) => "tensor-field lattice",
+                _ => "lattice",
+            };
+            format!("{name} cell (i, j, k) = ({i}, {j}, {k})")
         }
         SceneSpec::Random(_) => format!("random cloud glyph {index}"),
         SceneSpec::File(path) => match origins.describe(index as usize) {
@@ -50,6 +54,8 @@ mod tests {
         let none = Origins::None;
         let field = source(&SceneSpec::TensorField(4), 4 * 4 + 4 + 1, &none);
         assert!(field.ends_with("(1, 1, 1)"), "{field}");
+        let lattice = source(&SceneSpec::Lattice(4), 4 * 4 * 2 + 3, &none);
+        assert_eq!(lattice, "lattice cell (i, j, k) = (3, 0, 2)");
         let csv = source(
             &SceneSpec::File("a.csv".into()),
             1,
