@@ -13,17 +13,32 @@
 //              certain, the tile's "something lies at or before this view depth" bound;
 //   CLASSIFY   keep bits and a count per group, and (CULL_SETUP) each kept instance's set-up
 //              for the impostor stages, computed once instead of in each of its vertices;
-//   SCAN       one workgroup turns the counts into each group's first output slot;
+//   SCAN       one workgroup turns the counts into each group's first output slot (and
+//              writes the splat's indirect dispatch over the list);
 //   SCATTER    kept indices to their slots: the compacted order is the instance order, so
-//              draw order, and with it which of two exactly tied depths wins, is unchanged.
+//              draw order, and with it which of two exactly tied depths wins, is unchanged;
+//   KEY_TILES  (the visible-first splat, after its first pass) each tile takes the farthest
+//              depth-buffer value the visibility buffer holds over its pixels;
+//   MARK_SHOWN (the visible-first splat, after its passes) each glyph the finished visibility
+//              buffer shows is stamped with the frame, to be splatted first next frame.
+// CULL_SELECT picks what CLASSIFY lists: the visible-first splat lists the glyphs the last
+// frame showed, then the rest that the first pass's hits do not hide, then those its passes
+// left to the draw (docs/design.md §5.7).
 #define CULL_PASS
 #include "ellipsoid_common.glsl"
 #include "silhouette_bounds.glsl"
 #include "instance_setup.glsl"
 #include "setup_records.glsl"
 #include "occlusion_tiles.glsl"
+#include "glyph_stamps.glsl"
 
 #include "cull_groups.glsl"
+
+// The visibility buffer's 32-bit words: a key's depth-buffer value is the odd word (KEY_TILES
+// reads only those).
+layout(std430, set = 0, binding = 8) readonly buffer VisibilityWords {
+    uint visibility_words[];
+};
 
 // The workgroup size, named here rather than read from gl_WorkGroupSize (a built-in SPIR-V
 // 1.6 deprecates): one group of instances.
@@ -35,6 +50,8 @@ const int STEP_OCCLUDERS = 0;
 const int STEP_CLASSIFY = 1;
 const int STEP_SCAN = 2;
 const int STEP_SCATTER = 3;
+const int STEP_KEY_TILES = 4;
+const int STEP_MARK_SHOWN = 5;
 
 layout(std430, set = 0, binding = 2) writeonly buffer Visible {
     uint visible[];
@@ -215,6 +232,81 @@ bool occluded(uint index, vec4 sampled) {
     return true;
 }
 
+// KEY_TILES: the tile's word takes the farthest depth-buffer value (bits: positive floats
+// order like their bits) the visibility buffer holds at its on-screen pixels, or the empty
+// key's when a pixel shows nothing: every pixel of the tile holds a hit at or nearer than it.
+void key_tile(uint t) {
+    ivec2 grid = tile_grid();
+    if (t >= uint(grid.x * grid.y)) {
+        return;
+    }
+    uvec2 origin = uvec2(t % uint(grid.x), t / uint(grid.x)) * uint(TILE);
+    uvec2 last = min(origin + uint(TILE) - 1u, uvec2(cam.image_width, cam.image_height) - 1u);
+    uint farthest = REVERSED_Z ? 0xffffffffu : 0u;
+    for (uint y = origin.y; y <= last.y; y++) {
+        for (uint x = origin.x; x <= last.x; x++) {
+            uint z = visibility_words[2u * (y * cam.image_width + x) + 1u];
+            farthest = REVERSED_Z ? min(farthest, z) : max(farthest, z);
+        }
+    }
+    tiles[t] = farthest;
+}
+
+// MARK_SHOWN: workgroup `t` stamps the glyphs its resolve tile's pixels show, if a glyph
+// marked the tile (a loop of no trips otherwise: lavapipe runs a branch's body whatever the
+// condition, but not a loop's).
+void mark_shown(uint t) {
+    uint tiles_x = (cam.image_width + 31u) / 32u;
+    if (t >= tiles_x * ((cam.image_height + 31u) / 32u)) {
+        return;
+    }
+    uint word = 2u * (cam.image_width * cam.image_height + t);
+    bool marked = visibility_words[word] != (REVERSED_Z ? 0u : 0xffffffffu);
+    uvec2 origin = uvec2(t % tiles_x, t / tiles_x) * 32u;
+    uint lane = gl_LocalInvocationIndex;
+    for (uint k = 0u; k < (marked ? 4u : 0u); k++) {
+        uvec2 p = origin + uvec2(lane % 32u, lane / 32u + 8u * k);
+        if (p.x < cam.image_width && p.y < cam.image_height) {
+            uint low = visibility_words[2u * (p.y * cam.image_width + p.x)];
+            uint glyph = (REVERSED_Z ? ~low : low) - cam.first_instance;
+            if (glyph < total) {
+                glyph_stamps[2u * glyph] = frame;
+            }
+        }
+    }
+}
+
+// Does the first pass's picture hide the glyph at every pixel with a sample in `sampled`?
+// Each such pixel already holds a hit at or nearer than its tile's word (KEY_TILES), and the
+// glyph's every hit lies beyond its nearest point moved nearer by a ten-thousandth of its
+// depth (far more than float32 rounds the hit) and two float steps of the depth-buffer value
+// beyond that word: it cannot win a pixel, nor tie one.
+bool hidden_by_first_pass(uint index, vec4 sampled) {
+    vec2 z = depth_range(load_instance(index));
+    float nearest = (z.x - z.y) * (1.0 - DEPTH_GAP);
+    if (!(nearest > cam.near_plane)) {
+        return false;
+    }
+    uint bound = floatBitsToUint(clamp(depth_value(nearest), 0.0, 1.0));
+    ivec2 grid = tile_grid();
+    ivec2 t0, t1;
+    tiles_touched(sampled, t0, t1);
+    ivec2 n = t1 - t0 + 1;
+    if (any(lessThanEqual(n, ivec2(0))) || n.x * n.y > MAX_TESTED_TILES) {
+        return false;
+    }
+    for (int ty = t0.y; ty <= t1.y; ty++) {
+        for (int tx = t0.x; tx <= t1.x; tx++) {
+            uint tile = tiles[ty * grid.x + tx];
+            bool behind = REVERSED_Z ? bound + 2u < tile : bound > tile + 2u;
+            if (!behind || tile == (REVERSED_Z ? 0u : 0xffffffffu)) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
 // Can the instance change a pixel? `reaches`: whether anything of it lies beyond the near
 // plane; `rect`: an NDC rectangle (y up) holding its silhouette.
 bool needed(uint index, bool reaches, vec4 rect) {
@@ -236,6 +328,9 @@ bool needed(uint index, bool reaches, vec4 rect) {
     vec4 sampled = pixels_sampled(rect);
     if (CULL_PIXEL_CENTRES && any(greaterThan(sampled.xy, sampled.zw))) {
         return false;
+    }
+    if (CULL_SELECT == CULL_SELECT_REST) {
+        return !hidden_by_first_pass(index, sampled);
     }
     return !(CULL_OCCLUSION && occluded(index, sampled));
 }
@@ -274,8 +369,13 @@ void classify(uint group, uint index) {
             if (keep) {
                 store_setup(index, s);
             }
+        } else if (CULL_SELECT == CULL_SELECT_SHOWN) {
+            keep = shown_last_frame(index);
+        } else if (CULL_SELECT == CULL_SELECT_DRAWN) {
+            keep = left_to_draw(index);
         } else {
-            keep = needed(index, silhouette_rect(load_instance(index), rect), rect);
+            keep = (CULL_SELECT != CULL_SELECT_REST || !shown_last_frame(index))
+                && needed(index, silhouette_rect(load_instance(index), rect), rect);
         }
         if (keep) {
             atomicOr(keep_bits[lane / 32u], 1u << (lane % 32u));
@@ -318,6 +418,12 @@ void scan() {
             running += s;
         }
         instance_count = running;
+        // The splat's workgroups of 64 over the list: x up to the guaranteed limit, then rows.
+        uint splat_groups = (running + 63u) / 64u;
+        uint x = min(splat_groups, 65535u);
+        dispatch_x = x;
+        dispatch_y = x == 0u ? 1u : (splat_groups + x - 1u) / x;
+        dispatch_z = 1u;
     }
     barrier();
     uint slot = block_sums[lane];
@@ -345,6 +451,14 @@ void scatter(uint group, uint index) {
 void main() {
     if (CULL_STEP == STEP_SCAN) {
         scan();
+        return;
+    }
+    if (CULL_STEP == STEP_KEY_TILES) {
+        key_tile(group_index() * GROUP + gl_LocalInvocationIndex);
+        return;
+    }
+    if (CULL_STEP == STEP_MARK_SHOWN) {
+        mark_shown(group_index());
         return;
     }
     uint group = group_index();

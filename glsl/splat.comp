@@ -21,6 +21,7 @@
 #include "impostor_hit.glsl"
 #include "visibility.glsl"
 #include "cull_groups.glsl"
+#include "glyph_stamps.glsl"
 
 // The benchmark's counter (COUNT_RAY_CASTS): the second word takes the splat's ray casts.
 layout(std430, set = 0, binding = 1) buffer FragmentCounter {
@@ -66,12 +67,13 @@ void visible_floor(uint k) {
 
 void main() {
     uint k = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * GROUP;
-    // No culling steps run before: the splat's own set-up and pixel walk skip what the
-    // culling would have dropped, at a fraction of a dispatch's cost.
-    if (k >= total) {
+    // The whole chunk (no culling steps run before: the splat's own set-up and pixel walk skip
+    // what the culling would have dropped, at a fraction of a dispatch's cost), or one pass of
+    // the visible-first splat over the pre-pass's list.
+    if (k >= (SPLAT_LIST ? instance_count : total)) {
         return;
     }
-    uint id = k;
+    uint id = SPLAT_LIST ? visible_instances[k] : k;
     if (SPLAT_FLOOR == SPLAT_FLOOR_VISIBLE) {
         visible_floor(k);
         return;
@@ -116,9 +118,13 @@ void main() {
     if (!bounds_known || box.x * box.y > SPLAT_MAX_BOX_PIXELS) {
         // Too large for one invocation to walk (it would hold up its workgroup), or reaching
         // the eye plane: left to the draw, through the culling's own compaction, in instance
-        // order.
-        atomicOr(groups[k / CULL_GROUP * 8u + k % CULL_GROUP / 32u], 1u << (k % 32u));
-        atomicAdd(groups[group_count() * 8u + k / CULL_GROUP], 1u);
+        // order (from its keep bit, or in a pass over a list from its stamp).
+        if (SPLAT_LIST) {
+            glyph_stamps[2u * id + 1u] = frame;
+        } else {
+            atomicOr(groups[k / CULL_GROUP * 8u + k % CULL_GROUP / 32u], 1u << (k % 32u));
+            atomicAdd(groups[group_count() * 8u + k / CULL_GROUP], 1u);
+        }
         return;
     }
     uint scene_id = id + cam.first_instance;

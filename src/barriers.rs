@@ -135,6 +135,23 @@ pub const PREPASS_STEP: Barrier = Barrier {
     dst_access: access(&[vk::AccessFlags::SHADER_READ, vk::AccessFlags::SHADER_WRITE]),
 };
 
+/// Before a dispatch whose size the previous step wrote (the visible-first splat's passes over
+/// the pre-pass's list).
+pub const PREPASS_STEP_TO_DISPATCH: Barrier = Barrier {
+    purpose: "one step's writes (the list and its dispatch size) -> the indirect dispatch",
+    src_stages: vk::PipelineStageFlags::COMPUTE_SHADER,
+    src_access: vk::AccessFlags::SHADER_WRITE,
+    dst_stages: stages(&[
+        vk::PipelineStageFlags::DRAW_INDIRECT,
+        vk::PipelineStageFlags::COMPUTE_SHADER,
+    ]),
+    dst_access: access(&[
+        vk::AccessFlags::INDIRECT_COMMAND_READ,
+        vk::AccessFlags::SHADER_READ,
+        vk::AccessFlags::SHADER_WRITE,
+    ]),
+};
+
 /// After the pre-pass: the draw reads the indirect command, kept indices and set-up records.
 pub const PREPASS_TO_DRAW: Barrier = Barrier {
     purpose: "pre-pass writes -> indirect draw, vertex and fragment reads",
@@ -188,12 +205,13 @@ pub const VISIBILITY_DRAW_TO_RESOLVE: Barrier = Barrier {
 
 /// Every barrier above that a host's frames may record (the two `research` ones are in
 /// `RESEARCH`, with that feature).
-pub const ALL: [Barrier; 7] = [
+pub const ALL: [Barrier; 8] = [
     INSTANCES_BEFORE_COPY,
     INSTANCES_AFTER_COPY,
     PREPASS_AFTER_PREVIOUS_FRAME,
     PREPASS_CLEARED,
     PREPASS_STEP,
+    PREPASS_STEP_TO_DISPATCH,
     PREPASS_TO_DRAW,
     COUNTER_TO_HOST,
 ];

@@ -61,6 +61,26 @@ pub(crate) enum CullStep {
     Scan = 2,
     /// Kept instance indices to their slots.
     Scatter = 3,
+    /// The visible-first splat: each occlusion tile takes the farthest depth the first
+    /// pass left over its pixels.
+    KeyTiles = 4,
+    /// The visible-first splat: the glyphs the finished frame shows are stamped.
+    MarkShown = 5,
+}
+
+/// Which glyphs the CLASSIFY step lists (`CULL_SELECT`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub(crate) enum CullSelect {
+    /// Every glyph the culling keeps.
+    #[default]
+    All = 0,
+    /// The glyphs the last frame showed: the visible-first splat's first pass.
+    Shown = 1,
+    /// The others the culling keeps, where the first pass's hits do not hide them: its
+    /// second pass.
+    Rest = 2,
+    /// Those a splat pass of this frame left to the draw.
+    Drawn = 3,
 }
 
 /// Instances per workgroup (`local_size_x`).
@@ -80,9 +100,14 @@ pub(crate) fn groups_bytes(count: u32) -> u64 {
     4 * 9 * group_count(count).max(1) as u64
 }
 
+/// Occlusion tiles of a `width` x `height` image.
+pub(crate) fn tiles_count(width: u32, height: u32) -> u32 {
+    (width as u64).div_ceil(TILE) as u32 * (height as u64).div_ceil(TILE) as u32
+}
+
 /// Bytes of the occlusion tiles of a `width` x `height` image.
 pub(crate) fn tiles_bytes(width: u32, height: u32) -> u64 {
-    4 * (width as u64).div_ceil(TILE) * (height as u64).div_ceil(TILE)
+    4 * tiles_count(width, height) as u64
 }
 
 /// The dispatch grid for `groups` workgroups: x up to the guaranteed limit, then rows.
@@ -112,19 +137,24 @@ pub(crate) struct PrepassBuffers {
     pub tiles: vk::Buffer,
 }
 
-/// The compute splat's dispatch at the start of a pre-pass (`glsl/splat.comp`).
-pub(crate) struct SplatStep {
-    pub pipeline: vk::Pipeline,
-    /// The dispatch grid over the chunk's instances, 64 per workgroup.
-    pub groups: (u32, u32),
-    /// Clear the visibility buffer first (the first chunk): its first bytes, to this word.
-    pub clear: Option<(vk::Buffer, u64, u32)>,
-    /// The chunk's keep bits and counts (buffer, offset, bytes), zeroed before the splat
-    /// sets those of the glyphs it leaves to the draw.
-    pub keep: (vk::Buffer, u64, u64),
+/// How big one dispatch of the pre-pass is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum DispatchSize {
+    /// These workgroups (x, y).
+    Grid(u32, u32),
+    /// The size the previous step wrote into the chunk's command (`IndirectDraw::dispatch`):
+    /// a splat pass over the pre-pass's list.
+    Indirect,
 }
 
-/// One frame's pre-pass, ready to record.
+/// One dispatch of the pre-pass.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Dispatch {
+    pub pipeline: vk::Pipeline,
+    pub size: DispatchSize,
+}
+
+/// One frame's pre-pass, ready to record: its clears, then its dispatches in order.
 pub(crate) struct Prepass {
     pub layout: vk::PipelineLayout,
     pub descriptor_set: vk::DescriptorSet,
@@ -134,24 +164,28 @@ pub(crate) struct Prepass {
     pub command: IndirectDraw,
     /// Where in the indirect buffer this chunk's command lies.
     pub indirect_offset: u64,
-    pub steps: Vec<(CullStep, vk::Pipeline)>,
-    /// The dispatch grid of the per-group steps.
-    pub groups: (u32, u32),
     /// Occlusion runs: reset the tiles first.
     pub clear_tiles: bool,
     pub buffers: PrepassBuffers,
-    /// The compute splat, before the steps.
-    pub splat: Option<SplatStep>,
+    /// Buffer ranges filled before the dispatches (buffer, offset, bytes, word): the compute
+    /// splat's visibility buffer (first chunk) and keep bits.
+    pub fills: Vec<(vk::Buffer, u64, u64, u32)>,
+    pub dispatches: Vec<Dispatch>,
 }
 
 /// Instances per workgroup of the compute splat (`local_size_x` of `splat.comp`).
 pub(crate) const SPLAT_GROUP_SIZE: u32 = 64;
 
+/// Byte offset of the dispatch command in a chunk's `IndirectDraw`.
+const DISPATCH_OFFSET: u64 = std::mem::offset_of!(IndirectDraw, dispatch) as u64;
+
 impl Prepass {
     /// Records the pre-pass with its barriers: after the previous frame's draw (its reads)
-    /// and pre-pass (its writes); the indirect command written with `vkCmdUpdateBuffer` and
-    /// the tiles cleared with `vkCmdFillBuffer`; each step after a compute-to-compute
-    /// barrier; and before this frame's indirect, vertex and fragment reads.
+    /// and pre-pass (its writes); the indirect command written with `vkCmdUpdateBuffer`, the
+    /// tiles and the splat's buffers cleared with `vkCmdFillBuffer`; each dispatch after a
+    /// compute-to-compute barrier (one that also covers the indirect read before a dispatch
+    /// sized by the previous step); and before this frame's indirect, vertex and fragment
+    /// reads.
     ///
     /// # Safety
     /// `cmd` must be recording outside a render pass, and every handle must stay alive until
@@ -172,13 +206,8 @@ impl Prepass {
                 // +inf: no surface known in front of any tile yet.
                 device.cmd_fill_buffer(cmd, b.tiles, 0, vk::WHOLE_SIZE, f32::INFINITY.to_bits());
             }
-            if let Some(splat) = &self.splat {
-                if let Some((visibility, bytes, word)) = splat.clear {
-                    // Nothing hit yet: every 64-bit key of the image holds the empty value.
-                    device.cmd_fill_buffer(cmd, visibility, 0, bytes, word);
-                }
-                let (groups, offset, bytes) = splat.keep;
-                device.cmd_fill_buffer(cmd, groups, offset, bytes, 0);
+            for &(buffer, offset, bytes, word) in &self.fills {
+                device.cmd_fill_buffer(cmd, buffer, offset, bytes, word);
             }
             barriers::PREPASS_CLEARED.record(device, cmd);
             device.cmd_bind_descriptor_sets(
@@ -196,18 +225,22 @@ impl Prepass {
                 0,
                 bytemuck::bytes_of(&self.push),
             );
-            if let Some(splat) = &self.splat {
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, splat.pipeline);
-                device.cmd_dispatch(cmd, splat.groups.0, splat.groups.1, 1);
-            }
-            for (k, &(step, pipeline)) in self.steps.iter().enumerate() {
-                if k > 0 || self.splat.is_some() {
-                    barriers::PREPASS_STEP.record(device, cmd);
+            for (k, dispatch) in self.dispatches.iter().enumerate() {
+                match dispatch.size {
+                    DispatchSize::Indirect => {
+                        barriers::PREPASS_STEP_TO_DISPATCH.record(device, cmd)
+                    }
+                    DispatchSize::Grid(..) if k > 0 => barriers::PREPASS_STEP.record(device, cmd),
+                    DispatchSize::Grid(..) => {}
                 }
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline);
-                match step {
-                    CullStep::Scan => device.cmd_dispatch(cmd, 1, 1, 1),
-                    _ => device.cmd_dispatch(cmd, self.groups.0, self.groups.1, 1),
+                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, dispatch.pipeline);
+                match dispatch.size {
+                    DispatchSize::Grid(x, y) => device.cmd_dispatch(cmd, x, y, 1),
+                    DispatchSize::Indirect => device.cmd_dispatch_indirect(
+                        cmd,
+                        b.indirect,
+                        self.indirect_offset + DISPATCH_OFFSET,
+                    ),
                 }
             }
             barriers::PREPASS_TO_DRAW.record(device, cmd);

@@ -88,8 +88,9 @@ pub struct PushConstants {
     pub image_height: u32,
 }
 
-/// The culled draw's `VkDrawIndirectCommand` and the chunk's instance count (GLSL buffer
-/// `IndirectDraw`, 20 bytes), which the pre-pass starts from.
+/// The culled draw's `VkDrawIndirectCommand`, the chunk's instance count, the frame's stamp
+/// and the visible-first splat's `VkDispatchIndirectCommand` (GLSL buffer `IndirectDraw`, 36
+/// bytes), which the pre-pass starts from.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct IndirectDraw {
@@ -103,6 +104,11 @@ pub struct IndirectDraw {
     pub first_instance: u32,
     /// Instances in the chunk.
     pub total: u32,
+    /// The frame's stamp for the glyph stamps (never 0).
+    pub frame: u32,
+    /// The visible-first splat's dispatch over the pre-pass's list (the SCAN step writes it):
+    /// workgroups in x, y and z.
+    pub dispatch: [u32; 3],
 }
 
 /// The pre-pass's set-up of one impostor for the vertex stage (GLSL `FootprintRecord`,
@@ -161,6 +167,13 @@ pub struct ShadingRecord {
     pub to_normal_z: [f32; 3],
     /// Linear blue.
     pub color_b: f32,
+}
+
+/// Bytes of the visible-first splat's glyph stamps for `glyphs` glyphs (GLSL `GlyphStamps`):
+/// per glyph the last frame that showed it and the last frame a splat pass left it to the
+/// draw.
+pub fn glyph_stamps_bytes(glyphs: u32) -> u64 {
+    8 * glyphs as u64
 }
 
 /// Side in pixels of the compute splat's resolve tiles (GLSL `RESOLVE_TILE`): the resolve
@@ -233,6 +246,10 @@ pub struct SpecConstants {
     /// `COUNT_RAY_CASTS` (22): the compute splat counts its ray casts (the benchmark's
     /// counting frames).
     pub count_ray_casts: vk::Bool32,
+    /// `CULL_SELECT` (23): which glyphs CLASSIFY lists (see [`crate::culling::CullSelect`]).
+    pub cull_select: u32,
+    /// `SPLAT_LIST` (24): the compute splat takes its glyphs from the pre-pass's list.
+    pub splat_list: vk::Bool32,
 }
 
 impl Default for SpecConstants {
@@ -260,13 +277,15 @@ impl Default for SpecConstants {
             sample_grid: 1,
             far_plane: 0,
             count_ray_casts: 0,
+            cull_select: 0,
+            splat_list: 0,
         }
     }
 }
 
 impl SpecConstants {
     /// `(constant_id, byte offset)` of every field.
-    pub const IDS: [(u32, usize); 21] = [
+    pub const IDS: [(u32, usize); 23] = [
         (0, offset_of!(SpecConstants, orthographic)),
         (2, offset_of!(SpecConstants, textbook)),
         (3, offset_of!(SpecConstants, bounds)),
@@ -288,11 +307,13 @@ impl SpecConstants {
         (20, offset_of!(SpecConstants, sample_grid)),
         (21, offset_of!(SpecConstants, far_plane)),
         (22, offset_of!(SpecConstants, count_ray_casts)),
+        (23, offset_of!(SpecConstants, cull_select)),
+        (24, offset_of!(SpecConstants, splat_list)),
     ];
 
     /// The map entries of [`SpecConstants::IDS`], for a `VkSpecializationInfo` over
     /// `bytemuck::bytes_of(self)`.
-    pub fn map_entries() -> [vk::SpecializationMapEntry; 21] {
+    pub fn map_entries() -> [vk::SpecializationMapEntry; 23] {
         Self::IDS.map(|(constant_id, offset)| vk::SpecializationMapEntry {
             constant_id,
             offset: offset as u32,
@@ -318,7 +339,8 @@ const _: () = {
     assert!(offset_of!(PushConstants, ambient) == 80);
     assert!(offset_of!(PushConstants, specular_color) == 96);
     assert!(offset_of!(PushConstants, first_instance) == 112);
-    assert!(size_of::<IndirectDraw>() == 20);
+    assert!(size_of::<IndirectDraw>() == 36);
+    assert!(offset_of!(IndirectDraw, dispatch) == 24);
     assert!(size_of::<FootprintRecord>() == 32);
     assert!(offset_of!(FootprintRecord, quad_z) == 24);
     assert!(size_of::<ShadingRecord>() == 128);
@@ -326,5 +348,5 @@ const _: () = {
     assert!(offset_of!(ShadingRecord, ray_c) == 48);
     assert!(offset_of!(ShadingRecord, depth_gradient) == 64);
     assert!(offset_of!(ShadingRecord, to_normal_x) == 80);
-    assert!(size_of::<SpecConstants>() == 84);
+    assert!(size_of::<SpecConstants>() == 92);
 };

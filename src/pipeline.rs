@@ -3,7 +3,7 @@
 
 use ash::vk;
 
-use crate::culling::{CullStep, Culling};
+use crate::culling::{CullSelect, CullStep, Culling};
 use crate::draw::{DrawConfig, Geometry, Intersection, Shading};
 use crate::error::{Error, Result};
 use crate::gpu::shaders;
@@ -114,6 +114,8 @@ pub(crate) struct SplatKey {
     pub max_box_pixels: u32,
     /// `COUNT_RAY_CASTS`: the benchmark's counting frames.
     pub count_ray_casts: bool,
+    /// `SPLAT_LIST`: a pass of the visible-first splat over the pre-pass's list.
+    pub list: bool,
 }
 
 impl SplatKey {
@@ -128,6 +130,7 @@ impl SplatKey {
             floor: 0,
             max_box_pixels: plan.splat_max_box_pixels,
             count_ray_casts: plan.count_fragments,
+            list: false,
         }
     }
 
@@ -141,6 +144,7 @@ impl SplatKey {
             splat_floor: self.floor,
             splat_max_box_pixels: self.max_box_pixels,
             count_ray_casts: self.count_ray_casts as u32,
+            splat_list: self.list as u32,
             ..SpecConstants::default()
         }
     }
@@ -158,6 +162,10 @@ pub(crate) struct CullKey {
     pub compact: bool,
     /// `SAMPLE_GRID`: where the proofs find a pixel's samples.
     pub sample_grid: u32,
+    /// `CULL_SELECT`: which glyphs CLASSIFY lists.
+    pub select: CullSelect,
+    /// `REVERSED_Z`: the visible-first splat's steps read the visibility keys.
+    pub reversed_z: bool,
 }
 
 impl CullKey {
@@ -171,6 +179,8 @@ impl CullKey {
             spheres: plan.spheres,
             compact: plan.compact,
             sample_grid: plan.sample_grid,
+            select: CullSelect::All,
+            reversed_z: plan.reversed_z,
         }
     }
 
@@ -191,6 +201,8 @@ impl CullKey {
             spheres: self.spheres as u32,
             compact: self.compact as u32,
             sample_grid: self.sample_grid,
+            cull_select: self.select as u32,
+            reversed_z: self.reversed_z as u32,
             ..SpecConstants::default()
         }
     }

@@ -44,7 +44,7 @@ fn every_hazard_is_covered_by_its_barrier() {
     let fragment_read = at(S::FRAGMENT_SHADER, A::SHADER_READ);
     let indirect_read = at(S::DRAW_INDIRECT, A::INDIRECT_COMMAND_READ);
     // (what, first access, later access, the barrier between them)
-    let hazards: [(&str, Access, Access, Barrier); 25] = [
+    let hazards: [(&str, Access, Access, Barrier); 29] = [
         // An upload or update of the instances.
         (
             "copy -> pre-pass reads instances",
@@ -161,6 +161,31 @@ fn every_hazard_is_covered_by_its_barrier() {
             compute_write,
             compute_read_write,
             barriers::PREPASS_STEP,
+        ),
+        // The visible-first splat: each pass runs over the list the steps before it wrote.
+        (
+            "the list's dispatch size (SCAN) -> the splat pass's indirect dispatch",
+            compute_write,
+            indirect_read,
+            barriers::PREPASS_STEP_TO_DISPATCH,
+        ),
+        (
+            "the list (SCATTER) -> the splat pass reads it",
+            compute_write,
+            compute_read_write,
+            barriers::PREPASS_STEP_TO_DISPATCH,
+        ),
+        (
+            "the first pass's atomics -> the key tiles that read them",
+            compute_write,
+            compute_read_write,
+            barriers::PREPASS_STEP,
+        ),
+        (
+            "stamps clear of a new scene -> the stamping step",
+            copy,
+            compute_read_write,
+            barriers::PREPASS_CLEARED,
         ),
         // The pre-pass feeds the draw.
         (

@@ -2,7 +2,11 @@
 //! few pixels and of tens to hundreds of pixels many layers deep, colour, depth, normal and instance ID are compared
 //! bit for bit with the draw, in perspective and orthographic views, with the near plane
 //! cutting glyphs, in standard and reversed depth, with compact instances, and where glyphs
-//! tie exactly in depth (the lower instance must win, as in the draw).
+//! tie exactly in depth (the lower instance must win, as in the draw). Every case is drawn
+//! twice: the first splatted frame of a scene splats every glyph and stamps those it shows,
+//! the next is the visible-first splat (those first, then the rest its hits do not hide);
+//! and a camera orbiting a scene, with glyphs moved between frames, matches the draw at
+//! every frame.
 
 use ellipsoid_splat::{
     Camera, DepthConvention, Ellipsoid, Frame, InstanceFormat, OffscreenRenderer, Outputs,
@@ -21,9 +25,11 @@ fn assert_splat_matches_draw(
     camera: &Camera,
     format: InstanceFormat,
 ) {
+    // Visible first however deep the scene lies, to check it on every case.
     let settings = |compute_splat| Settings {
         compute_splat,
         compute_splat_min_glyphs: 0,
+        visible_first_min_layers: 0.0,
         instance_format: format,
         ..Settings::default()
     };
@@ -42,6 +48,7 @@ fn assert_splat_matches_draw(
         plan.compute_splat,
         "{name}: the plan does not splat: {plan:?}"
     );
+    assert!(!plan.visible_first, "{name}: a new scene has no stamps yet");
     let splatted = renderer
         .render_uploaded(camera, Outputs::ALL)
         .expect("splat")
@@ -49,6 +56,14 @@ fn assert_splat_matches_draw(
     let shown = drawn.id.iter().filter(|&&id| id != NO_INSTANCE).count();
     assert!(shown > 500, "{name}: only {shown} pixels show a glyph");
     assert_frames_identical(name, &drawn, &splatted);
+    // The next frame splats first what this one showed.
+    let plan = renderer.plan(camera).expect("plan");
+    assert!(plan.visible_first, "{name}: second frame: {plan:?}");
+    let second = renderer
+        .render_uploaded(camera, Outputs::ALL)
+        .expect("visible-first splat")
+        .0;
+    assert_frames_identical(&format!("{name}, visible first"), &drawn, &second);
 }
 
 /// Asserts that `other` equals `drawn` bit for bit in every output, and that `drawn` shows
@@ -334,6 +349,68 @@ fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
         .count();
     assert_eq!(odd, 0, "{odd} pixels show the later copy of a tied pair");
     finish_validated(renderer);
+}
+
+/// A camera orbiting a scene of glyphs many layers deep, a new scene uploaded on the way and
+/// the depth convention changed: every visible-first frame (what the frame before showed
+/// splatted first) matches the draw of the same camera, bit for bit.
+#[test]
+fn visible_first_frames_match_the_draw_while_the_camera_moves() {
+    let scene = random_cloud(6_000, 25, 10.0, 0.5);
+    let splat = Settings {
+        compute_splat_min_glyphs: 0,
+        visible_first_min_layers: 0.0,
+        ..Settings::default()
+    };
+    let mut splatted = validated_renderer();
+    splatted.set_settings(splat);
+    splatted.upload(&scene).expect("upload");
+    let mut drawn = validated_renderer();
+    drawn.set_settings(Settings {
+        compute_splat: false,
+        ..splat
+    });
+    drawn.upload(&scene).expect("upload");
+    for frame in 0..8 {
+        let angle = 0.12 * frame as f64;
+        let eye = DVec3::new(
+            24.0 * angle.sin(),
+            3.0 - 0.4 * frame as f64,
+            24.0 * angle.cos(),
+        );
+        let camera = Camera::look_at(eye, DVec3::ZERO, 45.0, 1.0, 240, 180).unwrap();
+        let camera = if frame >= 6 {
+            camera
+                .with_depth(DepthConvention::STANDARD_INFINITE)
+                .unwrap()
+        } else {
+            camera
+        };
+        if frame == 4 {
+            // A hundred glyphs jump across the scene: a new upload, whose first frame has no
+            // stamps to go by.
+            let mut moved = scene.clone();
+            for e in &mut moved.ellipsoids[1_000..1_100] {
+                e.center = -e.center;
+            }
+            for renderer in [&mut splatted, &mut drawn] {
+                renderer.upload(&moved).expect("upload");
+            }
+        }
+        let plan = splatted.plan(&camera).expect("plan");
+        assert!(plan.compute_splat, "frame {frame}: {plan:?}");
+        // Stamps name glyphs, not depths: a change of depth convention keeps them.
+        assert_eq!(
+            plan.visible_first,
+            frame != 0 && frame != 4,
+            "frame {frame}"
+        );
+        let a = drawn.render_uploaded(&camera, Outputs::ALL).unwrap().0;
+        let b = splatted.render_uploaded(&camera, Outputs::ALL).unwrap().0;
+        assert_frames_identical(&format!("orbit frame {frame}"), &a, &b);
+    }
+    finish_validated(splatted);
+    finish_validated(drawn);
 }
 
 #[test]

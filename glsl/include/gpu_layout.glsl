@@ -129,15 +129,34 @@ layout(constant_id = 21) const bool FAR_PLANE = false;
 // The benchmark's counting frames: the compute splat adds its ray casts to the second word of
 // the fragment counter (binding 1).
 layout(constant_id = 22) const bool COUNT_RAY_CASTS = false;
+// Which glyphs the pre-pass's CLASSIFY step lists (`CullSelect`): 0 every glyph its culling
+// keeps; 1 those the last frame showed (the visible-first splat's first pass); 2 the others
+// its culling keeps, occlusion by the first pass's hits included (the second pass); 3 those a
+// splat pass of this frame left to the draw.
+const int CULL_SELECT_ALL = 0;
+const int CULL_SELECT_SHOWN = 1;
+const int CULL_SELECT_REST = 2;
+const int CULL_SELECT_DRAWN = 3;
+layout(constant_id = 23) const int CULL_SELECT = CULL_SELECT_ALL;
+// The compute splat takes its glyphs from the pre-pass's list (the visible-first splat's
+// passes) instead of the whole chunk, and leaves glyphs to the draw by their stamp.
+layout(constant_id = 24) const bool SPLAT_LIST = false;
 
 #if defined(CULL_PASS) || defined(SPLAT_PASS)
-// The culled draw's `VkDrawIndirectCommand` followed by the number of instances in the chunk
-// (`IndirectDraw`, 20 bytes).
-layout(std430, set = 0, binding = 3) buffer IndirectDraw {
+#define INDIRECT_DRAW_ACCESS
+#else
+#define INDIRECT_DRAW_ACCESS readonly
+#endif
+// The culled draw's `VkDrawIndirectCommand`, the number of instances in the chunk, the frame's
+// stamp and the visible-first splat's `VkDispatchIndirectCommand` (`IndirectDraw`, 36 bytes).
+layout(std430, set = 0, binding = 3) INDIRECT_DRAW_ACCESS buffer IndirectDraw {
     uint vertex_count;
     uint instance_count;
     uint first_vertex;
     uint first_instance;
     uint total;
+    uint frame;             // the frame's stamp (never 0), for the glyph stamps
+    uint dispatch_x;        // the splat pass over the list: (x, y, 1) workgroups (three
+    uint dispatch_y;        // words: a uvec3 would sit at the next multiple of 16 bytes)
+    uint dispatch_z;
 };
-#endif

@@ -33,11 +33,14 @@ pub(crate) enum Binding {
     Visibility = 8,
     /// The benchmark's visible-pixel floor: per glyph, the pixels it shows.
     FloorPixels = 9,
+    /// The visible-first splat's glyph stamps: when each glyph last showed, or was left to
+    /// the draw.
+    GlyphStamps = 10,
 }
 
 impl Binding {
     /// Every binding, in binding order.
-    pub const ALL: [Binding; 10] = [
+    pub const ALL: [Binding; 11] = [
         Binding::Instances,
         Binding::FragmentCounter,
         Binding::Visible,
@@ -48,6 +51,7 @@ impl Binding {
         Binding::FootprintRecords,
         Binding::Visibility,
         Binding::FloorPixels,
+        Binding::GlyphStamps,
     ];
 
     /// The shader stages that read or write the binding.
@@ -64,7 +68,8 @@ impl Binding {
             Binding::IndirectDraw
             | Binding::CullGroups
             | Binding::OcclusionTiles
-            | Binding::FloorPixels => vk::ShaderStageFlags::COMPUTE,
+            | Binding::FloorPixels
+            | Binding::GlyphStamps => vk::ShaderStageFlags::COMPUTE,
             Binding::ShadingRecords => {
                 vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT
             }
@@ -86,17 +91,20 @@ impl Binding {
             Binding::FootprintRecords => "footprint set-up",
             Binding::Visibility => "visibility buffer",
             Binding::FloorPixels => "visible-pixel floor",
+            Binding::GlyphStamps => "glyph stamps",
         }
     }
 
     /// How the buffer is used besides as a storage buffer.
     fn usage(self) -> vk::BufferUsageFlags {
         let extra = match self {
-            // Filled with vkCmdFillBuffer (the compute splat zeroes the keep bits).
+            // Filled with vkCmdFillBuffer (the compute splat zeroes the keep bits, and the
+            // stamps of a new scene).
             Binding::Instances
             | Binding::OcclusionTiles
             | Binding::Visibility
-            | Binding::CullGroups => vk::BufferUsageFlags::TRANSFER_DST,
+            | Binding::CullGroups
+            | Binding::GlyphStamps => vk::BufferUsageFlags::TRANSFER_DST,
             Binding::IndirectDraw => {
                 vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST
             }
@@ -119,7 +127,7 @@ impl Binding {
 /// One buffer per [`Binding`], each made on first need and grown on demand.
 #[derive(Default)]
 pub(crate) struct SceneBuffers {
-    buffers: [Option<GpuBuffer>; 10],
+    buffers: [Option<GpuBuffer>; 11],
     /// A buffer was replaced since the descriptor sets were written.
     pub replaced: bool,
 }

@@ -89,7 +89,8 @@ pub(crate) fn create_chunk_sets(
             Binding::FragmentCounter
             | Binding::OcclusionTiles
             | Binding::Visibility
-            | Binding::FloorPixels => whole,
+            | Binding::FloorPixels
+            | Binding::GlyphStamps => whole,
             Binding::Visible => slice(4),
             Binding::IndirectDraw => (k as u64 * SLICE_ALIGN, size_of::<IndirectDraw>() as u64),
             Binding::CullGroups => (k as u64 * groups, culling::groups_bytes(count as u32)),

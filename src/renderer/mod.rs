@@ -127,6 +127,11 @@ pub struct EllipsoidRenderer {
     count_fragments: bool,
     /// The benchmark's floor of the compute splat (0: the splat itself).
     splat_floor: u32,
+    /// The stamp of the last recorded pre-pass (never 0; see `gpu_layout::IndirectDraw`).
+    frame_stamp: u32,
+    /// The stamp of the last pre-pass that stamped the glyphs its frame showed, since the
+    /// last upload.
+    shown_stamped: Option<u32>,
     #[cfg(feature = "research")]
     meshes: research::Meshes,
     /// `destroy` ran (a renderer dropped without it leaks its Vulkan objects, and says so).
@@ -182,6 +187,8 @@ impl EllipsoidRenderer {
             config: DrawConfig::default(),
             count_fragments: false,
             splat_floor: 0,
+            frame_stamp: 1,
+            shown_stamped: None,
             #[cfg(feature = "research")]
             meshes: research::Meshes::default(),
             destroyed: false,
@@ -190,7 +197,7 @@ impl EllipsoidRenderer {
         match renderer
             .pipelines
             .create_layouts(device)
-            .and_then(|_| renderer.size_buffers(device, allocator, 0, (1, 1), false))
+            .and_then(|_| renderer.size_buffers(device, allocator, 0, (1, 1), false, false))
         {
             Ok(()) => Ok(renderer),
             Err(e) => {
@@ -210,6 +217,7 @@ impl EllipsoidRenderer {
             max_storage_buffer_range: self.caps.limits.max_storage_buffer_range,
             standard_sample_locations: self.caps.limits.standard_sample_locations == vk::TRUE,
             chunks: self.chunking().len(),
+            shown_stamped: self.shown_stamped == Some(self.frame_stamp),
             scene: &self.scene,
             settings: &self.settings,
             config: self.config,
@@ -315,6 +323,7 @@ impl EllipsoidRenderer {
         count: u32,
         extent: (u32, u32),
         visibility: bool,
+        stamps: bool,
     ) -> Result<()> {
         let chunking = Chunking {
             count,
@@ -329,6 +338,14 @@ impl EllipsoidRenderer {
         let sizes = [
             (Binding::FragmentCounter, 8),
             (Binding::FloorPixels, 8),
+            (
+                Binding::GlyphStamps,
+                if stamps {
+                    crate::gpu_layout::glyph_stamps_bytes(count.max(1))
+                } else {
+                    8
+                },
+            ),
             (Binding::Visible, 4 * count.max(1) as u64),
             (
                 Binding::IndirectDraw,

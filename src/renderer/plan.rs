@@ -47,6 +47,9 @@ pub struct FramePlan {
     pub config: DrawConfig,
     /// Mean projected area of the sampled glyphs on screen (square pixels), if any is.
     pub mean_area_px: Option<f64>,
+    /// About how many glyphs deep the scene lies where it covers the image: the glyphs' total
+    /// projected area (from the size sample) over the image area the box around them covers.
+    pub depth_complexity: Option<f64>,
     /// The culling the pre-pass does.
     pub culling: Culling,
     /// The pre-pass runs (to cull, to set up, to splat, or the benchmark's visibility-buffer
@@ -69,6 +72,17 @@ pub struct FramePlan {
     pub compute_splat: bool,
     /// The most pixel centres a glyph's box may hold for the compute splat to walk it.
     pub splat_max_box_pixels: u32,
+    /// The compute splat stamps the glyphs its finished frame shows, so that the next frame
+    /// can splat them first (docs/design.md §5.7).
+    pub mark_shown: bool,
+    /// The visible-first splat: the glyphs the last frame showed are splatted first; then the
+    /// others are listed only where the first pass's hits leave them a pixel they might win,
+    /// and splatted; a hidden glyph costs a comparison per tile instead of its ray casts
+    /// (frames after a frame that stamped what it showed).
+    pub visible_first: bool,
+    /// The culling the visible-first splat's second pass lists its glyphs with (its occlusion
+    /// test is the first pass's hits, not the tiles of `culling`).
+    pub rest_culling: Culling,
     /// The benchmark's visibility-buffer draw (`Shading::VisibilityBuffer`): the pre-pass
     /// draws every glyph into the visibility buffer, in a pass of its own, and the host's
     /// pass only resolves.
@@ -111,6 +125,8 @@ pub(crate) struct PlanInputs<'a> {
     pub standard_sample_locations: bool,
     /// Chunks the scene is drawn in (the splat resolves once per chunk).
     pub chunks: u32,
+    /// The previous pre-pass stamped the glyphs its frame showed, for this scene.
+    pub shown_stamped: bool,
     pub scene: &'a UploadedScene,
     pub settings: &'a Settings,
     pub config: DrawConfig,
@@ -128,6 +144,7 @@ impl FramePlan {
             max_storage_buffer_range,
             standard_sample_locations,
             chunks,
+            shown_stamped,
             scene,
             settings,
             mut config,
@@ -143,6 +160,10 @@ impl FramePlan {
             ));
         }
         let mean_area_px = scene.mean_projected_area(camera);
+        let image_px = camera.width as f64 * camera.height as f64;
+        let depth_complexity = mean_area_px.map(|area| {
+            area * scene.count as f64 / (scene.screen_share(camera) * image_px).max(1.0)
+        });
         // The benchmark's footprint variants measure the draw: only the shipped choice splats.
         let auto_footprint = config.footprint == Footprint::Auto;
         if auto_footprint {
@@ -208,6 +229,15 @@ impl FramePlan {
             && mean_area_px.is_some_and(|area| area <= SPLAT_MAX_MEAN_AREA_PX)
             && scene.count > 0
             && scene.count >= settings.compute_splat_min_glyphs;
+        // What the last frame showed is splatted first where the frame is one chunk (stamps
+        // and lists are per chunk) and occlusion culling is on (the second pass's test is an
+        // occlusion test).
+        let mark_shown = compute_splat
+            && chunks == 1
+            && settings.visible_first
+            && settings.culling.occlusion
+            && depth_complexity.is_some_and(|layers| layers >= settings.visible_first_min_layers);
+        let visible_first = mark_shown && shown_stamped;
         // Otherwise such glyphs are set up once by the pre-pass, where the records fit.
         let setup_once = settings.setup_once
             && !compute_splat
@@ -232,11 +262,18 @@ impl FramePlan {
         Ok(Self {
             compute_splat,
             splat_max_box_pixels: SPLAT_MAX_BOX_PIXELS,
+            mark_shown,
+            visible_first,
+            rest_culling: Culling {
+                occlusion: false,
+                ..settings.culling
+            },
             visibility_draw,
             resolve: compute_splat || visibility_draw,
             indirect_draw: prepass && !visibility_draw,
             config,
             mean_area_px,
+            depth_complexity,
             // The splat culls as it goes (off-screen glyphs, empty pixel boxes): the culling
             // steps would only add dispatches.
             culling: if compute_splat || visibility_draw {
@@ -331,6 +368,7 @@ mod tests {
             max_storage_buffer_range: 1 << 27,
             standard_sample_locations: true,
             chunks: 1,
+            shown_stamped: false,
             scene,
             settings,
             config: DrawConfig::default(),
@@ -472,6 +510,7 @@ mod tests {
             max_storage_buffer_range: 1 << 27,
             standard_sample_locations: true,
             chunks: 1,
+            shown_stamped: false,
             scene: &medium,
             settings: &shipped,
             config: DrawConfig {

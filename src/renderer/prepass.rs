@@ -4,13 +4,17 @@ use ash::vk;
 use gpu_allocator::vulkan::Allocator;
 
 use crate::camera::Camera;
-use crate::culling::{self, Prepass, PrepassBuffers, SplatStep, SPLAT_GROUP_SIZE};
+use crate::culling::{
+    self, CullSelect, CullStep, Culling, Dispatch, DispatchSize, Prepass, PrepassBuffers,
+    SPLAT_GROUP_SIZE,
+};
 use crate::error::Result;
-use crate::gpu_layout::{visibility_bytes, IndirectDraw};
+use crate::gpu_layout::{glyph_stamps_bytes, resolve_tiles, visibility_bytes, IndirectDraw};
 use crate::pipeline::{CullKey, SplatKey};
 
 use super::buffers::Binding;
 use super::chunks::SLICE_ALIGN;
+use super::plan::FramePlan;
 use super::push::push_constants;
 use super::EllipsoidRenderer;
 
@@ -43,10 +47,16 @@ impl EllipsoidRenderer {
     ) -> Result<()> {
         self.prepared = None;
         let plan = self.plan(camera)?;
+        // Every pre-pass has a stamp of its own (never 0); a frame that does not stamp what it
+        // shows leaves the next nothing to splat first.
+        self.frame_stamp = self.frame_stamp.checked_add(1).unwrap_or(1);
+        let first_stamps = self.shown_stamped.is_none();
+        self.shown_stamped = None;
         if !plan.prepass {
             return Ok(());
         }
         let (pipeline, _) = self.prepare(device, allocator, &plan)?;
+        let marks = plan.mark_shown && self.splat_floor == 0;
         if plan.culling.occlusion || plan.resolve {
             self.size_buffers(
                 device,
@@ -54,6 +64,7 @@ impl EllipsoidRenderer {
                 self.scene.count,
                 (camera.width, camera.height),
                 plan.resolve,
+                marks,
             )?;
         }
         #[cfg(feature = "research")]
@@ -65,30 +76,13 @@ impl EllipsoidRenderer {
         }
         #[cfg(not(feature = "research"))]
         let _ = pipeline;
-        let splat = if plan.compute_splat {
-            let key = SplatKey {
-                floor: self.splat_floor,
-                ..SplatKey::of(&plan)
-            };
-            let pipeline = self.pipelines.splat(device, key)?;
-            let empty = if plan.reversed_z { 0 } else { u32::MAX };
-            Some((pipeline, self.buffers.handle(Binding::Visibility)?, empty))
-        } else {
-            None
-        };
-        let steps = if plan.compute_splat {
-            culling::SPLAT_STEPS.to_vec()
-        } else {
-            culling::steps(plan.culling)
-        };
-        let steps = steps
-            .into_iter()
-            .map(|step| Ok((step, self.pipelines.cull(device, CullKey::of(&plan, step))?)))
-            .collect::<Result<Vec<_>>>()?;
+        let dispatches = self.prepass_dispatches(device, &plan, camera, marks)?;
         let buffers = PrepassBuffers {
             indirect: self.buffers.handle(Binding::IndirectDraw)?,
             tiles: self.buffers.handle(Binding::OcclusionTiles)?,
         };
+        let visibility = self.buffers.handle(Binding::Visibility)?;
+        let stamps = self.buffers.handle(Binding::GlyphStamps)?;
         let sets = self.descriptor_sets(device)?;
         let groups = self.buffers.handle(Binding::CullGroups)?;
         let chunking = self.chunking();
@@ -97,6 +91,22 @@ impl EllipsoidRenderer {
         // tiles are cleared once and shared, so later chunks also see earlier occluders.
         let chunks: Vec<(u32, u32)> = chunking.chunks().collect();
         for (k, ((first, count), set)) in chunks.into_iter().zip(sets).enumerate() {
+            let mut fills = Vec::new();
+            if plan.compute_splat {
+                if k == 0 {
+                    // Nothing hit yet: every 64-bit key of the image holds the empty value.
+                    let empty = if plan.reversed_z { 0 } else { u32::MAX };
+                    let bytes = visibility_bytes(camera.width, camera.height);
+                    fills.push((visibility, 0, bytes, empty));
+                }
+                // The keep bits of the glyphs the splat leaves to the draw.
+                let bytes = culling::groups_bytes(count);
+                fills.push((groups, k as u64 * groups_slice, bytes, 0));
+                if marks && first_stamps {
+                    // A new scene: no glyph shown yet, none left to the draw.
+                    fills.push((stamps, 0, glyph_stamps_bytes(count), 0));
+                }
+            }
             let prepass = Prepass {
                 layout: self.pipelines.cull_layout,
                 descriptor_set: set,
@@ -113,32 +123,162 @@ impl EllipsoidRenderer {
                     first_vertex: 0,
                     first_instance: 0,
                     total: count,
+                    frame: self.frame_stamp,
+                    dispatch: [0, 1, 1],
                 },
                 indirect_offset: k as u64 * SLICE_ALIGN,
-                steps: steps.clone(),
-                groups: culling::dispatch_grid(culling::group_count(count)),
                 clear_tiles: plan.culling.occlusion && k == 0,
                 buffers: PrepassBuffers { ..buffers },
-                splat: splat.map(|(pipeline, visibility, empty)| SplatStep {
-                    pipeline,
-                    groups: culling::dispatch_grid(count.div_ceil(SPLAT_GROUP_SIZE)),
-                    clear: (k == 0).then_some((
-                        visibility,
-                        visibility_bytes(camera.width, camera.height),
-                        empty,
-                    )),
-                    keep: (
-                        groups,
-                        k as u64 * groups_slice,
-                        culling::groups_bytes(count),
-                    ),
-                }),
+                fills,
+                dispatches: dispatches
+                    .iter()
+                    .map(|&(pipeline, size)| Dispatch {
+                        pipeline,
+                        size: match size {
+                            Size::Groups => {
+                                let (x, y) = culling::dispatch_grid(culling::group_count(count));
+                                DispatchSize::Grid(x, y)
+                            }
+                            Size::Splat => {
+                                let (x, y) =
+                                    culling::dispatch_grid(count.div_ceil(SPLAT_GROUP_SIZE));
+                                DispatchSize::Grid(x, y)
+                            }
+                            Size::Fixed(x, y) => DispatchSize::Grid(x, y),
+                            Size::Indirect => DispatchSize::Indirect,
+                        },
+                    })
+                    .collect(),
             };
             // SAFETY: `cmd` is recording outside a pass (caller contract); every handle is
             // owned by `self` and lives until the submission completes.
             unsafe { prepass.record(device, cmd) };
         }
+        if marks {
+            self.shown_stamped = Some(self.frame_stamp);
+        }
         self.prepared = Some((*camera, plan));
         Ok(())
+    }
+}
+
+/// The size of one of a chunk's dispatches, before the chunk is known.
+#[derive(Clone, Copy)]
+enum Size {
+    /// One invocation per instance, in the culling's groups of 256.
+    Groups,
+    /// One invocation per instance, in the splat's groups of 64.
+    Splat,
+    /// These workgroups.
+    Fixed(u32, u32),
+    /// What the previous step wrote.
+    Indirect,
+}
+
+impl EllipsoidRenderer {
+    /// The pipelines of the pre-pass `plan` asks for, in order, each with its size: the
+    /// culling steps; or the compute splat and the compaction of what it leaves to the draw;
+    /// or the visible-first splat's two passes (with `marks`, the frame stamps what it shows).
+    fn prepass_dispatches(
+        &mut self,
+        device: &ash::Device,
+        plan: &FramePlan,
+        camera: &Camera,
+        marks: bool,
+    ) -> Result<Vec<(vk::Pipeline, Size)>> {
+        if !plan.compute_splat {
+            return culling::steps(plan.culling)
+                .into_iter()
+                .map(|step| self.cull_step(device, plan, step, CullSelect::All, plan.culling))
+                .collect();
+        }
+        let (w, h) = (camera.width, camera.height);
+        let grid = |groups| {
+            let (x, y) = culling::dispatch_grid(groups);
+            Size::Fixed(x, y)
+        };
+        let off = Culling::OFF;
+        let mut mark_shown =
+            self.cull_step(device, plan, CullStep::MarkShown, CullSelect::All, off)?;
+        mark_shown.1 = grid(resolve_tiles(w, h));
+        let splat = SplatKey {
+            floor: self.splat_floor,
+            ..SplatKey::of(plan)
+        };
+        let mut dispatches = Vec::new();
+        if plan.visible_first && self.splat_floor == 0 {
+            let pass = (
+                self.pipelines.splat(
+                    device,
+                    SplatKey {
+                        list: true,
+                        ..splat
+                    },
+                )?,
+                Size::Indirect,
+            );
+            let mut key_tiles =
+                self.cull_step(device, plan, CullStep::KeyTiles, CullSelect::All, off)?;
+            key_tiles.1 = grid(culling::tiles_count(w, h).div_ceil(256));
+            dispatches.extend(self.list_steps(device, plan, CullSelect::Shown, off)?);
+            dispatches.push(pass);
+            dispatches.push(key_tiles);
+            dispatches.extend(self.list_steps(
+                device,
+                plan,
+                CullSelect::Rest,
+                plan.rest_culling,
+            )?);
+            dispatches.push(pass);
+            dispatches.push(mark_shown);
+            dispatches.extend(self.list_steps(device, plan, CullSelect::Drawn, off)?);
+        } else {
+            dispatches.push((self.pipelines.splat(device, splat)?, Size::Splat));
+            if marks {
+                dispatches.push(mark_shown);
+            }
+            for step in culling::SPLAT_STEPS {
+                dispatches.push(self.cull_step(device, plan, step, CullSelect::All, off)?);
+            }
+        }
+        Ok(dispatches)
+    }
+
+    /// The steps that list the glyphs `select` picks (with `culling`), in instance order.
+    fn list_steps(
+        &mut self,
+        device: &ash::Device,
+        plan: &FramePlan,
+        select: CullSelect,
+        culling: Culling,
+    ) -> Result<[(vk::Pipeline, Size); 3]> {
+        let off = Culling::OFF;
+        Ok([
+            self.cull_step(device, plan, CullStep::Classify, select, culling)?,
+            self.cull_step(device, plan, CullStep::Scan, CullSelect::All, off)?,
+            self.cull_step(device, plan, CullStep::Scatter, CullSelect::All, off)?,
+        ])
+    }
+
+    /// The pipeline of one culling step and its size (SCAN is one workgroup; the others run
+    /// over the chunk's groups).
+    fn cull_step(
+        &mut self,
+        device: &ash::Device,
+        plan: &FramePlan,
+        step: CullStep,
+        select: CullSelect,
+        culling: Culling,
+    ) -> Result<(vk::Pipeline, Size)> {
+        let key = CullKey {
+            select,
+            culling,
+            ..CullKey::of(plan, step)
+        };
+        let size = match step {
+            CullStep::Scan => Size::Fixed(1, 1),
+            _ => Size::Groups,
+        };
+        Ok((self.pipelines.cull(device, key)?, size))
     }
 }

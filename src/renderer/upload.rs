@@ -48,7 +48,9 @@ impl EllipsoidRenderer {
         self.buffers.replaced = true; // the chunks and slices change
         let uploaded = UploadedScene::new(scene, &packed, chunk_limit);
         let bytes = packed.records.bytes();
-        self.size_buffers(device, allocator, uploaded.count, (1, 1), false)?;
+        self.size_buffers(device, allocator, uploaded.count, (1, 1), false, false)?;
+        // The stamps of the old scene say nothing of this one.
+        self.shown_stamped = None;
         self.buffers.ensure(
             device,
             allocator,

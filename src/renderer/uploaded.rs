@@ -98,6 +98,42 @@ impl UploadedScene {
         (n > 0).then(|| sum / n as f64)
     }
 
+    /// The share of the image that the box holding every ellipsoid covers for `camera` (the
+    /// screen rectangle around its projected corners; 1 when a corner lies at or before the
+    /// near plane).
+    pub fn screen_share(&self, camera: &Camera) -> f64 {
+        let Some((lo, hi)) = self.extent else {
+            return 1.0;
+        };
+        let basis = camera.basis();
+        let (sx, sy) = camera.ndc_scale();
+        let (mut min, mut max) = ([1.0f64, 1.0], [-1.0f64, -1.0]);
+        for k in 0..8 {
+            let corner = DVec3::new(
+                if k & 1 == 0 { lo.x } else { hi.x },
+                if k & 2 == 0 { lo.y } else { hi.y },
+                if k & 4 == 0 { lo.z } else { hi.z },
+            );
+            let offset = corner - camera.eye;
+            let depth = offset.dot(basis.forward);
+            let scale = match camera.projection {
+                Projection::Perspective { .. } if depth <= camera.near => return 1.0,
+                Projection::Perspective { .. } => depth,
+                Projection::Orthographic { .. } => 1.0,
+            };
+            let ndc = [
+                offset.dot(basis.right) / (scale * sx),
+                offset.dot(basis.up) / (scale * sy),
+            ];
+            for a in 0..2 {
+                min[a] = min[a].min(ndc[a]);
+                max[a] = max[a].max(ndc[a]);
+            }
+        }
+        let side = |a: usize| (max[a].min(1.0) - min[a].max(-1.0)).max(0.0) / 2.0;
+        side(0) * side(1)
+    }
+
     /// Whether the box holding every ellipsoid lies wholly beyond the near plane of `camera`
     /// (view depth is linear, so its nearest point is a corner): then no cap can show.
     pub fn beyond_near_plane(&self, camera: &Camera) -> bool {
