@@ -65,8 +65,26 @@ void visible_floor(uint k) {
     }
 }
 
+// The block of GROUP glyphs workgroup `g` of `n` takes. A CPU driver splits the workgroups
+// between its threads in index order, in equal runs (lavapipe), and glyphs in scene order are
+// rarely alike from the first half to the second (a lattice seen from one side has its near,
+// larger glyphs in one half): so runs of RUN workgroups (long enough to keep reading the
+// instances in order) take places a prime stride apart, and every thread's share spreads over
+// the whole scene. The atomics make the order irrelevant to the picture.
+uint spread_block(uint g, uint n) {
+    const uint RUN = 16u, STRIDE = 7919u;
+    uint runs = n / RUN;
+    if (g >= runs * RUN || runs % STRIDE == 0u) {
+        return g;
+    }
+    return uint((uint64_t(g / RUN) * STRIDE) % uint64_t(runs)) * RUN + g % RUN;
+}
+
 void main() {
-    uint k = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * GROUP;
+    uint workgroups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
+    uint g = gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
+    uint block = spread_block(g, workgroups);
+    uint k = block * GROUP + gl_LocalInvocationID.x;
     // The whole chunk (no culling steps run before: the splat's own set-up and pixel walk skip
     // what the culling would have dropped, at a fraction of a dispatch's cost), or one pass of
     // the visible-first splat over the pre-pass's list.
