@@ -89,7 +89,7 @@ pub struct PushConstants {
 }
 
 /// The culled draw's `VkDrawIndirectCommand`, the chunk's instance count, the frame's stamp
-/// and the visible-first splat's `VkDispatchIndirectCommand` (GLSL buffer `IndirectDraw`, 36
+/// and the visible-first splat's `VkDispatchIndirectCommand` (GLSL buffer `IndirectDraw`, 40
 /// bytes), which the pre-pass starts from.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -106,6 +106,9 @@ pub struct IndirectDraw {
     pub total: u32,
     /// The frame's stamp for the glyph stamps (never 0).
     pub frame: u32,
+    /// The stamp of the last frame that stamped the glyphs it showed: those are splatted
+    /// first (0: none).
+    pub shown: u32,
     /// The visible-first splat's dispatch over the pre-pass's list (the SCAN step writes it):
     /// workgroups in x, y and z.
     pub dispatch: [u32; 3],
@@ -339,8 +342,8 @@ const _: () = {
     assert!(offset_of!(PushConstants, ambient) == 80);
     assert!(offset_of!(PushConstants, specular_color) == 96);
     assert!(offset_of!(PushConstants, first_instance) == 112);
-    assert!(size_of::<IndirectDraw>() == 36);
-    assert!(offset_of!(IndirectDraw, dispatch) == 24);
+    assert!(size_of::<IndirectDraw>() == 40);
+    assert!(offset_of!(IndirectDraw, dispatch) == 28);
     assert!(size_of::<FootprintRecord>() == 32);
     assert!(offset_of!(FootprintRecord, quad_z) == 24);
     assert!(size_of::<ShadingRecord>() == 128);

@@ -351,8 +351,8 @@ fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
     finish_validated(renderer);
 }
 
-/// A camera orbiting a scene of glyphs many layers deep, a new scene uploaded on the way and
-/// the depth convention changed: every visible-first frame (what the frame before showed
+/// A camera orbiting a scene of glyphs many layers deep, a drawn frame, a new scene uploaded
+/// and the depth convention changed on the way: every visible-first frame (what the frame before showed
 /// splatted first) matches the draw of the same camera, bit for bit.
 #[test]
 fn visible_first_frames_match_the_draw_while_the_camera_moves() {
@@ -396,6 +396,15 @@ fn visible_first_frames_match_the_draw_while_the_camera_moves() {
             for renderer in [&mut splatted, &mut drawn] {
                 renderer.upload(&moved).expect("upload");
             }
+        }
+        if frame == 2 {
+            // A drawn frame between stamps nothing and keeps the stamps of the last.
+            splatted.set_settings(Settings {
+                compute_splat: false,
+                ..splat
+            });
+            splatted.render_uploaded(&camera, Outputs::ALL).unwrap();
+            splatted.set_settings(splat);
         }
         let plan = splatted.plan(&camera).expect("plan");
         assert!(plan.compute_splat, "frame {frame}: {plan:?}");

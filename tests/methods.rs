@@ -48,6 +48,7 @@ fn every_method_renders_what_it_promises() {
             | Method::ImpostorFastNormal
             | Method::ImpostorCompute
             | Method::ImpostorDraw
+            | Method::ImpostorFirstFrame
             | Method::ImpostorVisbuffer
             // The floors replace only frames that splat, which glyphs this large never do.
             | Method::FloorMemory

@@ -8,14 +8,9 @@ layout(std430, set = 0, binding = 10) buffer GlyphStamps {
     uint glyph_stamps[];
 };
 
-// The stamp of the frame before this one (stamps skip 0, which means never).
-uint previous_frame() {
-    return frame == 1u ? 0xffffffffu : frame - 1u;
-}
-
-// Whether the last frame showed glyph `i`.
+// Whether the last frame that stamped what it showed (`shown`) showed glyph `i`.
 bool shown_last_frame(uint i) {
-    return glyph_stamps[2u * i] == previous_frame();
+    return shown != 0u && glyph_stamps[2u * i] == shown;
 }
 
 // Whether a splat pass of this frame left glyph `i` to the draw.

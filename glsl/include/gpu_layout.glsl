@@ -148,7 +148,7 @@ layout(constant_id = 24) const bool SPLAT_LIST = false;
 #define INDIRECT_DRAW_ACCESS readonly
 #endif
 // The culled draw's `VkDrawIndirectCommand`, the number of instances in the chunk, the frame's
-// stamp and the visible-first splat's `VkDispatchIndirectCommand` (`IndirectDraw`, 36 bytes).
+// stamps and the visible-first splat's `VkDispatchIndirectCommand` (`IndirectDraw`, 40 bytes).
 layout(std430, set = 0, binding = 3) INDIRECT_DRAW_ACCESS buffer IndirectDraw {
     uint vertex_count;
     uint instance_count;
@@ -156,6 +156,7 @@ layout(std430, set = 0, binding = 3) INDIRECT_DRAW_ACCESS buffer IndirectDraw {
     uint first_instance;
     uint total;
     uint frame;             // the frame's stamp (never 0), for the glyph stamps
+    uint shown;             // the stamp of the frame whose shown glyphs go first (0: none)
     uint dispatch_x;        // the splat pass over the list: (x, y, 1) workgroups (three
     uint dispatch_y;        // words: a uvec3 would sit at the next multiple of 16 bytes)
     uint dispatch_z;

@@ -199,6 +199,13 @@ impl OffscreenRenderer {
         self.renderer_mut().set_splat_floor(floor);
     }
 
+    /// Forgets which glyphs the last frame showed (see
+    /// [`EllipsoidRenderer::forget_shown`]).
+    #[cfg(feature = "research")]
+    pub fn forget_shown(&mut self) {
+        self.renderer_mut().forget_shown();
+    }
+
     /// Gives the visible-pixel floor the pixels each glyph shows (see
     /// [`EllipsoidRenderer::set_floor_pixels`]).
     #[cfg(feature = "research")]

@@ -130,7 +130,7 @@ pub struct EllipsoidRenderer {
     /// The stamp of the last recorded pre-pass (never 0; see `gpu_layout::IndirectDraw`).
     frame_stamp: u32,
     /// The stamp of the last pre-pass that stamped the glyphs its frame showed, since the
-    /// last upload.
+    /// last upload (frames between that did not stamp leave it).
     shown_stamped: Option<u32>,
     #[cfg(feature = "research")]
     meshes: research::Meshes,
@@ -217,7 +217,7 @@ impl EllipsoidRenderer {
             max_storage_buffer_range: self.caps.limits.max_storage_buffer_range,
             standard_sample_locations: self.caps.limits.standard_sample_locations == vk::TRUE,
             chunks: self.chunking().len(),
-            shown_stamped: self.shown_stamped == Some(self.frame_stamp),
+            shown_stamped: self.shown_stamped.is_some(),
             scene: &self.scene,
             settings: &self.settings,
             config: self.config,

@@ -78,7 +78,7 @@ pub struct FramePlan {
     /// The visible-first splat: the glyphs the last frame showed are splatted first; then the
     /// others are listed only where the first pass's hits leave them a pixel they might win,
     /// and splatted; a hidden glyph costs a comparison per tile instead of its ray casts
-    /// (frames after a frame that stamped what it showed).
+    /// (frames after a frame of the scene that stamped what it showed).
     pub visible_first: bool,
     /// The culling the visible-first splat's second pass lists its glyphs with (its occlusion
     /// test is the first pass's hits, not the tiles of `culling`).
@@ -125,7 +125,7 @@ pub(crate) struct PlanInputs<'a> {
     pub standard_sample_locations: bool,
     /// Chunks the scene is drawn in (the splat resolves once per chunk).
     pub chunks: u32,
-    /// The previous pre-pass stamped the glyphs its frame showed, for this scene.
+    /// A pre-pass since the last upload stamped the glyphs its frame showed.
     pub shown_stamped: bool,
     pub scene: &'a UploadedScene,
     pub settings: &'a Settings,

@@ -47,11 +47,10 @@ impl EllipsoidRenderer {
     ) -> Result<()> {
         self.prepared = None;
         let plan = self.plan(camera)?;
-        // Every pre-pass has a stamp of its own (never 0); a frame that does not stamp what it
-        // shows leaves the next nothing to splat first.
+        // Every pre-pass has a stamp of its own (never 0); the glyphs the last stamping frame
+        // showed (of this scene) go first, whatever frames came between.
         self.frame_stamp = self.frame_stamp.checked_add(1).unwrap_or(1);
-        let first_stamps = self.shown_stamped.is_none();
-        self.shown_stamped = None;
+        let shown = self.shown_stamped;
         if !plan.prepass {
             return Ok(());
         }
@@ -102,7 +101,7 @@ impl EllipsoidRenderer {
                 // The keep bits of the glyphs the splat leaves to the draw.
                 let bytes = culling::groups_bytes(count);
                 fills.push((groups, k as u64 * groups_slice, bytes, 0));
-                if marks && first_stamps {
+                if marks && shown.is_none() {
                     // A new scene: no glyph shown yet, none left to the draw.
                     fills.push((stamps, 0, glyph_stamps_bytes(count), 0));
                 }
@@ -124,6 +123,7 @@ impl EllipsoidRenderer {
                     first_instance: 0,
                     total: count,
                     frame: self.frame_stamp,
+                    shown: shown.unwrap_or(0),
                     dispatch: [0, 1, 1],
                 },
                 indirect_offset: k as u64 * SLICE_ALIGN,

@@ -34,6 +34,13 @@ impl EllipsoidRenderer {
         self.splat_floor = floor.min(3);
     }
 
+    /// Forgets which glyphs the last frame showed, so that the next frame is drawn as a first
+    /// frame of its scene would be (no visible-first splat; it stamps what it shows again):
+    /// what the benchmark's `impostor-first-frame` measures.
+    pub fn forget_shown(&mut self) {
+        self.shown_stamped = None;
+    }
+
     /// Gives the visible-pixel floor (`set_splat_floor(3)`) the pixels each glyph shows:
     /// `ids` holds, row-major in rows of `width`, the scene index of the glyph each pixel
     /// shows (`u32::MAX` or any index beyond the scene: none), e.g. the float64 reference's.

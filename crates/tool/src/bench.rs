@@ -332,10 +332,17 @@ pub fn run(
         let mut measured: Vec<Measured> = Vec::new();
         for &method in &active {
             use_method(renderer, method, &mut settings, &bench.scene)?;
+            let first_frame = method == Method::ImpostorFirstFrame;
+            if first_frame {
+                renderer.forget_shown();
+            }
             let (frame, timing) = renderer.render_uploaded(&bench.camera, Outputs::ALL)?;
             let stats = compare(&frame, &reference)?;
             // The exact pixel count comes from the counting build of the same shaders.
             renderer.set_count_fragments(true);
+            if first_frame {
+                renderer.forget_shown();
+            }
             let counted = renderer.render_uploaded(&bench.camera, Outputs::ALL);
             renderer.set_count_fragments(false);
             let counted = counted?.1;
@@ -369,6 +376,9 @@ pub fn run(
             for &k in order.next_round() {
                 let entry = &mut measured[k];
                 use_method(renderer, entry.method, &mut settings, &bench.scene)?;
+                if entry.method == Method::ImpostorFirstFrame {
+                    renderer.forget_shown();
+                }
                 let timing = renderer.render_timed(&bench.camera, Outputs::COLOR_DEPTH)?;
                 entry.wall.push(timing.gpu_wall.as_secs_f64() * 1e3);
                 entry.gpu.push(timing.gpu.gpu_ms);
@@ -870,22 +880,31 @@ pub fn write_report(
 }
 
 /// Sets up `renderer` for `method`: its draw configuration and its settings (the scene is
-/// uploaded again when they change; uploads are outside the timed frames). `settings` are
-/// those of the uploaded scene, `None` after a failed upload.
+/// uploaded again when its instance format or chunk size change; uploads are outside the
+/// timed frames). `settings` are those in force, `None` after a failed upload.
 fn use_method(
     renderer: &mut OffscreenRenderer,
     method: Method,
     settings: &mut Option<Settings>,
     scene: &Scene,
 ) -> Result<()> {
-    if *settings != Some(method.settings()) {
+    let wanted = method.settings();
+    // Only the instance format and the chunk size need the scene uploaded again; the rest
+    // take effect at the next frame (and an upload would make it the first of its scene).
+    let uploaded_alike = |s: &Settings| {
+        s.instance_format == wanted.instance_format
+            && s.max_chunk_instances == wanted.max_chunk_instances
+    };
+    if !settings.as_ref().is_some_and(uploaded_alike) {
         // Unknown until the upload succeeds, so a method skipped for a failed upload does not
         // leave the next one drawing a scene uploaded with other settings.
         *settings = None;
-        renderer.set_settings(method.settings());
+        renderer.set_settings(wanted);
         renderer.upload(scene)?;
-        *settings = Some(method.settings());
+    } else {
+        renderer.set_settings(wanted);
     }
+    *settings = Some(wanted);
     renderer.set_draw_config(method.config());
     renderer.set_splat_floor(method.splat_floor());
     Ok(())
