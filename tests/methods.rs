@@ -183,3 +183,78 @@ fn footprints_shade_their_area_ratio() {
     );
     finish_validated(renderer);
 }
+
+/// The quad's constant depth is the glyph's nearest point, so hardware that honours the
+/// conservative-depth layout the fragment stages declare (`depth_less` under reversed Z,
+/// mirrored to `depth_greater` under standard Z) may reject a hidden glyph's fragments before
+/// ray casting them: every depth the exact hit writes must lie at or behind the quad's. Drawn
+/// with the quad's depth alone (`impostor-flat-depth`) and with the exact hit, at every pixel
+/// where both show the same glyph, in perspective (both depth conventions), with the near
+/// plane cutting glyphs, and orthographic.
+#[test]
+fn every_written_depth_lies_at_or_behind_the_quad() {
+    use ellipsoid_splat::DepthConvention;
+    let scene = random_cloud(150, 9, 3.0, 0.9);
+    let perspective = Camera::new(
+        DVec3::new(3.0, 2.5, 8.0),
+        DVec3::ZERO,
+        DVec3::Y,
+        Projection::Perspective { fov_y_deg: 50.0 },
+        0.5,
+        240,
+        160,
+    )
+    .unwrap();
+    let cameras = [
+        ("reversed", perspective),
+        (
+            "standard",
+            perspective
+                .with_depth(DepthConvention::STANDARD_INFINITE)
+                .unwrap(),
+        ),
+        (
+            "near-plane cut",
+            Camera {
+                near: 7.5,
+                ..perspective
+            },
+        ),
+        (
+            "orthographic",
+            Camera {
+                projection: Projection::Orthographic { height: 8.0 },
+                ..perspective
+            },
+        ),
+    ];
+    let mut renderer = validated_renderer();
+    renderer.upload(&scene).unwrap();
+    for (name, camera) in cameras {
+        renderer.set_draw_config(Method::ImpostorFlatDepth.config());
+        let quads = renderer.render_uploaded(&camera, Outputs::ALL).unwrap().0;
+        renderer.set_draw_config(Method::Impostor.config());
+        let exact = renderer.render_uploaded(&camera, Outputs::ALL).unwrap().0;
+        let (mut compared, mut behind) = (0, 0);
+        for k in 0..exact.len() {
+            if exact.id[k] == NO_INSTANCE || exact.id[k] != quads.id[k] {
+                continue;
+            }
+            compared += 1;
+            assert!(
+                exact.depth[k] >= quads.depth[k],
+                "{name}: pixel {k} of glyph {}: written depth {} before the quad's {}",
+                exact.id[k],
+                exact.depth[k],
+                quads.depth[k]
+            );
+            behind += (exact.depth[k] > quads.depth[k]) as usize;
+        }
+        assert!(compared > 5_000, "{name}: only {compared} pixels compared");
+        assert!(
+            behind > compared / 2,
+            "{name}: the quads sit on the surfaces"
+        );
+    }
+    finish_validated(renderer);
+}
