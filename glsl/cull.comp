@@ -31,6 +31,7 @@
 #include "setup_records.glsl"
 #include "occlusion_tiles.glsl"
 #include "glyph_stamps.glsl"
+#include "visibility_words.glsl"
 
 #include "cull_groups.glsl"
 
@@ -206,22 +207,29 @@ void write_occluder(uint index) {
     }
 }
 
+// The ellipsoid's nearest view depth, moved nearer by DEPTH_GAP of the depths involved: far
+// more than float32 rounds the difference (its terms may be far larger than it) or the hit.
+float nearest_with_gap(uint index) {
+    vec2 z = depth_range(load_instance(index));
+    return z.x - z.y - DEPTH_GAP * (abs(z.x) + z.y);
+}
+
+// The tiles holding the pixels `sampled`, if there are some and few enough to test.
+bool tested_tiles(vec4 sampled, out ivec2 t0, out ivec2 t1) {
+    tiles_touched(sampled, t0, t1);
+    ivec2 n = t1 - t0 + 1;
+    return all(greaterThan(n, ivec2(0))) && n.x * n.y <= MAX_TESTED_TILES;
+}
+
 // Is every sample of the pixels `sampled` covered by something at least DEPTH_GAP nearer than
 // the ellipsoid's nearest point?
 bool occluded(uint index, vec4 sampled) {
-    vec2 z = depth_range(load_instance(index));
-    float nearest = z.x - z.y;
-    if (!(nearest > 0.0)) {
-        return false;
-    }
+    float limit = nearest_with_gap(index);
     ivec2 grid = tile_grid();
     ivec2 t0, t1;
-    tiles_touched(sampled, t0, t1);
-    ivec2 n = t1 - t0 + 1;
-    if (any(lessThanEqual(n, ivec2(0))) || n.x * n.y > MAX_TESTED_TILES) {
+    if (!(limit > 0.0) || !tested_tiles(sampled, t0, t1)) {
         return false;
     }
-    float limit = nearest / (1.0 + DEPTH_GAP);
     for (int ty = t0.y; ty <= t1.y; ty++) {
         for (int tx = t0.x; tx <= t1.x; tx++) {
             if (!(uintBitsToFloat(tiles[ty * grid.x + tx]) < limit)) {
@@ -242,7 +250,7 @@ void key_tile(uint t) {
     }
     uvec2 origin = uvec2(t % uint(grid.x), t / uint(grid.x)) * uint(TILE);
     uvec2 last = min(origin + uint(TILE) - 1u, uvec2(cam.image_width, cam.image_height) - 1u);
-    uint farthest = REVERSED_Z ? 0xffffffffu : 0u;
+    uint farthest = ~empty_key_word();
     for (uint y = origin.y; y <= last.y; y++) {
         for (uint x = origin.x; x <= last.x; x++) {
             uint z = visibility_words[2u * (y * cam.image_width + x) + 1u];
@@ -256,20 +264,20 @@ void key_tile(uint t) {
 // marked the tile (a loop of no trips otherwise: lavapipe runs a branch's body whatever the
 // condition, but not a loop's).
 void mark_shown(uint t) {
-    uint tiles_x = (cam.image_width + 31u) / 32u;
-    if (t >= tiles_x * ((cam.image_height + 31u) / 32u)) {
+    uint tiles_x = resolve_tiles_x();
+    if (t >= tiles_x * ((cam.image_height + RESOLVE_TILE - 1u) / RESOLVE_TILE)) {
         return;
     }
-    uint word = 2u * (cam.image_width * cam.image_height + t);
-    bool marked = visibility_words[word] != (REVERSED_Z ? 0u : 0xffffffffu);
-    uvec2 origin = uvec2(t % tiles_x, t / tiles_x) * 32u;
-    uint lane = gl_LocalInvocationIndex;
-    for (uint k = 0u; k < (marked ? 4u : 0u); k++) {
-        uvec2 p = origin + uvec2(lane % 32u, lane / 32u + 8u * k);
+    bool marked = visibility_words[2u * resolve_tile_word(t)] != empty_key_word();
+    uvec2 origin = uvec2(t % tiles_x, t / tiles_x) * RESOLVE_TILE;
+    // The workgroup's GROUP lanes take the tile's rows GROUP / RESOLVE_TILE at a time.
+    uint lane = gl_LocalInvocationIndex, rows = GROUP / RESOLVE_TILE;
+    for (uint k = 0u; k < (marked ? RESOLVE_TILE / rows : 0u); k++) {
+        uvec2 p = origin + uvec2(lane % RESOLVE_TILE, lane / RESOLVE_TILE + rows * k);
         if (p.x < cam.image_width && p.y < cam.image_height) {
             uint low = visibility_words[2u * (p.y * cam.image_width + p.x)];
-            uint glyph = (REVERSED_Z ? ~low : low) - cam.first_instance;
-            if (glyph < total) {
+            uint glyph = key_instance(low) - cam.first_instance;
+            if (low != empty_key_word() && glyph < total) {
                 glyph_stamps[2u * glyph] = frame;
             }
         }
@@ -277,29 +285,24 @@ void mark_shown(uint t) {
 }
 
 // Does the first pass's picture hide the glyph at every pixel with a sample in `sampled`?
-// Each such pixel already holds a hit at or nearer than its tile's word (KEY_TILES), and the
-// glyph's every hit lies beyond its nearest point moved nearer by a ten-thousandth of its
-// depth (far more than float32 rounds the hit) and two float steps of the depth-buffer value
-// beyond that word: it cannot win a pixel, nor tie one.
+// Each such pixel already holds a hit at or nearer than its tile's word (KEY_TILES). The
+// glyph's every hit lies beyond its nearest point moved nearer by DEPTH_GAP of the depths
+// involved (`nearest_with_gap`); where that lies beyond the near plane, its depth-buffer value
+// more than two float steps beyond the tile's word means the glyph can neither win nor tie a
+// pixel of the tile. A glyph that may reach the near plane (a cap) is never hidden.
 bool hidden_by_first_pass(uint index, vec4 sampled) {
-    vec2 z = depth_range(load_instance(index));
-    float nearest = (z.x - z.y) * (1.0 - DEPTH_GAP);
-    if (!(nearest > cam.near_plane)) {
+    float nearest = nearest_with_gap(index);
+    ivec2 grid = tile_grid();
+    ivec2 t0, t1;
+    if (!(nearest > cam.near_plane) || !tested_tiles(sampled, t0, t1)) {
         return false;
     }
     uint bound = floatBitsToUint(clamp(depth_value(nearest), 0.0, 1.0));
-    ivec2 grid = tile_grid();
-    ivec2 t0, t1;
-    tiles_touched(sampled, t0, t1);
-    ivec2 n = t1 - t0 + 1;
-    if (any(lessThanEqual(n, ivec2(0))) || n.x * n.y > MAX_TESTED_TILES) {
-        return false;
-    }
     for (int ty = t0.y; ty <= t1.y; ty++) {
         for (int tx = t0.x; tx <= t1.x; tx++) {
             uint tile = tiles[ty * grid.x + tx];
             bool behind = REVERSED_Z ? bound + 2u < tile : bound > tile + 2u;
-            if (!behind || tile == (REVERSED_Z ? 0u : 0xffffffffu)) {
+            if (!behind || tile == empty_key_word()) {
                 return false;
             }
         }
@@ -322,7 +325,7 @@ bool needed(uint index, bool reaches, vec4 rect) {
     if (CULL_FRUSTUM && (rect.z < -1.0 || rect.x > 1.0 || rect.w < -1.0 || rect.y > 1.0)) {
         return false;
     }
-    if (!CULL_PIXEL_CENTRES && !CULL_OCCLUSION) {
+    if (!CULL_PIXEL_CENTRES && !CULL_OCCLUSION && CULL_SELECT != CULL_SELECT_REST) {
         return true;
     }
     vec4 sampled = pixels_sampled(rect);

@@ -22,16 +22,11 @@
 #include "visibility.glsl"
 #include "cull_groups.glsl"
 #include "glyph_stamps.glsl"
-
-// The benchmark's counter (COUNT_RAY_CASTS): the second word takes the splat's ray casts.
-layout(std430, set = 0, binding = 1) buffer FragmentCounter {
-    uint shaded_fragments;
-    uint compute_ray_casts;
-};
+#include "fragment_counter.glsl"
 
 // The visible-pixel floor's lists (SPLAT_FLOOR_VISIBLE; `set_floor_pixels`): the scene's glyph
-// count N, per scene glyph its first entry (and N + 1 after the last), then the entries, each
-// a pixel `x | y << 16`.
+// count N, N + 1 offsets (glyph g's entries run from offset g to offset g + 1), then the
+// entries, each a pixel `x | y << 16`.
 layout(std430, set = 0, binding = 9) readonly buffer FloorPixels {
     uint floor_pixels[];
 };
@@ -45,8 +40,11 @@ void visible_floor(uint k) {
     Setup f = setup_instance(load_instance(k));
     use_setup(f);
     uint glyph = k + cam.first_instance;
-    uint entries = floor_pixels[0] + 2u;
-    uint first = floor_pixels[1u + glyph], last = floor_pixels[2u + glyph];
+    uint glyphs = floor_pixels[0];
+    uint entries = glyphs + 2u;
+    // The host checks the lists are the uploaded scene's; a glyph beyond them casts nothing.
+    uint first = glyph < glyphs ? floor_pixels[1u + glyph] : 0u;
+    uint last = glyph < glyphs ? floor_pixels[2u + glyph] : 0u;
     uint depth_sum = 0u, ray_casts = 0u;
     for (uint e = first; e < last; e++) {
         uint xy = floor_pixels[entries + e];

@@ -118,8 +118,8 @@ pub const PREPASS_AFTER_PREVIOUS_FRAME: Barrier = Barrier {
 
 /// After the pre-pass resets the indirect command and clears the occlusion tiles.
 pub const PREPASS_CLEARED: Barrier = Barrier {
-    purpose:
-        "indirect-command reset and the tile, visibility and keep-bit clears -> the dispatches",
+    purpose: "indirect-command reset and the tile, visibility, keep-bit and stamp clears -> the \
+              dispatches",
     src_stages: vk::PipelineStageFlags::TRANSFER,
     src_access: vk::AccessFlags::TRANSFER_WRITE,
     dst_stages: vk::PipelineStageFlags::COMPUTE_SHADER,
@@ -169,10 +169,13 @@ pub const PREPASS_TO_DRAW: Barrier = Barrier {
 };
 
 /// After a read-back frame's pass with the `research` feature: the host reads the fragment
-/// counter (`bench`).
+/// and ray-cast counters (`bench`).
 pub const COUNTER_TO_HOST: Barrier = Barrier {
-    purpose: "fragment counter atomics -> host read",
-    src_stages: vk::PipelineStageFlags::FRAGMENT_SHADER,
+    purpose: "fragment and compute counter atomics -> host read",
+    src_stages: stages(&[
+        vk::PipelineStageFlags::FRAGMENT_SHADER,
+        vk::PipelineStageFlags::COMPUTE_SHADER,
+    ]),
     src_access: vk::AccessFlags::SHADER_WRITE,
     dst_stages: vk::PipelineStageFlags::HOST,
     dst_access: vk::AccessFlags::HOST_READ,

@@ -140,10 +140,14 @@ pub(crate) struct PrepassBuffers {
 /// How big one dispatch of the pre-pass is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum DispatchSize {
+    /// One invocation per instance of the chunk, in the culling's groups of 256.
+    Groups,
+    /// One invocation per instance of the chunk, in the splat's groups of 64.
+    Splat,
     /// These workgroups (x, y).
     Grid(u32, u32),
-    /// The size the previous step wrote into the chunk's command (`IndirectDraw::dispatch`):
-    /// a splat pass over the pre-pass's list.
+    /// The size the previous step wrote into the chunk's command (`IndirectDraw::dispatch_x`
+    /// and on): a splat pass over the pre-pass's list.
     Indirect,
 }
 
@@ -168,7 +172,8 @@ pub(crate) struct Prepass {
     pub clear_tiles: bool,
     pub buffers: PrepassBuffers,
     /// Buffer ranges filled before the dispatches (buffer, offset, bytes, word): the compute
-    /// splat's visibility buffer (first chunk) and keep bits.
+    /// splat's visibility buffer (first chunk) and keep bits, and the glyph stamps of a new
+    /// scene.
     pub fills: Vec<(vk::Buffer, u64, u64, u32)>,
     pub dispatches: Vec<Dispatch>,
 }
@@ -177,7 +182,7 @@ pub(crate) struct Prepass {
 pub(crate) const SPLAT_GROUP_SIZE: u32 = 64;
 
 /// Byte offset of the dispatch command in a chunk's `IndirectDraw`.
-const DISPATCH_OFFSET: u64 = std::mem::offset_of!(IndirectDraw, dispatch) as u64;
+const DISPATCH_OFFSET: u64 = std::mem::offset_of!(IndirectDraw, dispatch_x) as u64;
 
 impl Prepass {
     /// Records the pre-pass with its barriers: after the previous frame's draw (its reads)
@@ -225,23 +230,25 @@ impl Prepass {
                 0,
                 bytemuck::bytes_of(&self.push),
             );
+            let total = self.command.total;
             for (k, dispatch) in self.dispatches.iter().enumerate() {
-                match dispatch.size {
-                    DispatchSize::Indirect => {
-                        barriers::PREPASS_STEP_TO_DISPATCH.record(device, cmd)
-                    }
-                    DispatchSize::Grid(..) if k > 0 => barriers::PREPASS_STEP.record(device, cmd),
-                    DispatchSize::Grid(..) => {}
+                if dispatch.size == DispatchSize::Indirect {
+                    barriers::PREPASS_STEP_TO_DISPATCH.record(device, cmd);
+                } else if k > 0 {
+                    barriers::PREPASS_STEP.record(device, cmd);
                 }
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, dispatch.pipeline);
-                match dispatch.size {
-                    DispatchSize::Grid(x, y) => device.cmd_dispatch(cmd, x, y, 1),
-                    DispatchSize::Indirect => device.cmd_dispatch_indirect(
-                        cmd,
-                        b.indirect,
-                        self.indirect_offset + DISPATCH_OFFSET,
-                    ),
-                }
+                let (x, y) = match dispatch.size {
+                    DispatchSize::Groups => dispatch_grid(group_count(total)),
+                    DispatchSize::Splat => dispatch_grid(total.div_ceil(SPLAT_GROUP_SIZE)),
+                    DispatchSize::Grid(x, y) => (x, y),
+                    DispatchSize::Indirect => {
+                        let offset = self.indirect_offset + DISPATCH_OFFSET;
+                        device.cmd_dispatch_indirect(cmd, b.indirect, offset);
+                        continue;
+                    }
+                };
+                device.cmd_dispatch(cmd, x, y, 1);
             }
             barriers::PREPASS_TO_DRAW.record(device, cmd);
         }

@@ -110,8 +110,12 @@ pub struct IndirectDraw {
     /// first (0: none).
     pub shown: u32,
     /// The visible-first splat's dispatch over the pre-pass's list (the SCAN step writes it):
-    /// workgroups in x, y and z.
-    pub dispatch: [u32; 3],
+    /// workgroups in x (a `VkDispatchIndirectCommand` from here on)...
+    pub dispatch_x: u32,
+    /// ... in y ...
+    pub dispatch_y: u32,
+    /// ... and in z.
+    pub dispatch_z: u32,
 }
 
 /// The pre-pass's set-up of one impostor for the vertex stage (GLSL `FootprintRecord`,
@@ -343,7 +347,7 @@ const _: () = {
     assert!(offset_of!(PushConstants, specular_color) == 96);
     assert!(offset_of!(PushConstants, first_instance) == 112);
     assert!(size_of::<IndirectDraw>() == 40);
-    assert!(offset_of!(IndirectDraw, dispatch) == 28);
+    assert!(offset_of!(IndirectDraw, dispatch_x) == 28);
     assert!(size_of::<FootprintRecord>() == 32);
     assert!(offset_of!(FootprintRecord, quad_z) == 24);
     assert!(size_of::<ShadingRecord>() == 128);

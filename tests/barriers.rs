@@ -44,7 +44,7 @@ fn every_hazard_is_covered_by_its_barrier() {
     let fragment_read = at(S::FRAGMENT_SHADER, A::SHADER_READ);
     let indirect_read = at(S::DRAW_INDIRECT, A::INDIRECT_COMMAND_READ);
     // (what, first access, later access, the barrier between them)
-    let hazards: [(&str, Access, Access, Barrier); 29] = [
+    let hazards: [(&str, Access, Access, Barrier); 30] = [
         // An upload or update of the instances.
         (
             "copy -> pre-pass reads instances",
@@ -218,7 +218,13 @@ fn every_hazard_is_covered_by_its_barrier() {
             vertex_read,
             barriers::PREPASS_TO_DRAW,
         ),
-        // Bench's fragment counter.
+        // Bench's fragment counter, and the compute splat's ray casts beside it.
+        (
+            "the splat's ray-cast atomics -> host read",
+            compute_write,
+            at(S::HOST, A::HOST_READ),
+            barriers::COUNTER_TO_HOST,
+        ),
         (
             "fragment atomics -> host read",
             at(S::FRAGMENT_SHADER, A::SHADER_WRITE),

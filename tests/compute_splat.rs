@@ -4,9 +4,8 @@
 //! cutting glyphs, in standard and reversed depth, with compact instances, and where glyphs
 //! tie exactly in depth (the lower instance must win, as in the draw). Every case is drawn
 //! twice: the first splatted frame of a scene splats every glyph and stamps those it shows,
-//! the next is the visible-first splat (those first, then the rest its hits do not hide);
-//! and a camera orbiting a scene, with glyphs moved between frames, matches the draw at
-//! every frame.
+//! the next, with the same camera, is the visible-first splat (those first, then the rest its
+//! hits do not hide); and a camera stopping along an orbit matches the draw at every frame.
 
 use ellipsoid_splat::{
     Camera, DepthConvention, Ellipsoid, Frame, InstanceFormat, OffscreenRenderer, Outputs,
@@ -29,7 +28,7 @@ fn assert_splat_matches_draw(
     let settings = |compute_splat| Settings {
         compute_splat,
         compute_splat_min_glyphs: 0,
-        visible_first_min_layers: 0.0,
+        visible_first_min_hidden_px: 0.0,
         instance_format: format,
         ..Settings::default()
     };
@@ -351,15 +350,16 @@ fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
     finish_validated(renderer);
 }
 
-/// A camera orbiting a scene of glyphs many layers deep, a drawn frame, a new scene uploaded
-/// and the depth convention changed on the way: every visible-first frame (what the frame before showed
-/// splatted first) matches the draw of the same camera, bit for bit.
+/// A camera stopping at points of an orbit around a scene of glyphs many layers deep, with a
+/// drawn frame, a new scene uploaded and the depth convention changed on the way: at each stop
+/// the first frame splats everything and stamps what it shows, the next (a still frame) is
+/// the visible-first splat, and both match the draw of the same camera, bit for bit.
 #[test]
-fn visible_first_frames_match_the_draw_while_the_camera_moves() {
+fn visible_first_frames_match_the_draw_at_each_stop_of_an_orbit() {
     let scene = random_cloud(6_000, 25, 10.0, 0.5);
     let splat = Settings {
         compute_splat_min_glyphs: 0,
-        visible_first_min_layers: 0.0,
+        visible_first_min_hidden_px: 0.0,
         ..Settings::default()
     };
     let mut splatted = validated_renderer();
@@ -371,24 +371,19 @@ fn visible_first_frames_match_the_draw_while_the_camera_moves() {
         ..splat
     });
     drawn.upload(&scene).expect("upload");
-    for frame in 0..8 {
-        let angle = 0.12 * frame as f64;
-        let eye = DVec3::new(
-            24.0 * angle.sin(),
-            3.0 - 0.4 * frame as f64,
-            24.0 * angle.cos(),
-        );
+    for stop in 0..6 {
+        let angle = 0.3 * stop as f64;
+        let eye = DVec3::new(24.0 * angle.sin(), 3.0 - stop as f64, 24.0 * angle.cos());
         let camera = Camera::look_at(eye, DVec3::ZERO, 45.0, 1.0, 240, 180).unwrap();
-        let camera = if frame >= 6 {
+        let camera = if stop >= 4 {
             camera
                 .with_depth(DepthConvention::STANDARD_INFINITE)
                 .unwrap()
         } else {
             camera
         };
-        if frame == 4 {
-            // A hundred glyphs jump across the scene: a new upload, whose first frame has no
-            // stamps to go by.
+        if stop == 3 {
+            // A hundred glyphs jump across the scene: a new upload, with no stamps.
             let mut moved = scene.clone();
             for e in &mut moved.ellipsoids[1_000..1_100] {
                 e.center = -e.center;
@@ -397,26 +392,27 @@ fn visible_first_frames_match_the_draw_while_the_camera_moves() {
                 renderer.upload(&moved).expect("upload");
             }
         }
-        if frame == 2 {
-            // A drawn frame between stamps nothing and keeps the stamps of the last.
-            splatted.set_settings(Settings {
-                compute_splat: false,
-                ..splat
-            });
-            splatted.render_uploaded(&camera, Outputs::ALL).unwrap();
-            splatted.set_settings(splat);
+        let expected = drawn.render_uploaded(&camera, Outputs::ALL).unwrap().0;
+        for still in [false, true] {
+            if stop == 2 && still {
+                // A drawn frame between stamps nothing and keeps the stamps of the last.
+                splatted.set_settings(Settings {
+                    compute_splat: false,
+                    ..splat
+                });
+                splatted.render_uploaded(&camera, Outputs::ALL).unwrap();
+                splatted.set_settings(splat);
+            }
+            let plan = splatted.plan(&camera).expect("plan");
+            assert!(
+                plan.compute_splat && plan.mark_shown,
+                "stop {stop}: {plan:?}"
+            );
+            assert_eq!(plan.visible_first, still, "stop {stop}, still {still}");
+            let frame = splatted.render_uploaded(&camera, Outputs::ALL).unwrap().0;
+            let name = format!("stop {stop}, still {still}");
+            assert_frames_identical(&name, &expected, &frame);
         }
-        let plan = splatted.plan(&camera).expect("plan");
-        assert!(plan.compute_splat, "frame {frame}: {plan:?}");
-        // Stamps name glyphs, not depths: a change of depth convention keeps them.
-        assert_eq!(
-            plan.visible_first,
-            frame != 0 && frame != 4,
-            "frame {frame}"
-        );
-        let a = drawn.render_uploaded(&camera, Outputs::ALL).unwrap().0;
-        let b = splatted.render_uploaded(&camera, Outputs::ALL).unwrap().0;
-        assert_frames_identical(&format!("orbit frame {frame}"), &a, &b);
     }
     finish_validated(splatted);
     finish_validated(drawn);
@@ -647,9 +643,12 @@ fn ray_casts_are_counted_against_the_reference() {
         walked < centres * 2,
         "{walked} ray casts for {centres} covered centres"
     );
-    assert_eq!(
-        resolved, visible,
-        "the resolve shades each visible pixel once"
+    // Each pixel the splat shows is shaded once: the reference's count, within the coverage
+    // bound (float32 against float64 at silhouettes).
+    let off = resolved.abs_diff(visible);
+    assert!(
+        off * 1_000 <= visible,
+        "{resolved} resolved, {visible} visible pixels"
     );
     let (arithmetic, none) = counts(Method::FloorArithmetic);
     assert_eq!(

@@ -10,6 +10,8 @@
 // Needs GL_EXT_shader_explicit_arithmetic_types_int64 (and, where written,
 // GL_EXT_shader_atomic_int64) enabled by the includer.
 
+#include "visibility_words.glsl"
+
 #if defined(SPLAT_PASS) || defined(VISIBILITY_WRITER)
 #define VISIBILITY_ACCESS
 #else
@@ -18,9 +20,6 @@
 layout(std430, set = 0, binding = 8) VISIBILITY_ACCESS buffer Visibility {
     uint64_t visibility[];
 };
-
-// Side of a resolve tile in pixels (`RESOLVE_TILE` in src/gpu_layout.rs).
-const uint RESOLVE_TILE = 32u;
 
 // The key of a pixel no instance shows (the clear value).
 uint64_t visibility_empty() {
@@ -34,16 +33,5 @@ uint64_t visibility_key(float z, uint id) {
 
 // The instance (scene index) of a key that is not empty.
 uint visibility_id(uint64_t key) {
-    uint low = uint(key);
-    return REVERSED_Z ? ~low : low;
-}
-
-// Resolve tiles per row of the image.
-uint resolve_tiles_x() {
-    return (cam.image_width + RESOLVE_TILE - 1u) / RESOLVE_TILE;
-}
-
-// Where tile `t` (row-major) keeps its word.
-uint resolve_tile_word(uint t) {
-    return cam.image_width * cam.image_height + t;
+    return key_instance(uint(key));
 }

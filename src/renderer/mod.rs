@@ -14,7 +14,8 @@
 //!   indirect, vertex, fragment and compute reads to its transfer and compute writes, its
 //!   dispatches (the culling steps; or, where the plan splats, the compute splat after
 //!   clearing its visibility buffer and keep bits, then the steps that compact the glyphs it
-//!   leaves to the draw) with compute-to-compute barriers between them, and a
+//!   leaves to the draw; or the visible-first splat's steps, two passes dispatched indirectly
+//!   after `PREPASS_STEP_TO_DISPATCH`) with compute-to-compute barriers between them, and a
 //!   barrier from its compute writes to indirect-command, vertex and fragment shader reads.
 //!   (The benchmark's visibility-buffer draw, `research` only, records instead the same first
 //!   barrier, the visibility buffer's clear, a barrier to fragment-shader atomics, its own
@@ -129,11 +130,14 @@ pub struct EllipsoidRenderer {
     splat_floor: u32,
     /// The stamp of the last recorded pre-pass (never 0; see `gpu_layout::IndirectDraw`).
     frame_stamp: u32,
-    /// The stamp of the last pre-pass that stamped the glyphs its frame showed, since the
-    /// last upload (frames between that did not stamp leave it).
-    shown_stamped: Option<u32>,
+    /// The stamp and camera of the last pre-pass that stamped the glyphs its frame showed,
+    /// since the last upload (frames between that did not stamp leave it).
+    shown_stamped: Option<(u32, Camera)>,
     #[cfg(feature = "research")]
     meshes: research::Meshes,
+    /// The glyph count the visible-pixel floor's lists were made for (`set_floor_pixels`).
+    #[cfg(feature = "research")]
+    floor_pixels_for: Option<u32>,
     /// `destroy` ran (a renderer dropped without it leaks its Vulkan objects, and says so).
     destroyed: bool,
 }
@@ -191,6 +195,8 @@ impl EllipsoidRenderer {
             shown_stamped: None,
             #[cfg(feature = "research")]
             meshes: research::Meshes::default(),
+            #[cfg(feature = "research")]
+            floor_pixels_for: None,
             destroyed: false,
         };
         // On failure, `destroy` releases whatever was created (null handles are skipped).
@@ -217,7 +223,7 @@ impl EllipsoidRenderer {
             max_storage_buffer_range: self.caps.limits.max_storage_buffer_range,
             standard_sample_locations: self.caps.limits.standard_sample_locations == vk::TRUE,
             chunks: self.chunking().len(),
-            shown_stamped: self.shown_stamped.is_some(),
+            shown_stamped: self.shown_stamped.is_some_and(|(_, seen)| seen == *camera),
             scene: &self.scene,
             settings: &self.settings,
             config: self.config,

@@ -47,9 +47,13 @@ pub struct FramePlan {
     pub config: DrawConfig,
     /// Mean projected area of the sampled glyphs on screen (square pixels), if any is.
     pub mean_area_px: Option<f64>,
-    /// About how many glyphs deep the scene lies where it covers the image: the glyphs' total
-    /// projected area (from the size sample) over the image area the box around them covers.
+    /// About how many glyphs deep the scene lies where it covers the image: the total
+    /// projected area of the glyphs on screen (from the size sample) over the image area the
+    /// box around them covers.
     pub depth_complexity: Option<f64>,
+    /// The area per glyph, in square pixels, the scene is expected to hide: `mean_area_px`
+    /// times `1 - 1 / depth_complexity` (none below one layer).
+    pub hidden_area_px: Option<f64>,
     /// The culling the pre-pass does.
     pub culling: Culling,
     /// The pre-pass runs (to cull, to set up, to splat, or the benchmark's visibility-buffer
@@ -78,7 +82,9 @@ pub struct FramePlan {
     /// The visible-first splat: the glyphs the last frame showed are splatted first; then the
     /// others are listed only where the first pass's hits leave them a pixel they might win,
     /// and splatted; a hidden glyph costs a comparison per tile instead of its ray casts
-    /// (frames after a frame of the scene that stamped what it showed).
+    /// (frames whose camera is the last stamping frame's: a moving camera uncovers a few
+    /// pixels in many tiles, which then hide nothing, and the steps cost more than they
+    /// save).
     pub visible_first: bool,
     /// The culling the visible-first splat's second pass lists its glyphs with (its occlusion
     /// test is the first pass's hits, not the tiles of `culling`).
@@ -125,7 +131,8 @@ pub(crate) struct PlanInputs<'a> {
     pub standard_sample_locations: bool,
     /// Chunks the scene is drawn in (the splat resolves once per chunk).
     pub chunks: u32,
-    /// A pre-pass since the last upload stamped the glyphs its frame showed.
+    /// The last pre-pass since the upload that stamped the glyphs its frame showed had this
+    /// camera.
     pub shown_stamped: bool,
     pub scene: &'a UploadedScene,
     pub settings: &'a Settings,
@@ -159,11 +166,17 @@ impl FramePlan {
                 format!("{:?} supports perspective cameras only", config.geometry),
             ));
         }
-        let mean_area_px = scene.mean_projected_area(camera);
+        let sample = scene.projected_sample(camera);
+        let mean_area_px = sample.map(|(area, _)| area);
+        // The glyphs on screen (a share of the sample) over the image area the scene covers.
         let image_px = camera.width as f64 * camera.height as f64;
-        let depth_complexity = mean_area_px.map(|area| {
-            area * scene.count as f64 / (scene.screen_share(camera) * image_px).max(1.0)
+        let depth_complexity = sample.map(|(area, on_screen)| {
+            let glyphs = on_screen * scene.count as f64;
+            area * glyphs / (scene.screen_share(camera) * image_px).max(1.0)
         });
+        let hidden_area_px = mean_area_px
+            .zip(depth_complexity)
+            .map(|(area, layers)| area * (1.0 - 1.0 / layers.max(1.0)));
         // The benchmark's footprint variants measure the draw: only the shipped choice splats.
         let auto_footprint = config.footprint == Footprint::Auto;
         if auto_footprint {
@@ -236,7 +249,7 @@ impl FramePlan {
             && chunks == 1
             && settings.visible_first
             && settings.culling.occlusion
-            && depth_complexity.is_some_and(|layers| layers >= settings.visible_first_min_layers);
+            && hidden_area_px.is_some_and(|hidden| hidden >= settings.visible_first_min_hidden_px);
         let visible_first = mark_shown && shown_stamped;
         // Otherwise such glyphs are set up once by the pre-pass, where the records fit.
         let setup_once = settings.setup_once
@@ -274,6 +287,7 @@ impl FramePlan {
             config,
             mean_area_px,
             depth_complexity,
+            hidden_area_px,
             // The splat culls as it goes (off-screen glyphs, empty pixel boxes): the culling
             // steps would only add dispatches.
             culling: if compute_splat || visibility_draw {

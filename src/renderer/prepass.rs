@@ -6,7 +6,6 @@ use gpu_allocator::vulkan::Allocator;
 use crate::camera::Camera;
 use crate::culling::{
     self, CullSelect, CullStep, Culling, Dispatch, DispatchSize, Prepass, PrepassBuffers,
-    SPLAT_GROUP_SIZE,
 };
 use crate::error::Result;
 use crate::gpu_layout::{glyph_stamps_bytes, resolve_tiles, visibility_bytes, IndirectDraw};
@@ -50,10 +49,12 @@ impl EllipsoidRenderer {
         // Every pre-pass has a stamp of its own (never 0); the glyphs the last stamping frame
         // showed (of this scene) go first, whatever frames came between.
         self.frame_stamp = self.frame_stamp.checked_add(1).unwrap_or(1);
-        let shown = self.shown_stamped;
+        let shown = self.shown_stamped.map(|(stamp, _)| stamp);
         if !plan.prepass {
             return Ok(());
         }
+        #[cfg(feature = "research")]
+        self.check_floor_pixels(&plan)?;
         let (pipeline, _) = self.prepare(device, allocator, &plan)?;
         let marks = plan.mark_shown && self.splat_floor == 0;
         if plan.culling.occlusion || plan.resolve {
@@ -124,7 +125,9 @@ impl EllipsoidRenderer {
                     total: count,
                     frame: self.frame_stamp,
                     shown: shown.unwrap_or(0),
-                    dispatch: [0, 1, 1],
+                    dispatch_x: 0,
+                    dispatch_y: 1,
+                    dispatch_z: 1,
                 },
                 indirect_offset: k as u64 * SLICE_ALIGN,
                 clear_tiles: plan.culling.occlusion && k == 0,
@@ -132,22 +135,7 @@ impl EllipsoidRenderer {
                 fills,
                 dispatches: dispatches
                     .iter()
-                    .map(|&(pipeline, size)| Dispatch {
-                        pipeline,
-                        size: match size {
-                            Size::Groups => {
-                                let (x, y) = culling::dispatch_grid(culling::group_count(count));
-                                DispatchSize::Grid(x, y)
-                            }
-                            Size::Splat => {
-                                let (x, y) =
-                                    culling::dispatch_grid(count.div_ceil(SPLAT_GROUP_SIZE));
-                                DispatchSize::Grid(x, y)
-                            }
-                            Size::Fixed(x, y) => DispatchSize::Grid(x, y),
-                            Size::Indirect => DispatchSize::Indirect,
-                        },
-                    })
+                    .map(|&(pipeline, size)| Dispatch { pipeline, size })
                     .collect(),
             };
             // SAFETY: `cmd` is recording outside a pass (caller contract); every handle is
@@ -155,24 +143,11 @@ impl EllipsoidRenderer {
             unsafe { prepass.record(device, cmd) };
         }
         if marks {
-            self.shown_stamped = Some(self.frame_stamp);
+            self.shown_stamped = Some((self.frame_stamp, *camera));
         }
         self.prepared = Some((*camera, plan));
         Ok(())
     }
-}
-
-/// The size of one of a chunk's dispatches, before the chunk is known.
-#[derive(Clone, Copy)]
-enum Size {
-    /// One invocation per instance, in the culling's groups of 256.
-    Groups,
-    /// One invocation per instance, in the splat's groups of 64.
-    Splat,
-    /// These workgroups.
-    Fixed(u32, u32),
-    /// What the previous step wrote.
-    Indirect,
 }
 
 impl EllipsoidRenderer {
@@ -185,7 +160,7 @@ impl EllipsoidRenderer {
         plan: &FramePlan,
         camera: &Camera,
         marks: bool,
-    ) -> Result<Vec<(vk::Pipeline, Size)>> {
+    ) -> Result<Vec<(vk::Pipeline, DispatchSize)>> {
         if !plan.compute_splat {
             return culling::steps(plan.culling)
                 .into_iter()
@@ -195,45 +170,38 @@ impl EllipsoidRenderer {
         let (w, h) = (camera.width, camera.height);
         let grid = |groups| {
             let (x, y) = culling::dispatch_grid(groups);
-            Size::Fixed(x, y)
+            DispatchSize::Grid(x, y)
         };
         let off = Culling::OFF;
-        let mut mark_shown =
-            self.cull_step(device, plan, CullStep::MarkShown, CullSelect::All, off)?;
-        mark_shown.1 = grid(resolve_tiles(w, h));
+        let mark_shown = (
+            self.cull_pipeline(device, plan, CullStep::MarkShown, CullSelect::All, off)?,
+            grid(resolve_tiles(w, h)),
+        );
         let splat = SplatKey {
             floor: self.splat_floor,
             ..SplatKey::of(plan)
         };
         let mut dispatches = Vec::new();
         if plan.visible_first && self.splat_floor == 0 {
-            let pass = (
-                self.pipelines.splat(
-                    device,
-                    SplatKey {
-                        list: true,
-                        ..splat
-                    },
-                )?,
-                Size::Indirect,
+            let list = SplatKey {
+                list: true,
+                ..splat
+            };
+            let pass = (self.pipelines.splat(device, list)?, DispatchSize::Indirect);
+            let key_tiles = (
+                self.cull_pipeline(device, plan, CullStep::KeyTiles, CullSelect::All, off)?,
+                grid(culling::tiles_count(w, h).div_ceil(256)),
             );
-            let mut key_tiles =
-                self.cull_step(device, plan, CullStep::KeyTiles, CullSelect::All, off)?;
-            key_tiles.1 = grid(culling::tiles_count(w, h).div_ceil(256));
+            let rest = plan.rest_culling;
             dispatches.extend(self.list_steps(device, plan, CullSelect::Shown, off)?);
             dispatches.push(pass);
             dispatches.push(key_tiles);
-            dispatches.extend(self.list_steps(
-                device,
-                plan,
-                CullSelect::Rest,
-                plan.rest_culling,
-            )?);
+            dispatches.extend(self.list_steps(device, plan, CullSelect::Rest, rest)?);
             dispatches.push(pass);
             dispatches.push(mark_shown);
             dispatches.extend(self.list_steps(device, plan, CullSelect::Drawn, off)?);
         } else {
-            dispatches.push((self.pipelines.splat(device, splat)?, Size::Splat));
+            dispatches.push((self.pipelines.splat(device, splat)?, DispatchSize::Splat));
             if marks {
                 dispatches.push(mark_shown);
             }
@@ -251,7 +219,7 @@ impl EllipsoidRenderer {
         plan: &FramePlan,
         select: CullSelect,
         culling: Culling,
-    ) -> Result<[(vk::Pipeline, Size); 3]> {
+    ) -> Result<[(vk::Pipeline, DispatchSize); 3]> {
         let off = Culling::OFF;
         Ok([
             self.cull_step(device, plan, CullStep::Classify, select, culling)?,
@@ -260,8 +228,7 @@ impl EllipsoidRenderer {
         ])
     }
 
-    /// The pipeline of one culling step and its size (SCAN is one workgroup; the others run
-    /// over the chunk's groups).
+    /// A culling step over the chunk's groups (SCAN: one workgroup) and its pipeline.
     fn cull_step(
         &mut self,
         device: &ash::Device,
@@ -269,16 +236,31 @@ impl EllipsoidRenderer {
         step: CullStep,
         select: CullSelect,
         culling: Culling,
-    ) -> Result<(vk::Pipeline, Size)> {
+    ) -> Result<(vk::Pipeline, DispatchSize)> {
+        let size = match step {
+            CullStep::Scan => DispatchSize::Grid(1, 1),
+            _ => DispatchSize::Groups,
+        };
+        Ok((
+            self.cull_pipeline(device, plan, step, select, culling)?,
+            size,
+        ))
+    }
+
+    /// The pipeline of one culling step, listing what `select` picks with `culling`.
+    fn cull_pipeline(
+        &mut self,
+        device: &ash::Device,
+        plan: &FramePlan,
+        step: CullStep,
+        select: CullSelect,
+        culling: Culling,
+    ) -> Result<vk::Pipeline> {
         let key = CullKey {
             select,
             culling,
             ..CullKey::of(plan, step)
         };
-        let size = match step {
-            CullStep::Scan => Size::Fixed(1, 1),
-            _ => Size::Groups,
-        };
-        Ok((self.pipelines.cull(device, key)?, size))
+        self.pipelines.cull(device, key)
     }
 }

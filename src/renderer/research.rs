@@ -28,8 +28,10 @@ impl EllipsoidRenderer {
     }
 
     /// Replaces the compute splat by one of its floors, for the benchmark's roofline: 1 reads
-    /// every instance and nothing else, 2 ray casts every pixel centre without the atomics
-    /// (and neither resolves); 0 is the splat itself. Frames that do not splat are unchanged.
+    /// every instance and nothing else, 2 ray casts every pixel centre without the atomics, 3
+    /// ray casts only the pixels each glyph shows (given by `set_floor_pixels` for the
+    /// uploaded scene; a frame without them is an error), and none resolves; 0 is the splat
+    /// itself. Frames that do not splat are unchanged.
     pub fn set_splat_floor(&mut self, floor: u32) {
         self.splat_floor = floor.min(3);
     }
@@ -65,7 +67,24 @@ impl EllipsoidRenderer {
             Binding::FloorPixels,
             4 * lists.len().max(2) as u64,
         )?;
-        buffer.write(bytemuck::cast_slice(&lists))
+        buffer.write(bytemuck::cast_slice(&lists))?;
+        self.floor_pixels_for = Some(self.scene.count);
+        Ok(())
+    }
+
+    /// Checks that a frame with `plan` can draw the visible-pixel floor: its lists were made
+    /// for the uploaded scene.
+    pub(crate) fn check_floor_pixels(&self, plan: &crate::FramePlan) -> Result<()> {
+        if self.splat_floor == 3
+            && plan.compute_splat
+            && self.floor_pixels_for != Some(self.scene.count)
+        {
+            return Err(Error::invalid(
+                "visible-pixel floor",
+                "set_floor_pixels has not given the pixels of the uploaded scene",
+            ));
+        }
+        Ok(())
     }
 
     /// Counts shaded pixels with an atomic in separate builds of the fragment shaders (needs
@@ -114,6 +133,13 @@ fn floor_pixel_lists(count: u32, ids: &[u32], width: u32) -> Result<Vec<u32>> {
         return Err(Error::invalid(
             "floor pixels",
             format!("{} ids are no whole rows of {width} pixels", ids.len()),
+        ));
+    }
+    // Pixels are packed as x | y << 16.
+    if ids.len() / width as usize > 1 << 16 {
+        return Err(Error::invalid(
+            "floor pixels",
+            format!("{} rows, more than 65536", ids.len() / width as usize),
         ));
     }
     let n = count as usize;
@@ -275,6 +301,7 @@ mod tests {
         );
         assert_eq!(&lists[5..], &[1, 0, 2 | 1 << 16]);
         assert!(floor_pixel_lists(3, &ids, 4).is_err());
+        assert!(floor_pixel_lists(3, &vec![0; (1 << 16) + 1], 1).is_err());
         assert!(floor_pixel_lists(3, &ids, 0).is_err());
     }
 }

@@ -49,8 +49,12 @@ impl EllipsoidRenderer {
         let uploaded = UploadedScene::new(scene, &packed, chunk_limit);
         let bytes = packed.records.bytes();
         self.size_buffers(device, allocator, uploaded.count, (1, 1), false, false)?;
-        // The stamps of the old scene say nothing of this one.
+        // The stamps of the old scene say nothing of this one, nor its floor's lists.
         self.shown_stamped = None;
+        #[cfg(feature = "research")]
+        {
+            self.floor_pixels_for = None;
+        }
         self.buffers.ensure(
             device,
             allocator,

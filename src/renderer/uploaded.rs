@@ -68,8 +68,9 @@ impl UploadedScene {
     }
 
     /// Mean projected area in square pixels of the sampled glyphs on screen beyond the near
-    /// plane; `None` when no sampled glyph is on screen beyond the near plane.
-    pub fn mean_projected_area(&self, camera: &Camera) -> Option<f64> {
+    /// plane, and their share of the sample; `None` when no sampled glyph is on screen beyond
+    /// the near plane.
+    pub fn projected_sample(&self, camera: &Camera) -> Option<(f64, f64)> {
         let (sx, sy) = camera.ndc_scale();
         let pixels_per_unit = camera.height as f64 / (2.0 * sy);
         let screen = camera.width as f64 * camera.height as f64;
@@ -95,7 +96,8 @@ impl UploadedScene {
             sum += on_screen;
             n += 1;
         }
-        (n > 0).then(|| sum / n as f64)
+        let share = n as f64 / self.size_sample.len().max(1) as f64;
+        (n > 0).then(|| (sum / n as f64, share))
     }
 
     /// The share of the image that the box holding every ellipsoid covers for `camera` (the

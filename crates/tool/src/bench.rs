@@ -308,8 +308,8 @@ pub fn run(
                 continue;
             }
             // One method failing here skips that method on this scene, not the bench.
-            let planned = use_method(renderer, m, &mut settings, &bench.scene)
-                .and_then(|()| renderer.plan(&bench.camera));
+            let planned = use_method(renderer, m, &mut settings, &bench.scene, None)
+                .and_then(|_| renderer.plan(&bench.camera));
             let plan = match planned {
                 Ok(plan) => plan,
                 Err(e) => {
@@ -326,12 +326,14 @@ pub fn run(
         }
         let reference = render_reference(&bench.scene, &bench.camera)?;
         let silhouette_pixels = reference.silhouette_pixels();
+        // The visible-pixel floor's lists, given again after each upload.
+        let floor = Some((reference.id.as_slice(), reference.width));
         if active.contains(&Method::FloorVisible) {
             renderer.set_floor_pixels(&reference.id, reference.width)?;
         }
         let mut measured: Vec<Measured> = Vec::new();
         for &method in &active {
-            use_method(renderer, method, &mut settings, &bench.scene)?;
+            use_method(renderer, method, &mut settings, &bench.scene, floor)?;
             let first_frame = method == Method::ImpostorFirstFrame;
             if first_frame {
                 renderer.forget_shown();
@@ -375,7 +377,11 @@ pub fn run(
         for _ in 0..frames {
             for &k in order.next_round() {
                 let entry = &mut measured[k];
-                use_method(renderer, entry.method, &mut settings, &bench.scene)?;
+                if use_method(renderer, entry.method, &mut settings, &bench.scene, floor)? {
+                    // After an upload the first frame has no stamps: not what this method
+                    // measures in a run of frames.
+                    renderer.render_timed(&bench.camera, Outputs::COLOR_DEPTH)?;
+                }
                 if entry.method == Method::ImpostorFirstFrame {
                     renderer.forget_shown();
                 }
@@ -880,14 +886,17 @@ pub fn write_report(
 }
 
 /// Sets up `renderer` for `method`: its draw configuration and its settings (the scene is
-/// uploaded again when its instance format or chunk size change; uploads are outside the
-/// timed frames). `settings` are those in force, `None` after a failed upload.
+/// uploaded again when its instance format or chunk size change, and then given `floor`, the
+/// visible-pixel floor's IDs and their row length, if any; uploads are outside the timed
+/// frames). `settings` are those in force, `None` after a failed upload. Says whether it
+/// uploaded.
 fn use_method(
     renderer: &mut OffscreenRenderer,
     method: Method,
     settings: &mut Option<Settings>,
     scene: &Scene,
-) -> Result<()> {
+    floor: Option<(&[u32], u32)>,
+) -> Result<bool> {
     let wanted = method.settings();
     // Only the instance format and the chunk size need the scene uploaded again; the rest
     // take effect at the next frame (and an upload would make it the first of its scene).
@@ -895,19 +904,21 @@ fn use_method(
         s.instance_format == wanted.instance_format
             && s.max_chunk_instances == wanted.max_chunk_instances
     };
-    if !settings.as_ref().is_some_and(uploaded_alike) {
+    let upload = !settings.as_ref().is_some_and(uploaded_alike);
+    renderer.set_settings(wanted);
+    if upload {
         // Unknown until the upload succeeds, so a method skipped for a failed upload does not
         // leave the next one drawing a scene uploaded with other settings.
         *settings = None;
-        renderer.set_settings(wanted);
         renderer.upload(scene)?;
-    } else {
-        renderer.set_settings(wanted);
+        if let Some((ids, width)) = floor {
+            renderer.set_floor_pixels(ids, width)?;
+        }
     }
     *settings = Some(wanted);
     renderer.set_draw_config(method.config());
     renderer.set_splat_floor(method.splat_floor());
-    Ok(())
+    Ok(upload)
 }
 
 #[cfg(test)]

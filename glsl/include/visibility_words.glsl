@@ -1,0 +1,27 @@
+// The layout of the compute splat's visibility buffer (binding 8; visibility.glsl says what it
+// holds) as far as 32-bit words tell it, for shaders without 64-bit integers (the pre-pass's
+// visible-first steps) and for the 64-bit accessors in visibility.glsl: a key's low word holds
+// the instance (inverted under reversed Z), its high word the depth-buffer value's bits.
+
+// Side of a resolve tile in pixels (`RESOLVE_TILE` in src/gpu_layout.rs).
+const uint RESOLVE_TILE = 32u;
+
+// Either word of the key of a pixel no instance shows (the clear value).
+uint empty_key_word() {
+    return REVERSED_Z ? 0u : 0xffffffffu;
+}
+
+// The instance (scene index) of a key whose low word is `low` (the key not empty).
+uint key_instance(uint low) {
+    return REVERSED_Z ? ~low : low;
+}
+
+// Resolve tiles per row of the image.
+uint resolve_tiles_x() {
+    return (cam.image_width + RESOLVE_TILE - 1u) / RESOLVE_TILE;
+}
+
+// Where tile `t` (row-major) keeps its word, in 64-bit keys from the buffer's start.
+uint resolve_tile_word(uint t) {
+    return cam.image_width * cam.image_height + t;
+}
