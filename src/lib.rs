@@ -85,7 +85,7 @@ pub use depth::DepthConvention;
 pub use ellipsoid::Ellipsoid;
 pub use error::{Error, Result};
 pub use instances::InstanceFormat;
-pub use renderer::{EllipsoidRenderer, FramePlan};
+pub use renderer::{DrawReason, EllipsoidRenderer, FramePlan};
 pub use scene::Scene;
 pub use settings::{Material, Settings};
 pub use target::{HostDevice, Pass, RendererOptions, Target, ID_FORMAT, NORMAL_FORMAT};

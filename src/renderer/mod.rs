@@ -39,6 +39,7 @@ mod buffers;
 mod chunks;
 mod descriptors;
 mod draw;
+mod draw_reason;
 mod pipelines;
 mod plan;
 mod prepass;
@@ -64,6 +65,7 @@ use crate::target::{HostDevice, RendererOptions, Target};
 
 use buffers::{Binding, SceneBuffers};
 use chunks::Chunking;
+pub use draw_reason::DrawReason;
 use pipelines::Pipelines;
 use plan::PlanInputs;
 pub use plan::{FramePlan, MAX_SETUP_ONCE_INSTANCES, SETUP_ONCE_MAX_AREA_PX};

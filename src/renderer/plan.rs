@@ -13,6 +13,7 @@ use crate::instances::InstanceFormat;
 use crate::settings::Settings;
 use crate::target::Target;
 
+use super::draw_reason::DrawReason;
 use super::uploaded::UploadedScene;
 
 /// The largest mean projected glyph area (square pixels) for which the pre-pass sets up the
@@ -74,6 +75,8 @@ pub struct FramePlan {
     /// resolve over the tiles they touch, instead of drawn (those too large to splat are
     /// drawn in the same frame).
     pub compute_splat: bool,
+    /// Why the glyphs are drawn rather than splatted, when they are.
+    pub drawn_because: Option<DrawReason>,
     /// The most pixel centres a glyph's box may hold for the compute splat to walk it.
     pub splat_max_box_pixels: u32,
     /// The compute splat stamps the glyphs its finished frame shows, so that the next frame
@@ -235,13 +238,41 @@ impl FramePlan {
                  MAX_SPLAT_CHUNKS chunks",
             ));
         }
-        let compute_splat = settings.compute_splat
-            && visibility_possible
-            && exact_impostor
-            && auto_footprint
-            && mean_area_px.is_some_and(|area| area <= SPLAT_MAX_MEAN_AREA_PX)
-            && scene.count > 0
-            && scene.count >= settings.compute_splat_min_glyphs;
+        // The first condition of the splat the frame does not meet, if any.
+        let drawn_because = [
+            (!settings.compute_splat, DrawReason::SplatOff),
+            (!(exact_impostor && auto_footprint), DrawReason::Baseline),
+            (!compute_splat_features, DrawReason::MissingFeatures),
+            (!single, DrawReason::Multisampled),
+            (
+                !matches!(
+                    target.depth_format(),
+                    vk::Format::D32_SFLOAT | vk::Format::D32_SFLOAT_S8_UINT
+                ),
+                DrawReason::DepthFormat,
+            ),
+            (
+                visibility_bytes(camera.width, camera.height) > max_storage_buffer_range as u64,
+                DrawReason::ImageTooLarge,
+            ),
+            (chunks > MAX_SPLAT_CHUNKS, DrawReason::TooManyChunks),
+            (
+                mean_area_px.is_none() || scene.count == 0,
+                DrawReason::NothingOnScreen,
+            ),
+            (
+                mean_area_px.is_some_and(|area| area > SPLAT_MAX_MEAN_AREA_PX),
+                DrawReason::GlyphsTooLarge,
+            ),
+            (
+                scene.count < settings.compute_splat_min_glyphs,
+                DrawReason::TooFewGlyphs,
+            ),
+        ]
+        .into_iter()
+        .find_map(|(refused, reason)| refused.then_some(reason));
+        let compute_splat = drawn_because.is_none();
+
         // What the last frame showed is splatted first where the frame is one chunk (stamps
         // and lists are per chunk) and occlusion culling is on (the second pass's test is an
         // occlusion test).
@@ -274,6 +305,7 @@ impl FramePlan {
         };
         Ok(Self {
             compute_splat,
+            drawn_because,
             splat_max_box_pixels: SPLAT_MAX_BOX_PIXELS,
             mark_shown,
             visible_first,
@@ -537,5 +569,38 @@ mod tests {
         })
         .unwrap();
         assert!(!hexagon.compute_splat, "{hexagon:?}");
+        assert_eq!(hexagon.drawn_because, Some(DrawReason::Baseline));
+    }
+
+    /// A drawn frame says why: the first condition of the splat it does not meet.
+    #[test]
+    fn drawn_frames_say_why() {
+        let (scene, camera) = tiny_scene(false);
+        let shipped = Settings::default();
+        use vk::SampleCountFlags as S;
+        let why = |samples, features, settings: &Settings| {
+            plan(&scene, &camera, samples, features, settings).drawn_because
+        };
+        assert_eq!(why(S::TYPE_1, true, &shipped), None);
+        assert_eq!(
+            why(S::TYPE_4, true, &shipped),
+            Some(DrawReason::Multisampled)
+        );
+        assert_eq!(
+            why(S::TYPE_1, false, &shipped),
+            Some(DrawReason::MissingFeatures)
+        );
+        let off = Settings {
+            compute_splat: false,
+            ..shipped
+        };
+        assert_eq!(why(S::TYPE_4, false, &off), Some(DrawReason::SplatOff));
+        let few = Settings {
+            compute_splat_min_glyphs: 100_000,
+            ..shipped
+        };
+        assert_eq!(why(S::TYPE_1, true, &few), Some(DrawReason::TooFewGlyphs));
+        let reason = DrawReason::Multisampled.to_string();
+        assert!(reason.contains("per sample"), "{reason}");
     }
 }
