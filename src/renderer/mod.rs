@@ -135,6 +135,8 @@ pub struct EllipsoidRenderer {
     /// The stamp and camera of the last pre-pass that stamped the glyphs its frame showed,
     /// since the last upload (frames between that did not stamp leave it).
     shown_stamped: Option<(u32, Camera)>,
+    /// The camera of the last pre-pass recorded.
+    last_camera: Option<Camera>,
     #[cfg(feature = "research")]
     meshes: research::Meshes,
     /// The glyph count the visible-pixel floor's lists were made for (`set_floor_pixels`).
@@ -195,6 +197,7 @@ impl EllipsoidRenderer {
             splat_floor: 0,
             frame_stamp: 1,
             shown_stamped: None,
+            last_camera: None,
             #[cfg(feature = "research")]
             meshes: research::Meshes::default(),
             #[cfg(feature = "research")]
@@ -225,6 +228,7 @@ impl EllipsoidRenderer {
             max_storage_buffer_range: self.caps.limits.max_storage_buffer_range,
             standard_sample_locations: self.caps.limits.standard_sample_locations == vk::TRUE,
             chunks: self.chunking().len(),
+            still: self.last_camera == Some(*camera),
             shown_stamped: self.shown_stamped.is_some_and(|(_, seen)| seen == *camera),
             scene: &self.scene,
             settings: &self.settings,

@@ -80,7 +80,8 @@ pub struct FramePlan {
     /// The most pixel centres a glyph's box may hold for the compute splat to walk it.
     pub splat_max_box_pixels: u32,
     /// The compute splat stamps the glyphs its finished frame shows, so that the next frame
-    /// can splat them first (docs/design.md §5.7).
+    /// with the same camera can splat them first (a camera that held still since the last
+    /// frame; docs/design.md §5.7).
     pub mark_shown: bool,
     /// The visible-first splat: the glyphs the last frame showed are splatted first; then the
     /// others are listed only where the first pass's hits leave them a pixel they might win,
@@ -134,6 +135,8 @@ pub(crate) struct PlanInputs<'a> {
     pub standard_sample_locations: bool,
     /// Chunks the scene is drawn in (the splat resolves once per chunk).
     pub chunks: u32,
+    /// The last pre-pass recorded had this camera.
+    pub still: bool,
     /// The last pre-pass since the upload that stamped the glyphs its frame showed had this
     /// camera.
     pub shown_stamped: bool,
@@ -154,6 +157,7 @@ impl FramePlan {
             max_storage_buffer_range,
             standard_sample_locations,
             chunks,
+            still,
             shown_stamped,
             scene,
             settings,
@@ -274,9 +278,12 @@ impl FramePlan {
         let compute_splat = drawn_because.is_none();
 
         // What the last frame showed is splatted first where the frame is one chunk (stamps
-        // and lists are per chunk) and occlusion culling is on (the second pass's test is an
-        // occlusion test).
-        let mark_shown = compute_splat
+        // and lists are per chunk), occlusion culling is on (the second pass's test is an
+        // occlusion test), the glyphs hide enough, and the camera holds still: a frame whose
+        // camera is the last one's stamps what it shows, the next with the same camera
+        // splats that first.
+        let mark_shown = still
+            && compute_splat
             && chunks == 1
             && settings.visible_first
             && settings.culling.occlusion
@@ -414,6 +421,7 @@ mod tests {
             max_storage_buffer_range: 1 << 27,
             standard_sample_locations: true,
             chunks: 1,
+            still: false,
             shown_stamped: false,
             scene,
             settings,
@@ -556,6 +564,7 @@ mod tests {
             max_storage_buffer_range: 1 << 27,
             standard_sample_locations: true,
             chunks: 1,
+            still: false,
             shown_stamped: false,
             scene: &medium,
             settings: &shipped,

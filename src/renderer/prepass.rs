@@ -46,6 +46,7 @@ impl EllipsoidRenderer {
     ) -> Result<()> {
         self.prepared = None;
         let plan = self.plan(camera)?;
+        self.last_camera = Some(*camera);
         // Every pre-pass has a stamp of its own (never 0); the glyphs the last stamping frame
         // showed (of this scene) go first, whatever frames came between.
         self.frame_stamp = self.frame_stamp.checked_add(1).unwrap_or(1);
