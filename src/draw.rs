@@ -185,8 +185,9 @@ pub enum Method {
     /// The shipped impostor always drawn through the rasterizer (`Settings::compute_splat`
     /// off).
     ImpostorDraw,
-    /// The shipped impostor with every frame drawn as the first frame of its scene: no
-    /// visible-first splat (the benchmark forgets what the frame before showed).
+    /// The shipped impostor with every frame drawn as the first frame of its scene with its
+    /// camera: no visible-first splat (the benchmark forgets what the frames before showed),
+    /// but the frame stamps what it shows, as the first still frame after a move does.
     ImpostorFirstFrame,
     /// Visibility-buffer shading of the draw: every glyph is drawn without shading into the
     /// visibility buffer, and the resolve shades each visible pixel once.

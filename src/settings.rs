@@ -74,13 +74,14 @@ pub struct Settings {
     /// sample), for at most `MAX_SPLAT_CHUNKS` chunks and for at least
     /// `compute_splat_min_glyphs` glyphs.
     pub compute_splat: bool,
-    /// In frames the compute splat takes (one chunk, occlusion culling on) whose camera is the
-    /// last splatted frame's, splat first the glyphs that frame showed, then only those of
-    /// the others whose every pixel is not already held by a nearer hit of the first pass
-    /// (tested per tile of 4 x 4 pixels, each glyph as a whole, before any ray cast). On by
-    /// default; the same pixels bit for bit; it pays where many glyphs lie hidden (README,
-    /// "Skipping the hidden layers"), and is taken only where each glyph is expected to hide
-    /// at least `visible_first_min_hidden_px`.
+    /// In frames the compute splat takes (one chunk, occlusion culling on) of a camera held
+    /// still, splat first the glyphs an earlier frame with that camera showed (a frame whose
+    /// camera is the frame before's stamps them), then only those of the others whose every
+    /// pixel is not already held by a nearer hit of the first pass (tested per tile of 4 x 4
+    /// pixels, each glyph as a whole, before any ray cast). On by default; the same pixels bit
+    /// for bit; it pays where many glyphs lie hidden (README, "Skipping the hidden layers"),
+    /// and is taken only where each glyph is expected to hide at least
+    /// `visible_first_min_hidden_px`.
     pub visible_first: bool,
     /// The least area per glyph, in square pixels, that the scene is expected to hide for the
     /// visible-first splat to run ([`crate::FramePlan::hidden_area_px`]: the mean projected

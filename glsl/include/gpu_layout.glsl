@@ -130,7 +130,8 @@ layout(constant_id = 21) const bool FAR_PLANE = false;
 // the fragment counter (binding 1).
 layout(constant_id = 22) const bool COUNT_RAY_CASTS = false;
 // Which glyphs the pre-pass's CLASSIFY step lists (`CullSelect`): 0 every glyph its culling
-// keeps; 1 those the last frame showed (the visible-first splat's first pass); 2 the others
+// keeps; 1 those the last stamping frame showed (the visible-first splat's first pass, for a
+// still camera); 2 the others
 // its culling keeps, occlusion by the first pass's hits included (the second pass); 3 those a
 // splat pass of this frame left to the draw.
 const int CULL_SELECT_ALL = 0;

@@ -35,7 +35,10 @@ impl fmt::Display for DrawReason {
     fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
         f.write_str(match self {
             DrawReason::SplatOff => "the compute splat is off in the settings",
-            DrawReason::Baseline => "a benchmark baseline is drawn (the splat is the shipped impostor's)",
+            DrawReason::Baseline => {
+                "a benchmark baseline or a fixed footprint is drawn (the splat is the shipped \
+                 impostor's, with the footprint chosen by size)"
+            }
             DrawReason::MissingFeatures => {
                 "the device lacks the splat's 64-bit buffer atomics, or the host did not enable them"
             }
@@ -43,7 +46,8 @@ impl fmt::Display for DrawReason {
                 "the target is multisampled: the splat keeps one hit per pixel, and a pixel's \
                  samples may show different glyphs, which would take a 64-bit key and an atomic \
                  per sample and a resolve shading every sample whose glyph differs; the draw \
-                 decides each standard sample position exactly and shades once per pixel"
+                 decides each sample exactly (at the standard positions of 2 and 4 samples, \
+                 shading once per pixel unless per-sample shading is asked for)"
             }
             DrawReason::DepthFormat => {
                 "the depth attachment is not float32 (the splat's keys order float32 depths)"

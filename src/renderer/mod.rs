@@ -219,8 +219,10 @@ impl EllipsoidRenderer {
         }
     }
 
-    /// What a frame with `camera` does: footprint, culling, set-up once, shader variants.
-    /// `record_prepass` and `record` decide with this same plan.
+    /// What the next frame with `camera` does: footprint, culling, set-up once, shader
+    /// variants, the compute splat. `record_prepass` makes this plan and `record` draws with
+    /// it; the visible-first splat depends on the frames recorded before (a still camera), so
+    /// after `record_prepass` the plan of the same camera may differ.
     pub fn plan(&self, camera: &Camera) -> Result<FramePlan> {
         camera.validate()?;
         FramePlan::new(PlanInputs {

@@ -53,7 +53,7 @@ pub struct FramePlan {
     /// box around them covers.
     pub depth_complexity: Option<f64>,
     /// The area per glyph, in square pixels, the scene is expected to hide: `mean_area_px`
-    /// times `1 - 1 / depth_complexity` (none below one layer).
+    /// times `1 - 1 / depth_complexity` (0 at or below one layer).
     pub hidden_area_px: Option<f64>,
     /// The culling the pre-pass does.
     pub culling: Culling,
@@ -83,12 +83,9 @@ pub struct FramePlan {
     /// with the same camera can splat them first (a camera that held still since the last
     /// frame; docs/design.md §5.7).
     pub mark_shown: bool,
-    /// The visible-first splat: the glyphs the last frame showed are splatted first; then the
-    /// others are listed only where the first pass's hits leave them a pixel they might win,
-    /// and splatted; a hidden glyph costs a comparison per tile instead of its ray casts
-    /// (frames whose camera is the last stamping frame's: a moving camera uncovers a few
-    /// pixels in many tiles, which then hide nothing, and the steps cost more than they
-    /// save).
+    /// The visible-first splat (docs/design.md §5.7): the camera is the last pre-pass's and
+    /// the last stamping frame's, so the glyphs that frame showed are splatted first and the
+    /// others only where its hits do not hide them.
     pub visible_first: bool,
     /// The culling the visible-first splat's second pass lists its glyphs with (its occlusion
     /// test is the first pass's hits, not the tiles of `culling`).
@@ -579,6 +576,70 @@ mod tests {
         .unwrap();
         assert!(!hexagon.compute_splat, "{hexagon:?}");
         assert_eq!(hexagon.drawn_because, Some(DrawReason::Baseline));
+    }
+
+    /// The visible-first splat runs for a still camera that an earlier frame stamped, one
+    /// chunk and glyphs that hide enough; stamping needs only the still camera.
+    #[test]
+    fn visible_first_needs_a_still_stamped_camera_one_chunk_and_enough_hidden() {
+        let (scene, camera) = scene_of(false, 20.0);
+        let shipped = Settings::default();
+        let target = Target {
+            pass: Pass::Dynamic {
+                color_formats: vec![vk::Format::R8G8B8A8_SRGB],
+                depth_format: vk::Format::D32_SFLOAT,
+            },
+            samples: vk::SampleCountFlags::TYPE_1,
+            aux_outputs: false,
+        };
+        let make = |still, shown_stamped, chunks, settings: &Settings| {
+            FramePlan::new(PlanInputs {
+                compute_splat_features: true,
+                max_storage_buffer_range: 1 << 27,
+                standard_sample_locations: true,
+                chunks,
+                still,
+                shown_stamped,
+                scene: &scene,
+                settings,
+                config: DrawConfig::default(),
+                count_fragments: false,
+                target: (0, &target),
+                camera: &camera,
+            })
+            .unwrap()
+        };
+        let hidden = make(true, true, 1, &shipped).hidden_area_px.unwrap();
+        let deep_enough = Settings {
+            visible_first_min_hidden_px: hidden * 0.5,
+            ..shipped
+        };
+        let too_shallow = Settings {
+            visible_first_min_hidden_px: hidden * 2.0,
+            ..shipped
+        };
+        let off = Settings {
+            visible_first: false,
+            ..deep_enough
+        };
+        for (still, stamped, chunks, settings, marks, first) in [
+            (true, true, 1, &deep_enough, true, true),
+            (true, false, 1, &deep_enough, true, false),
+            (false, true, 1, &deep_enough, false, false),
+            (false, false, 1, &deep_enough, false, false),
+            (true, true, 2, &deep_enough, false, false),
+            (true, true, 1, &too_shallow, false, false),
+            (true, true, 1, &off, false, false),
+        ] {
+            let plan = make(still, stamped, chunks, settings);
+            assert!(plan.compute_splat, "{plan:?}");
+            let case = format!("still {still}, stamped {stamped}, {chunks} chunks");
+            assert_eq!(
+                (plan.mark_shown, plan.visible_first),
+                (marks, first),
+                "{case}"
+            );
+        }
     }
 
     /// A drawn frame says why: the first condition of the splat it does not meet.
