@@ -86,7 +86,7 @@ vec4 cell_centres(vec4 rect, vec2 size) {
 // first > last. The sizes are exact integers (2 / (2 / H) in float32 can fall just short of
 // H).
 vec4 pixels_sampled(vec4 rect) {
-    vec2 size = vec2(screen_size());
+    vec2 size = vec2(image_size());
     if (SAMPLE_GRID == 0) {
         // Samples anywhere: the pixels whose centre lies within half a pixel of the rectangle.
         vec2 half_pixel = 0.5 * cam.ndc_per_pixel;
@@ -105,7 +105,7 @@ vec4 pixels_sampled(vec4 rect) {
 // The tiles (inclusive) holding the on-screen ones of the pixels `sampled` (first column,
 // first row, last column, last row, as `pixels_sampled` gives them); empty when lo > hi.
 void tiles_touched(vec4 sampled, out ivec2 lo, out ivec2 hi) {
-    vec2 last = vec2(screen_size() - 1);
+    vec2 last = vec2(image_size() - 1u);
     lo = ivec2(clamp(sampled.xy, vec2(0.0), last + 1.0)) / TILE;
     hi = ivec2(clamp(sampled.zw, vec2(-1.0), last));
     hi = (hi + TILE) / TILE - 1; // floor division that keeps -1 below 0
@@ -132,10 +132,10 @@ void write_occluder(uint index) {
     vec3 c = vec3(dot(inst.center, r), dot(inst.center, u_axis), dot(inst.center, f)) - cam.eye_view;
     float radius = min(inst.radii.x, min(inst.radii.y, inst.radii.z));
     float reach = ORTHOGRAPHIC ? radius : radius / length(c);
-    // The disc's radius in pixels (square: screen-plane units per pixel are sy 2 / H on both
-    // axes), shrunk so float rounding never claims a pixel the fragment stage might miss.
-    // Most glyphs vouch for no whole tile: leave before the costlier tests.
-    float per_pixel = cam.ndc_scale_y * cam.ndc_per_pixel.y;
+    // The disc's radius in pixels (of the longer pixel side, where pixels are not square),
+    // shrunk so float rounding never claims a pixel the fragment stage might miss. Most
+    // glyphs vouch for no whole tile: leave before the costlier tests.
+    float per_pixel = max(cam.ndc_scale_x * cam.ndc_per_pixel.x, cam.ndc_scale_y * cam.ndc_per_pixel.y);
     float pixels = 0.99 * reach / per_pixel - 0.05;
     if (!(pixels >= 0.5 * float(TILE))) {
         return;
@@ -160,8 +160,8 @@ void write_occluder(uint index) {
         bound = c.z + radius * sqrt(max(2.0 - 2.0 / sqrt(1.0 + t * t), 0.0));
     }
     // Pixel centre i at coordinate i, rows from the top.
-    ivec2 size = screen_size();
-    vec2 ndc = centre / s;
+    ivec2 size = ivec2(image_size());
+    vec2 ndc = image_ndc(centre / s);
     vec2 p = vec2(ndc.x + 1.0, 1.0 - ndc.y) * 0.5 * vec2(size) - 0.5;
     if (any(isnan(p))) {
         return;
@@ -249,11 +249,12 @@ void key_tile(uint t) {
         return;
     }
     uvec2 origin = uvec2(t % uint(grid.x), t / uint(grid.x)) * uint(TILE);
-    uvec2 last = min(origin + uint(TILE) - 1u, uvec2(cam.image_width, cam.image_height) - 1u);
+    uvec2 size = image_size();
+    uvec2 last = min(origin + uint(TILE) - 1u, size - 1u);
     uint farthest = ~empty_key_word();
     for (uint y = origin.y; y <= last.y; y++) {
         for (uint x = origin.x; x <= last.x; x++) {
-            uint z = visibility_words[2u * (y * cam.image_width + x) + 1u];
+            uint z = visibility_words[2u * (y * size.x + x) + 1u];
             farthest = REVERSED_Z ? min(farthest, z) : max(farthest, z);
         }
     }
@@ -265,7 +266,8 @@ void key_tile(uint t) {
 // condition, but not a loop's).
 void mark_shown(uint t) {
     uint tiles_x = resolve_tiles_x();
-    if (t >= tiles_x * ((cam.image_height + RESOLVE_TILE - 1u) / RESOLVE_TILE)) {
+    uvec2 size = image_size();
+    if (t >= tiles_x * ((size.y + RESOLVE_TILE - 1u) / RESOLVE_TILE)) {
         return;
     }
     bool marked = visibility_words[2u * resolve_tile_word(t)] != empty_key_word();
@@ -274,8 +276,8 @@ void mark_shown(uint t) {
     uint lane = gl_LocalInvocationIndex, rows = GROUP / RESOLVE_TILE;
     for (uint k = 0u; k < (marked ? RESOLVE_TILE / rows : 0u); k++) {
         uvec2 p = origin + uvec2(lane % RESOLVE_TILE, lane / RESOLVE_TILE + rows * k);
-        if (p.x < cam.image_width && p.y < cam.image_height) {
-            uint low = visibility_words[2u * (p.y * cam.image_width + p.x)];
+        if (p.x < size.x && p.y < size.y) {
+            uint low = visibility_words[2u * (p.y * size.x + p.x)];
             uint glyph = key_instance(low) - cam.first_instance;
             if (low != empty_key_word() && glyph < total) {
                 glyph_stamps[2u * glyph] = frame;
@@ -320,7 +322,7 @@ bool needed(uint index, bool reaches, vec4 rect) {
         return true; // degenerate: the vertex stage drops it
     }
     // A sliver of a pixel of slack, as the vertex stage grows its polygon.
-    vec2 margin = cam.quad_margin_px * cam.ndc_per_pixel;
+    vec2 margin = QUAD_MARGIN_PX * cam.ndc_per_pixel;
     rect += vec4(-margin, margin);
     if (CULL_FRUSTUM && (rect.z < -1.0 || rect.x > 1.0 || rect.w < -1.0 || rect.y > 1.0)) {
         return false;
@@ -349,7 +351,7 @@ bool setup_rect(Setup s, out vec4 rect) {
     if (s.bounded && !s.screen_polygon) {
         vec2 sxy = vec2(cam.ndc_scale_x, cam.ndc_scale_y);
         vec2 extent = sqrt(s.axis1 * s.axis1 + s.axis2 * s.axis2);
-        rect = vec4((s.centre - extent) / sxy, (s.centre + extent) / sxy);
+        rect = vec4((s.centre - extent) / sxy, (s.centre + extent) / sxy) - cam.ndc_shift.xyxy;
     }
     return true;
 }

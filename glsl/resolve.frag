@@ -24,8 +24,9 @@ layout(location = 2) out uint out_id;
 #include "visibility.glsl"
 
 void main() {
-    uvec2 p = uvec2(gl_FragCoord.xy);
-    uint64_t key = visibility[p.y * cam.image_width + p.x];
+    vec2 pixel = camera_pixel(gl_FragCoord.xy);
+    uvec2 p = uvec2(pixel);
+    uint64_t key = visibility[p.y * image_size().x + p.x];
     // This chunk's instances are the bound slice of the instance buffer.
     uint chunk = COMPACT ? compact_instances.length() : instances.length();
     uint id = visibility_id(key) - cam.first_instance;
@@ -36,7 +37,7 @@ void main() {
     use_setup(setup_instance(load_instance(id)));
     float z;
     vec3 n;
-    if (!impostor_pixel(gl_FragCoord.xy, z, n)) {
+    if (!impostor_pixel(pixel, z, n)) {
         // Not reached where the stages compute the hit alike (lavapipe: tested bit for bit);
         // a driver that rounds differently gets a lit pixel, never a hole.
         n = -cam.forward;

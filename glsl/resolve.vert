@@ -15,7 +15,7 @@ void main() {
     }
     // Corner of the square, in strip order.
     const uvec2 corners[4] = uvec2[](uvec2(0, 0), uvec2(1, 0), uvec2(0, 1), uvec2(1, 1));
-    uvec2 size = uvec2(cam.image_width, cam.image_height);
+    uvec2 size = image_size();
     uvec2 corner = uvec2(tile % resolve_tiles_x(), tile / resolve_tiles_x()) + corners[gl_VertexIndex];
     vec2 px = vec2(min(corner * RESOLVE_TILE, size));
     gl_Position = vec4(px * cam.ndc_per_pixel - 1.0, 0.0, 1.0);

@@ -107,7 +107,7 @@ void main() {
         return;
     }
     use_setup(f);
-    ivec2 size = ivec2(cam.image_width, cam.image_height);
+    ivec2 size = ivec2(image_size());
     ivec2 lo = ivec2(0);
     ivec2 hi = size - 1;
     bool bounds_known = f.bounded;
@@ -119,7 +119,7 @@ void main() {
         vec2 half_extent = vec2(length(vec2(f.axis1.x, f.axis2.x)),
                                 length(vec2(f.axis1.y, f.axis2.y)));
         vec2 sxy = vec2(cam.ndc_scale_x, cam.ndc_scale_y);
-        vec2 a = (f.centre - half_extent) / sxy, b = (f.centre + half_extent) / sxy;
+        vec2 a = image_ndc((f.centre - half_extent) / sxy), b = image_ndc((f.centre + half_extent) / sxy);
         vec2 px_lo = vec2(a.x + 1.0, 1.0 - b.y) * vec2(size) * 0.5 - 0.05;
         vec2 px_hi = vec2(b.x + 1.0, 1.0 - a.y) * vec2(size) * 0.5 + 0.05;
         bounds_known = !any(isnan(px_lo)) && !any(isnan(px_hi));
@@ -152,8 +152,8 @@ void main() {
     // footprint does): |A^-1 d| <= 1 for d the offset from the centre, A = (axis1 axis2) in
     // pixels, gives the chord mid + s01 dy / s11 +- |det A| sqrt(s11 - dy^2) / s11.
     vec2 to_px = vec2(0.5, -0.5) * vec2(size) / vec2(cam.ndc_scale_x, cam.ndc_scale_y);
-    vec2 c_px = (vec2(f.centre.x, -f.centre.y) / vec2(cam.ndc_scale_x, cam.ndc_scale_y) + 1.0)
-        * vec2(size) * 0.5;
+    vec2 c_ndc = image_ndc(f.centre / vec2(cam.ndc_scale_x, cam.ndc_scale_y));
+    vec2 c_px = (vec2(c_ndc.x, -c_ndc.y) + 1.0) * vec2(size) * 0.5;
     vec2 a1 = f.axis1 * to_px, a2 = f.axis2 * to_px;
     float s01 = a1.x * a1.y + a2.x * a2.y, s11 = a1.y * a1.y + a2.y * a2.y;
     float det_a = abs(a1.x * a2.y - a2.x * a1.y);
@@ -174,7 +174,7 @@ void main() {
                 continue;
             }
             any_hit = true;
-            uint at = uint(y) * cam.image_width + uint(x);
+            uint at = uint(y * size.x + x);
             uint64_t key = visibility_key(z, scene_id);
             if (SPLAT_FLOOR == SPLAT_FLOOR_ARITHMETIC) {
                 // The ray cast without the atomic: every depth feeds a sum stored (almost

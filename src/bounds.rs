@@ -14,7 +14,7 @@
 
 use glam::{DMat3, DVec2, DVec3};
 
-use crate::camera::{Camera, Projection};
+use crate::camera::Camera;
 use crate::ellipsoid::Ellipsoid;
 
 /// Screen-space bounds in pixel coordinates: x to the right and y down from the image's
@@ -39,16 +39,10 @@ pub fn screen_bounds(e: &Ellipsoid, camera: &Camera, corners: usize) -> Option<S
     if view.c.z + view.s.z_axis.z.sqrt() < near {
         return None;
     }
-    let orthographic = matches!(camera.projection, Projection::Orthographic { .. });
+    let orthographic = camera.is_orthographic();
     let x = view.range(0, near, orthographic)?;
     let y = view.range(1, near, orthographic)?;
-    let (sx, sy) = camera.ndc_scale();
-    let to_pixel = |p: DVec2| {
-        DVec2::new(
-            (p.x / sx + 1.0) * 0.5 * camera.width as f64,
-            (1.0 - p.y / sy) * 0.5 * camera.height as f64,
-        )
-    };
+    let to_pixel = |p: DVec2| camera.screen_to_pixel(p);
     let lo = to_pixel(DVec2::new(x.0, y.1));
     let hi = to_pixel(DVec2::new(x.1, y.0));
     let rect = [lo.x, lo.y, hi.x, hi.y];

@@ -1,41 +1,140 @@
 //! The camera and the pixel-ray contract of `docs/design.md` §3, in float64.
 //!
-//! `f = normalize(target - eye)`, `r = normalize(f x up)`, `u = r x f`. Pixel `(i, j)` (row 0 at
-//! the top) has `ndc = ((2i+1)/W - 1, 1 - (2j+1)/H)`. Perspective: the ray leaves `eye` along
-//! `f + tan(fovy/2) (ndc_x W/H r + ndc_y u)`. Orthographic with view height `h`: the ray leaves
-//! `eye + h/2 (ndc_x W/H r + ndc_y u)` along `f`. View depth of `p` is `dot(p - eye, f)`; nothing
-//! nearer than `near` is visible.
+//! `f = normalize(target - eye)`, `r = normalize(f x up)`, `u = r x f`. Every projection is
+//! described by its [`Intrinsics`] `(fx, fy, cx, cy)` in pixels, and every camera may carry a
+//! sub-pixel `jitter` `(dx, dy)`: continuous pixel position `(x, y)` (x right, y down from the
+//! image's top-left corner; pixel `(i, j)`'s centre is `(i + 0.5, j + 0.5)`) lies on the
+//! screen plane at `s = ((x + dx - cx) / fx, (cy - y - dy) / fy)` (x along `r`, y along `u`).
+//! Perspective: the ray leaves `eye` along `f + s.x r + s.y u`. Orthographic: the ray leaves
+//! `eye + s.x r + s.y u` along `f`. View depth of `p` is `dot(p - eye, f)`; nothing nearer than
+//! `near` is visible. The camera's `width x height` image is drawn at `viewport_origin` in the
+//! host's attachments.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use crate::depth::{DepthConvention, DepthMap};
 use crate::error::{Error, Result};
 
+/// The most a camera's principal point (with its jitter) may lie from its image's centre, in
+/// half image widths and heights: beyond it float32 keeps the screen position of a pixel to
+/// less than a thousandth of a pixel on a 16384-pixel image (§4.9).
+pub const MAX_PRINCIPAL_SHIFT: f64 = 64.0;
+
+/// The pinhole intrinsics of a camera, in pixels, as OpenCV writes them: focal lengths
+/// `fx, fy` (pixels per unit of screen-plane slope in perspective; pixels per world unit in
+/// orthographic) and the principal point `(cx, cy)` (x right, y down from the image's top-left
+/// corner; the centre of a `W x H` image is `(W/2, H/2)`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Intrinsics {
+    /// Horizontal focal length in pixels.
+    pub fx: f64,
+    /// Vertical focal length in pixels.
+    pub fy: f64,
+    /// Principal point, x (pixels from the left edge).
+    pub cx: f64,
+    /// Principal point, y (pixels from the top edge).
+    pub cy: f64,
+}
+
+impl Intrinsics {
+    /// The intrinsics of an asymmetric perspective frustum (as OpenXR's per-eye field of view
+    /// gives it) for a `width x height` image: the tangents of the angles from the view axis
+    /// to the left, right, bottom and top edges, the left and bottom ones negative for a
+    /// frustum holding the axis (`tan(angleLeft)` etc.).
+    pub fn from_tangents(
+        left: f64,
+        right: f64,
+        bottom: f64,
+        top: f64,
+        width: u32,
+        height: u32,
+    ) -> Result<Self> {
+        Self::from_window(left, right, bottom, top, width, height)
+            .map_err(|why| Error::invalid("frustum tangents", why))
+    }
+
+    /// The intrinsics of an off-centre orthographic window (world units from the view axis to
+    /// the left, right, bottom and top edges) for a `width x height` image.
+    pub fn from_ortho_window(
+        left: f64,
+        right: f64,
+        bottom: f64,
+        top: f64,
+        width: u32,
+        height: u32,
+    ) -> Result<Self> {
+        Self::from_window(left, right, bottom, top, width, height)
+            .map_err(|why| Error::invalid("orthographic window", why))
+    }
+
+    fn from_window(
+        left: f64,
+        right: f64,
+        bottom: f64,
+        top: f64,
+        width: u32,
+        height: u32,
+    ) -> std::result::Result<Self, String> {
+        if ![left, right, bottom, top].iter().all(|v| v.is_finite()) {
+            return Err(format!(
+                "({left}, {right}, {bottom}, {top}) are not all finite"
+            ));
+        }
+        if !(right > left && top > bottom) {
+            return Err(format!(
+                "need left < right and bottom < top, got ({left}, {right}, {bottom}, {top})"
+            ));
+        }
+        let (w, h) = (width as f64, height as f64);
+        let fx = w / (right - left);
+        let fy = h / (top - bottom);
+        Ok(Self {
+            fx,
+            fy,
+            cx: -left * fx,
+            cy: top * fy,
+        })
+    }
+}
+
 /// How the view volume is shaped.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Projection {
-    /// Pinhole camera with the vertical field of view in degrees, in (0, 180).
+    /// Pinhole camera with the vertical field of view in degrees, in (0, 180), its principal
+    /// point at the image's centre and square pixels.
     Perspective {
         /// Vertical field of view in degrees.
         fov_y_deg: f64,
     },
-    /// Parallel rays; `height` is the world-space height of the view.
+    /// Parallel rays; `height` is the world-space height of the view, centred on the eye,
+    /// with square pixels.
     Orthographic {
         /// World-space height of the image.
         height: f64,
     },
+    /// A pinhole camera with any frustum -- off-centre (calibrated cameras), asymmetric (one
+    /// eye of a stereo pair), non-square pixels: the ray through pixel position `(x, y)` has
+    /// the camera-frame direction `((x - cx) / fx, (y - cy) / fy, 1)`, x right, y down, z
+    /// forward (OpenCV's convention).
+    PerspectiveIntrinsics(Intrinsics),
+    /// Parallel rays through any window: the ray through pixel position `(x, y)` leaves
+    /// `eye + (x - cx) / fx r - (y - cy) / fy u` along `f` (`fx`, `fy` in pixels per world
+    /// unit).
+    OrthographicIntrinsics(Intrinsics),
 }
 
-/// A validated camera: position, orientation, projection, near plane and image size.
+/// A validated camera: position, orientation, projection, near plane, image size, jitter and
+/// where the image lies in the host's attachments.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
-    /// Eye position (perspective centre, or centre of the orthographic image plane).
+    /// Eye position (perspective centre, or the point of the orthographic image plane on the
+    /// view axis).
     pub eye: DVec3,
     /// Point looked at.
     pub target: DVec3,
     /// Approximate up direction.
     pub up: DVec3,
-    /// Perspective or orthographic.
+    /// Perspective or orthographic, and its intrinsics.
     pub projection: Projection,
     /// Distance of the near plane along the view direction, > 0.
     pub near: f64,
@@ -45,6 +144,14 @@ pub struct Camera {
     pub height: u32,
     /// How view depth maps to the depth buffer (reversed Z, infinite far plane unless set).
     pub depth: DepthConvention,
+    /// Sub-pixel offset of the samples, in pixels (x right, y down): pixel `(i, j)` samples the
+    /// unjittered image plane at `(i + 0.5 + dx, j + 0.5 + dy)`, as a temporal antialiasing
+    /// or upscaling sequence does. Zero unless set.
+    pub jitter: DVec2,
+    /// Where pixel `(0, 0)` of the camera's image lies in the host's attachments (the
+    /// viewport's and scissor's offset): an editor viewport, one half of a split screen or a
+    /// stereo pair. `[0, 0]` unless set.
+    pub viewport_origin: [u32; 2],
 }
 
 /// The orthonormal camera frame: right, up, forward.
@@ -68,8 +175,12 @@ pub struct Ray {
     pub direction: DVec3,
 }
 
+/// Largest image side, and the largest `viewport_origin + size` on each axis.
+const MAX_SIDE: u32 = 16384;
+
 impl Camera {
-    /// A checked camera. Errors name the bad field.
+    /// A checked camera with the default depth convention, no jitter, drawn at the
+    /// attachments' origin. Errors name the bad field.
     pub fn new(
         eye: DVec3,
         target: DVec3,
@@ -88,6 +199,8 @@ impl Camera {
             width,
             height,
             depth: DepthConvention::default(),
+            jitter: DVec2::ZERO,
+            viewport_origin: [0, 0],
         };
         camera.validate()?;
         Ok(camera)
@@ -96,6 +209,23 @@ impl Camera {
     /// This camera with the depth convention `depth`, checked.
     pub fn with_depth(self, depth: DepthConvention) -> Result<Self> {
         let camera = Self { depth, ..self };
+        camera.validate()?;
+        Ok(camera)
+    }
+
+    /// This camera with its samples offset by `jitter` pixels (x right, y down), checked.
+    pub fn with_jitter(self, jitter: DVec2) -> Result<Self> {
+        let camera = Self { jitter, ..self };
+        camera.validate()?;
+        Ok(camera)
+    }
+
+    /// This camera drawn with its pixel `(0, 0)` at attachment pixel `(x, y)`, checked.
+    pub fn with_viewport_origin(self, x: u32, y: u32) -> Result<Self> {
+        let camera = Self {
+            viewport_origin: [x, y],
+            ..self
+        };
         camera.validate()?;
         Ok(camera)
     }
@@ -133,10 +263,22 @@ impl Camera {
                 format!("must be > 0, got {}", self.near),
             ));
         }
-        if self.width == 0 || self.height == 0 || self.width > 16384 || self.height > 16384 {
+        if self.width == 0 || self.height == 0 || self.width > MAX_SIDE || self.height > MAX_SIDE {
             return Err(Error::invalid(
                 "image size",
-                format!("{}x{} is outside 1..=16384", self.width, self.height),
+                format!("{}x{} is outside 1..={MAX_SIDE}", self.width, self.height),
+            ));
+        }
+        let [x, y] = self.viewport_origin;
+        if x as u64 + self.width as u64 > MAX_SIDE as u64
+            || y as u64 + self.height as u64 > MAX_SIDE as u64
+        {
+            return Err(Error::invalid(
+                "camera viewport",
+                format!(
+                    "a {}x{} image at ({x}, {y}) reaches beyond {MAX_SIDE} pixels",
+                    self.width, self.height
+                ),
             ));
         }
         self.depth.validate(self.near)?;
@@ -157,6 +299,44 @@ impl Camera {
                     ));
                 }
             }
+            Projection::PerspectiveIntrinsics(k) | Projection::OrthographicIntrinsics(k) => {
+                if !(k.fx.is_finite() && k.fx > 0.0 && k.fy.is_finite() && k.fy > 0.0) {
+                    return Err(Error::invalid(
+                        "camera intrinsics",
+                        format!("fx and fy must be > 0, got {} and {}", k.fx, k.fy),
+                    ));
+                }
+                if !(k.cx.is_finite() && k.cy.is_finite()) {
+                    return Err(Error::invalid(
+                        "camera intrinsics",
+                        format!("the principal point ({}, {}) is not finite", k.cx, k.cy),
+                    ));
+                }
+            }
+        }
+        if !self.jitter.is_finite() {
+            return Err(Error::invalid(
+                "camera jitter",
+                format!("not finite: {}", self.jitter),
+            ));
+        }
+        let (shift_x, shift_y) = self.ndc_shift();
+        if shift_x.abs().max(shift_y.abs()) > MAX_PRINCIPAL_SHIFT {
+            let k = self.intrinsics();
+            return Err(Error::invalid(
+                "camera principal point",
+                format!(
+                    "({}, {}) with jitter ({}, {}) lies more than {} half images from the \
+                     centre of the {}x{} image",
+                    k.cx,
+                    k.cy,
+                    self.jitter.x,
+                    self.jitter.y,
+                    MAX_PRINCIPAL_SHIFT,
+                    self.width,
+                    self.height
+                ),
+            ));
         }
         Ok(())
     }
@@ -169,49 +349,96 @@ impl Camera {
         Basis { right, up, forward }
     }
 
-    /// `W / H`.
-    pub fn aspect(&self) -> f64 {
-        self.width as f64 / self.height as f64
+    /// The projection's intrinsics in pixels (without the jitter): the general form of every
+    /// [`Projection`].
+    pub fn intrinsics(&self) -> Intrinsics {
+        let (w, h) = (self.width as f64, self.height as f64);
+        let centred = |f: f64| Intrinsics {
+            fx: f,
+            fy: f,
+            cx: 0.5 * w,
+            cy: 0.5 * h,
+        };
+        match self.projection {
+            Projection::Perspective { fov_y_deg } => {
+                centred(0.5 * h / (fov_y_deg.to_radians() * 0.5).tan())
+            }
+            Projection::Orthographic { height } => centred(h / height),
+            Projection::PerspectiveIntrinsics(k) | Projection::OrthographicIntrinsics(k) => k,
+        }
     }
 
-    /// Normalised device coordinates of pixel `(i, j)`'s centre.
-    pub fn pixel_ndc(&self, i: u32, j: u32) -> (f64, f64) {
-        (
-            (2.0 * i as f64 + 1.0) / self.width as f64 - 1.0,
-            1.0 - (2.0 * j as f64 + 1.0) / self.height as f64,
+    /// The screen-plane point (x along `r`, y along `u`; slopes per unit of view depth in
+    /// perspective, world units in orthographic) that continuous pixel position `pixel` (x
+    /// right, y down, pixel `(i, j)`'s centre at `(i + 0.5, j + 0.5)`) samples, jitter
+    /// included.
+    pub fn pixel_to_screen(&self, pixel: DVec2) -> DVec2 {
+        let k = self.intrinsics();
+        DVec2::new(
+            (pixel.x + self.jitter.x - k.cx) / k.fx,
+            (k.cy - pixel.y - self.jitter.y) / k.fy,
         )
     }
 
-    /// Screen-plane scale factors: how far along `r` and `u` one NDC unit reaches, per unit of
-    /// forward travel (perspective) or in world units (orthographic).
+    /// The continuous pixel position that samples screen-plane point `screen` (the inverse
+    /// of [`Camera::pixel_to_screen`]).
+    pub fn screen_to_pixel(&self, screen: DVec2) -> DVec2 {
+        let k = self.intrinsics();
+        DVec2::new(
+            k.cx - self.jitter.x + screen.x * k.fx,
+            k.cy - self.jitter.y - screen.y * k.fy,
+        )
+    }
+
+    /// The screen-plane rectangle the image covers, `(low, high)` corners.
+    pub fn screen_window(&self) -> (DVec2, DVec2) {
+        let a = self.pixel_to_screen(DVec2::new(0.0, self.height as f64));
+        let b = self.pixel_to_screen(DVec2::new(self.width as f64, 0.0));
+        (a, b)
+    }
+
+    /// The shaders' screen map (§7.2): their NDC `v` is a screen-plane point over these
+    /// scales, `s = (v.x sx, v.y sy)`, and Vulkan's NDC of the image is `v - ndc_shift` (y
+    /// up). Centred cameras have `sx / sy = W / H` and no shift.
     pub fn ndc_scale(&self) -> (f64, f64) {
-        let half = match self.projection {
-            Projection::Perspective { fov_y_deg } => (fov_y_deg.to_radians() * 0.5).tan(),
-            Projection::Orthographic { height } => 0.5 * height,
-        };
-        (half * self.aspect(), half)
+        let k = self.intrinsics();
+        (
+            0.5 * self.width as f64 / k.fx,
+            0.5 * self.height as f64 / k.fy,
+        )
+    }
+
+    /// How far the shaders' NDC lies from Vulkan's NDC of the image (y up), from the
+    /// principal point and the jitter: 0 for a centred camera.
+    pub fn ndc_shift(&self) -> (f64, f64) {
+        let k = self.intrinsics();
+        (
+            1.0 - 2.0 * (k.cx - self.jitter.x) / self.width as f64,
+            2.0 * (k.cy - self.jitter.y) / self.height as f64 - 1.0,
+        )
     }
 
     /// The ray through the centre of pixel `(i, j)`.
     pub fn ray(&self, i: u32, j: u32) -> Ray {
-        let (x, y) = self.pixel_ndc(i, j);
-        self.ray_at_ndc(x, y)
+        self.ray_at_pixel(DVec2::new(i as f64 + 0.5, j as f64 + 0.5))
     }
 
-    /// The ray through an arbitrary NDC position.
-    pub fn ray_at_ndc(&self, x: f64, y: f64) -> Ray {
+    /// The ray through continuous pixel position `pixel` (pixel `(i, j)`'s centre at
+    /// `(i + 0.5, j + 0.5)`), jitter included.
+    pub fn ray_at_pixel(&self, pixel: DVec2) -> Ray {
         let b = self.basis();
-        let (sx, sy) = self.ndc_scale();
-        let offset = x * sx * b.right + y * sy * b.up;
-        match self.projection {
-            Projection::Perspective { .. } => Ray {
-                origin: self.eye,
-                direction: b.forward + offset,
-            },
-            Projection::Orthographic { .. } => Ray {
+        let s = self.pixel_to_screen(pixel);
+        let offset = s.x * b.right + s.y * b.up;
+        if self.is_orthographic() {
+            Ray {
                 origin: self.eye + offset,
                 direction: b.forward,
-            },
+            }
+        } else {
+            Ray {
+                origin: self.eye,
+                direction: b.forward + offset,
+            }
         }
     }
 
@@ -242,15 +469,18 @@ impl Camera {
 
     /// Is this an orthographic camera?
     pub fn is_orthographic(&self) -> bool {
-        matches!(self.projection, Projection::Orthographic { .. })
+        matches!(
+            self.projection,
+            Projection::Orthographic { .. } | Projection::OrthographicIntrinsics(_)
+        )
     }
 
     /// A camera that frames a bounding sphere from a pleasant oblique direction.
     pub fn framing(center: DVec3, radius: f64, width: u32, height: u32) -> Result<Self> {
-        if width == 0 || height == 0 || width > 16384 || height > 16384 {
+        if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
             return Err(Error::invalid(
                 "image size",
-                format!("{width}x{height} is outside 1..=16384"),
+                format!("{width}x{height} is outside 1..={MAX_SIDE}"),
             ));
         }
         let fov_y_deg: f64 = 45.0;

@@ -36,4 +36,35 @@ impl Frame {
     pub fn index(&self, i: u32, j: u32) -> usize {
         j as usize * self.width as usize + i as usize
     }
+
+    /// The `width x height` rectangle at `(x, y)` of this frame, as a frame of its own (one
+    /// view of a several-view frame: its camera's size at its `viewport_origin`). Outputs
+    /// this frame lacks stay empty; `None` when the rectangle does not lie inside.
+    pub fn crop(&self, x: u32, y: u32, width: u32, height: u32) -> Option<Frame> {
+        if x as u64 + width as u64 > self.width as u64
+            || y as u64 + height as u64 > self.height as u64
+        {
+            return None;
+        }
+        fn rows<T: Copy>(all: &[T], frame: &Frame, (x, y, w, h): (u32, u32, u32, u32)) -> Vec<T> {
+            if all.is_empty() {
+                return Vec::new();
+            }
+            (y..y + h)
+                .flat_map(|j| {
+                    let start = frame.index(x, j);
+                    all[start..start + w as usize].iter().copied()
+                })
+                .collect()
+        }
+        let rect = (x, y, width, height);
+        Some(Frame {
+            width,
+            height,
+            color: rows(&self.color, self, rect),
+            depth: rows(&self.depth, self, rect),
+            normal: rows(&self.normal, self, rect),
+            id: rows(&self.id, self, rect),
+        })
+    }
 }

@@ -49,11 +49,12 @@ pub struct PushConstants {
     pub near_plane: f32,
     /// Camera right, world axes.
     pub right: [f32; 3],
-    /// NDC x to the screen plane at unit depth (or the orthographic half width).
+    /// The shaders' NDC x to the screen plane at unit depth (orthographic: world units):
+    /// `W / (2 fx)` (§3.2).
     pub ndc_scale_x: f32,
     /// Camera up, world axes.
     pub up: [f32; 3],
-    /// NDC y to the screen plane at unit depth (or the orthographic half height).
+    /// The shaders' NDC y to the screen plane: `H / (2 fy)`.
     pub ndc_scale_y: f32,
     /// View direction, world axes.
     pub forward: [f32; 3],
@@ -61,8 +62,9 @@ pub struct PushConstants {
     pub depth_a: f32,
     /// `2 / W`, `2 / H`: NDC units per pixel.
     pub ndc_per_pixel: [f32; 2],
-    /// How far a footprint reaches beyond the exact silhouette bounds, in pixels.
-    pub quad_margin_px: f32,
+    /// The shaders' NDC minus Vulkan's NDC of the image (y up), from the principal point and
+    /// the jitter (`Camera::ndc_shift`); 0 for a centred camera.
+    pub ndc_shift: [f32; 2],
     /// Depth map `b`.
     pub depth_b: f32,
     /// Material: ambient weight.
@@ -71,10 +73,10 @@ pub struct PushConstants {
     pub diffuse: f32,
     /// Material: specular weight.
     pub specular: f32,
-    /// Material: Phong exponent.
-    pub shininess: f32,
     /// Material: colour of highlights.
     pub specular_color: [f32; 3],
+    /// Material: Phong exponent.
+    pub shininess: f32,
     /// Depth map `c`.
     pub depth_c: f32,
     /// The draw's first instance (scenes beyond one storage-buffer binding are drawn in
@@ -82,10 +84,9 @@ pub struct PushConstants {
     pub first_instance: u32,
     /// The compact format's unit of semi-axes.
     pub radius_unit: f32,
-    /// Image width in pixels (the compute splat's visibility buffer is row-major).
-    pub image_width: u32,
-    /// Image height in pixels.
-    pub image_height: u32,
+    /// Where the camera's pixel `(0, 0)` lies in the attachments: `x | y << 16` (the
+    /// fragment stages take it off `gl_FragCoord`).
+    pub viewport_origin: u32,
 }
 
 /// The culled draw's `VkDrawIndirectCommand`, the chunk's instance count, the frame's stamp
@@ -343,9 +344,12 @@ const _: () = {
     assert!(offset_of!(PushConstants, up) == 32);
     assert!(offset_of!(PushConstants, forward) == 48);
     assert!(offset_of!(PushConstants, ndc_per_pixel) == 64);
-    assert!(offset_of!(PushConstants, ambient) == 80);
+    assert!(offset_of!(PushConstants, ndc_shift) == 72);
+    assert!(offset_of!(PushConstants, ambient) == 84);
     assert!(offset_of!(PushConstants, specular_color) == 96);
-    assert!(offset_of!(PushConstants, first_instance) == 112);
+    assert!(offset_of!(PushConstants, shininess) == 108);
+    assert!(offset_of!(PushConstants, first_instance) == 116);
+    assert!(offset_of!(PushConstants, viewport_origin) == 124);
     assert!(size_of::<IndirectDraw>() == 40);
     assert!(offset_of!(IndirectDraw, dispatch_x) == 28);
     assert!(size_of::<FootprintRecord>() == 32);

@@ -79,11 +79,12 @@ pub mod icosphere;
 #[cfg(feature = "offscreen")]
 pub mod offscreen;
 
-pub use camera::{Camera, Projection};
+pub use camera::{Camera, Intrinsics, Projection};
 pub use culling::Culling;
 pub use depth::DepthConvention;
 pub use ellipsoid::Ellipsoid;
 pub use error::{Error, Result};
+pub use host_camera::HostViewport;
 pub use instances::InstanceFormat;
 pub use renderer::{DrawReason, EllipsoidRenderer, FramePlan};
 pub use scene::Scene;

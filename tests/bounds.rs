@@ -165,16 +165,18 @@ fn bounds_hold_every_covered_pixel_and_are_tight() {
 
 /// Pixel coordinates (x right, y down, pixel `(i, j)` centred at `(i + 0.5, j + 0.5)`) of a
 /// world point, from the contract of src/camera.rs: view coordinates along `r`, `u`, `f`,
-/// divided by depth in perspective, scaled by `ndc_scale`, mapped from NDC to pixels.
+/// divided by depth in perspective, scaled by `ndc_scale`, shifted by `ndc_shift`, mapped
+/// from NDC to pixels.
 fn to_pixel(camera: &Camera, p: DVec3) -> DVec2 {
     let b = camera.basis();
     let v = p - camera.eye;
     let (x, y, z) = (v.dot(b.right), v.dot(b.up), v.dot(b.forward));
     let (sx, sy) = camera.ndc_scale();
+    let (shift_x, shift_y) = camera.ndc_shift();
     let (nx, ny) = if camera.is_orthographic() {
-        (x / sx, y / sy)
+        (x / sx - shift_x, y / sy - shift_y)
     } else {
-        (x / (z * sx), y / (z * sy))
+        (x / (z * sx) - shift_x, y / (z * sy) - shift_y)
     };
     DVec2::new(
         (nx + 1.0) * 0.5 * camera.width as f64,
@@ -373,7 +375,11 @@ fn scene(camera: &Camera) -> Vec<(String, Ellipsoid)> {
     // A point at view depth `d` on the ray through NDC `(x, y)`.
     let at = |x: f64, y: f64, d: f64| {
         // Both kinds of ray have forward component 1: the parameter is the view depth.
-        let ray = camera.ray_at_ndc(x, y);
+        let pixel = DVec2::new(
+            (x + 1.0) * 0.5 * camera.width as f64,
+            (1.0 - y) * 0.5 * camera.height as f64,
+        );
+        let ray = camera.ray_at_pixel(pixel);
         ray.origin + ray.direction * d
     };
     let border = [

@@ -14,7 +14,7 @@ use ellipsoid_splat::{
     Camera, Ellipsoid, EllipsoidRenderer, HostDevice, Material, Pass, RendererOptions, Scene,
     Settings, Target,
 };
-use glam::{DMat4, DQuat, DVec3};
+use glam::{DMat4, DQuat, DVec2, DVec3};
 use gpu_allocator::vulkan::Allocator;
 use host::{DepthKind, Host, HostTarget, MeshPipeline, TargetKind};
 
@@ -79,7 +79,11 @@ impl Setup {
     /// What the ray through NDC `(x, y)` shows: 'r' the ellipsoid, 'h' the plane hiding the
     /// ellipsoid, 'g' the plane alone, 'b' nothing.
     fn shows(&self, camera: &Camera, x: f64, y: f64) -> char {
-        let ray = camera.ray_at_ndc(x, y);
+        let pixel = DVec2::new(
+            (x + 1.0) * 0.5 * camera.width as f64,
+            (1.0 - y) * 0.5 * camera.height as f64,
+        );
+        let ray = camera.ray_at_pixel(pixel);
         // Ray parameter = view depth (the direction's forward component is 1).
         let plane = {
             let denom = ray.direction.dot(self.plane_normal);
@@ -587,6 +591,120 @@ fn two_frames_in_one_command_buffer() {
             blue > 1000 && red == 0,
             "{label}: {blue} blue, {red} red pixels"
         );
+    }
+    let messages = host.messages();
+    assert!(messages.is_empty(), "validation: {messages:#?}");
+}
+
+/// Several views a frame, into separate targets: a render-pass target seen through the
+/// host's matrices and a dynamic-rendering target seen through a jittered, off-centre
+/// projection of the same view, both pre-passes recorded before both passes, in one command
+/// buffer, two frames in flight (frame slots 0 and 1). Every pixel of both targets against
+/// the analytic answer.
+#[test]
+fn two_views_into_two_targets_in_one_command_buffer() {
+    let mut host = Host::new(true).unwrap();
+    let setup = Setup::new([1.0, 0.0, 0.0]);
+    let depth = DepthKind::ReversedInfinite;
+    let samples = vk::SampleCountFlags::TYPE_1;
+    let first = host_scene(&mut host, &setup, TargetKind::RenderPass, depth, samples);
+    let second = host_scene(&mut host, &setup, TargetKind::Dynamic, depth, samples);
+    // TAA's jitter of 0.4 px right and 0.3 px down (Vulkan NDC: 2 / W per pixel), and a
+    // principal point 12 px off centre.
+    let shift = DVec3::new(
+        (0.4 + 12.0) * 2.0 / WIDTH as f64,
+        0.3 * 2.0 / HEIGHT as f64,
+        0.0,
+    );
+    let second_projection = DMat4::from_translation(shift) * second.projection;
+    let second_camera =
+        Camera::from_view_projection(second.view, second_projection, WIDTH, HEIGHT).unwrap();
+    assert!(matches!(
+        second_camera.projection,
+        ellipsoid_splat::Projection::PerspectiveIntrinsics(_)
+    ));
+    let settings = Settings {
+        material: Material {
+            specular: 0.0,
+            ..Material::default()
+        },
+        ..Settings::default()
+    };
+    let options = RendererOptions {
+        target: Target {
+            pass: first.pass.clone(),
+            samples,
+            aux_outputs: false,
+        },
+        frames_in_flight: 2,
+        pipeline_cache: vk::PipelineCache::null(),
+        settings,
+        compute_splat_features: false,
+    };
+    let mut renderer = new_renderer(&mut host, options);
+    let targets = [
+        Target {
+            pass: first.pass.clone(),
+            samples,
+            aux_outputs: false,
+        },
+        Target {
+            pass: second.pass.clone(),
+            samples,
+            aux_outputs: false,
+        },
+    ];
+    let cameras = [first.camera, second_camera];
+    let scene = Scene::new(vec![setup.glyph]);
+    let cmd = host.begin().unwrap();
+    let (device, allocator) = host.device_and_allocator();
+    for slot in 0..2 {
+        // SAFETY: `cmd` is recording; uploads and pre-passes go outside the passes, draws
+        // inside them; everything is submitted and waited for before the renderer is
+        // destroyed, and slot 1 has no earlier work.
+        unsafe {
+            renderer.begin_frame(device, allocator, slot).unwrap();
+            if slot == 0 {
+                renderer.upload(device, allocator, cmd, &scene).unwrap();
+            }
+            for (target, camera) in targets.iter().zip(&cameras) {
+                renderer.set_target(target.clone()).unwrap();
+                renderer
+                    .record_prepass(device, allocator, cmd, camera)
+                    .unwrap();
+            }
+            for (host_scene, (camera, projection)) in [&first, &second]
+                .into_iter()
+                .zip(cameras.iter().zip([first.projection, second_projection]))
+            {
+                host_scene.target.begin_pass(device, cmd);
+                host_scene
+                    .mesh
+                    .record(device, cmd, projection * host_scene.view);
+                renderer.record(device, allocator, cmd, camera).unwrap();
+                host_scene.target.end_pass(device, cmd);
+            }
+        }
+    }
+    host.submit_and_wait().unwrap();
+    for (host_scene, camera, label) in [
+        (&first, &cameras[0], "render-pass target"),
+        (
+            &second,
+            &cameras[1],
+            "dynamic target, jittered and off-centre",
+        ),
+    ] {
+        let rgba = host_scene.target.read_rgba().unwrap();
+        let curve = check(&setup, &rgba, camera, 1, true, label).near_curve;
+        assert!(curve > 40, "{label}: the plane must cut the ellipsoid");
+    }
+    let (device, allocator) = host.device_and_allocator();
+    // SAFETY: the submission completed.
+    unsafe { renderer.destroy(device, allocator) };
+    for host_scene in [first, second] {
+        host_scene.mesh.destroy(&mut host);
+        host_scene.target.destroy(&mut host);
     }
     let messages = host.messages();
     assert!(messages.is_empty(), "validation: {messages:#?}");

@@ -8,6 +8,33 @@
 
 #include "gpu_layout.glsl"
 
+// How far a footprint reaches beyond the exact silhouette bounds, in pixels: a sliver, so
+// float rounding never drops a covered pixel centre.
+const float QUAD_MARGIN_PX = 0.01;
+
+// The camera's image size in pixels: 2 / (2 / W) in float32 rounds back to W exactly for
+// every W <= 16384.
+uvec2 image_size() {
+    return uvec2(round(2.0 / cam.ndc_per_pixel));
+}
+
+// A fragment's position in the camera's image: gl_FragCoord less the viewport's origin (whole
+// pixels, so exact).
+vec2 camera_pixel(vec2 frag_coord) {
+    return frag_coord - vec2(cam.viewport_origin & 0xffffu, cam.viewport_origin >> 16);
+}
+
+// The shaders' NDC (y up; screen plane over ndc_scale, §3.2) that camera pixel position p
+// samples: Vulkan's NDC of the image plus the principal point's and the jitter's shift.
+vec2 pixel_ndc(vec2 p) {
+    return vec2(p.x * cam.ndc_per_pixel.x - 1.0, 1.0 - p.y * cam.ndc_per_pixel.y) + cam.ndc_shift;
+}
+
+// Vulkan's NDC of the image (y up, as the pixel contract's) of the shaders' NDC point v.
+vec2 image_ndc(vec2 v) {
+    return v - cam.ndc_shift;
+}
+
 // The depth-buffer value of view depth d in the host's convention: a + b d + c / d
 // (src/depth.rs). Reversed Z with an infinite far plane is (0, 0, near): exactly near / d.
 float depth_value(float d) {

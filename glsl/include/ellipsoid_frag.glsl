@@ -37,7 +37,7 @@ void main() {
     } else {
         // The stage declares the output, so every invocation writes it: the coverage as is.
         gl_SampleMask[0] = gl_SampleMaskIn[0];
-        if (!impostor_pixel(gl_FragCoord.xy, z, n)) {
+        if (!impostor_pixel(camera_pixel(gl_FragCoord.xy), z, n)) {
             discard;
         }
     }

@@ -10,25 +10,24 @@ layout(push_constant, std430) uniform PushConstants {
     vec3 eye_view;          // the eye relative to the scene origin, in view axes
     float near_plane;       // view depth of the near plane
     vec3 right;             // camera right, world axes
-    float ndc_scale_x;      // NDC x -> screen plane: tan(fovy/2) W/H, or h/2 W/H orthographic
+    float ndc_scale_x;      // the shaders' NDC x -> screen plane: W / (2 fx) (§3.2)
     vec3 up;                // camera up
-    float ndc_scale_y;      // NDC y -> screen plane: tan(fovy/2), or h/2 orthographic
+    float ndc_scale_y;      // the shaders' NDC y -> screen plane: H / (2 fy)
     vec3 forward;           // view direction
     float depth_a;          // depth map a (depth = a + b d + c / d, src/depth.rs)
     vec2 ndc_per_pixel;     // 2/W, 2/H
-    float quad_margin_px;   // how far a footprint reaches beyond the exact silhouette bounds
+    vec2 ndc_shift;         // the shaders' NDC minus Vulkan's (y up): principal point, jitter
     float depth_b;          // depth map b
     float ambient;          // material (Blinn-Phong)
     float diffuse;
     float specular;
-    float shininess;
     vec3 specular_color;
+    float shininess;
     float depth_c;          // depth map c
     uint first_instance;    // the draw's first instance: scenes beyond one binding are drawn
                             // in chunks, and shader instance indices are chunk-relative
     float radius_unit;      // the compact format's unit of semi-axes
-    uint image_width;       // pixels per row of the compute splat's visibility buffer
-    uint image_height;
+    uint viewport_origin;   // the camera's pixel (0, 0) in the attachments: x | y << 16
 } cam;
 
 // The full instance record (`Instance`, 48 bytes).

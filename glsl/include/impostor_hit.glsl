@@ -8,10 +8,10 @@
 
 // Textbook baseline: |O + t D|^2 = 1 in parameter space with the discriminant b^2 - ac, all in
 // float32. v_depth.xyz holds the centre relative to the eye, v_to_normal the world->parameter map.
-bool hit_textbook(vec2 frag_coord, out float depth, out vec3 normal, out bool cap) {
+bool hit_textbook(vec2 pixel, out float depth, out vec3 normal, out bool cap) {
     float near = cam.near_plane;
     vec3 origin, dir;
-    pixel_ray(frag_coord, origin, dir);
+    pixel_ray(pixel, origin, dir);
     mat3 m = v_to_normal;
     vec3 o = m * (origin - v_depth.xyz);
     vec3 d = m * dir;
@@ -33,17 +33,16 @@ bool hit_textbook(vec2 frag_coord, out float depth, out vec3 normal, out bool ca
     return true;
 }
 
-// The ray through the pixel centre `frag_coord` in the silhouette frame (see
+// The ray through the pixel centre `pixel` in the silhouette frame (see
 // instance_setup.glsl).
-vec3 frame_ray(vec2 frag_coord) {
-    vec2 ndc = vec2(frag_coord.x * cam.ndc_per_pixel.x - 1.0, 1.0 - frag_coord.y * cam.ndc_per_pixel.y);
-    vec2 d = ndc - v_ray_origin;
+vec3 frame_ray(vec2 pixel) {
+    vec2 d = pixel_ndc(pixel) - v_ray_origin;
     return v_ray_x * d.x + v_ray_y * d.y + v_ray_c;
 }
 
 // The closed form in the silhouette frame (see the top of this file).
-bool hit_stable(vec2 frag_coord, out float depth, out vec3 normal, out bool cap) {
-    vec3 v_ray = frame_ray(frag_coord);
+bool hit_stable(vec2 pixel, out float depth, out vec3 normal, out bool cap) {
+    vec3 v_ray = frame_ray(pixel);
     float near = cam.near_plane;
     vec3 g = v_depth.xyz;
     float cz = v_depth.w;
@@ -95,14 +94,14 @@ bool hit_stable(vec2 frag_coord, out float depth, out vec3 normal, out bool cap)
 }
 
 
-// Whether instance v_id shows at the pixel centre `frag_coord`, and if so its depth-buffer
+// Whether instance v_id shows at the pixel centre `pixel`, and if so its depth-buffer
 // value z (clamped to [0, 1]), its normal in the silhouette frame (world with TEXTBOOK) and
 // whether it is the near-plane cap. Needs only the hit part of the set-up.
-bool impostor_depth(vec2 frag_coord, out float z, out vec3 normal, out bool cap) {
+bool impostor_depth(vec2 pixel, out float z, out vec3 normal, out bool cap) {
     float near = cam.near_plane;
     float depth;
-    bool hit = TEXTBOOK ? hit_textbook(frag_coord, depth, normal, cap)
-                        : hit_stable(frag_coord, depth, normal, cap);
+    bool hit = TEXTBOOK ? hit_textbook(pixel, depth, normal, cap)
+                        : hit_stable(pixel, depth, normal, cap);
     // Beyond the far plane (a finite one) nothing shows; rounding at the planes is clamped.
     z = depth_value(cap ? near : depth);
     bool shows = hit && z >= -1e-6 && z <= 1.0 + 1e-6;
@@ -125,15 +124,15 @@ vec3 impostor_world_normal(vec3 normal, bool cap) {
     return normalize(normal);
 }
 
-// What instance v_id shows at the pixel centre `frag_coord` (window coordinates, as
-// gl_FragCoord): false where it shows nothing; else its depth-buffer value z in the camera's
+// What instance v_id shows at the pixel centre `pixel` (in the camera's image:
+// `camera_pixel(gl_FragCoord.xy)` in the fragment stages): false where it shows nothing; else its depth-buffer value z in the camera's
 // convention and its unit world normal n. Loads the shading part of the set-up only for a
 // hit. The fragment stage, the compute splat and the resolve all decide with this function.
-bool impostor_pixel(vec2 frag_coord, out float z, out vec3 n) {
+bool impostor_pixel(vec2 pixel, out float z, out vec3 n) {
     vec3 normal;
     bool cap;
     n = vec3(0.0);
-    if (!impostor_depth(frag_coord, z, normal, cap)) {
+    if (!impostor_depth(pixel, z, normal, cap)) {
         return false;
     }
     n = impostor_world_normal(normal, cap);

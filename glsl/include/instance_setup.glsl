@@ -151,7 +151,7 @@ Setup setup_instance(Instance inst) {
     bool offset_mode = true; // ray attribute = pixel offset from the projected centre
     bool bounded = false;
     float u = 0.0, rr = 1.0, depth_scale = 1.0;
-    vec2 centre = vec2(0.0);
+    vec2 centre = cam.ndc_shift * vec2(sx, sy); // the image's centre
     vec2 axis1 = vec2(sx, 0.0) * SQRT2, axis2 = vec2(0.0, sy) * SQRT2;
     if (ORTHOGRAPHIC) {
         s.k = vec4(1.0, 1.0, 0.0, 1.0);
@@ -212,7 +212,7 @@ Setup setup_instance(Instance inst) {
     }
 
     // Grow by a sliver of a pixel so float rounding never drops a covered pixel centre.
-    float margin = cam.quad_margin_px * cam.ndc_per_pixel.y * sy;
+    float margin = QUAD_MARGIN_PX * max(cam.ndc_per_pixel.x * sx, cam.ndc_per_pixel.y * sy);
     if (bounded) {
         axis1 += margin * normalize_or(axis1, vec2(1.0, 0.0));
         axis2 += margin * normalize_or(axis2, vec2(0.0, 1.0));
@@ -220,7 +220,7 @@ Setup setup_instance(Instance inst) {
     // Off screen: cull. Reaching far past the screen: use the screen's polygon instead, so no
     // vertex carries huge coordinates into the interpolation.
     vec2 reach = RHO * sqrt(axis1 * axis1 + axis2 * axis2) / vec2(sx, sy);
-    vec2 mid = centre / vec2(sx, sy);
+    vec2 mid = image_ndc(centre / vec2(sx, sy));
     if (bounded && BOUNDS != BOUNDS_WORLD_QUAD) {
         if (any(greaterThan(abs(mid) - reach, vec2(1.0)))) {
             s.culled = true;
@@ -286,7 +286,8 @@ vec4 corner_position(Setup s, int vertex_index) {
     int k = i == 0 ? 0 : ((i & 1) != 0 ? (i + 1) / 2 : CORNERS - i / 2);
     vec2 dir = corner_direction(k);
     vec2 sxy = vec2(cam.ndc_scale_x, cam.ndc_scale_y);
-    vec2 corner = s.screen_polygon ? dir * sxy * SQRT2 : s.centre + dir.x * s.axis1 + dir.y * s.axis2;
+    vec2 corner = s.screen_polygon ? cam.ndc_shift * sxy + dir * sxy * SQRT2
+                                   : s.centre + dir.x * s.axis1 + dir.y * s.axis2;
     if (BOUNDS == BOUNDS_WORLD_QUAD && !ORTHOGRAPHIC && s.offset_mode) {
         // Gumhold's quad: the square around the silhouette circle in the silhouette plane,
         // projected (it inflates under perspective). Off the eye's side: full screen.
@@ -299,7 +300,7 @@ vec4 corner_position(Setup s, int vertex_index) {
     if (s.culled || any(isnan(corner))) {
         return vec4(-2.0, -2.0, 0.0, 1.0); // all corners equal: zero area, outside
     }
-    vec2 ndc = corner / sxy;
+    vec2 ndc = image_ndc(corner / sxy);
     // Vulkan's NDC y points down; the contract's points up.
     return vec4(ndc.x, -ndc.y, s.quad_z, 1.0);
 }

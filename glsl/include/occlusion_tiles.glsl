@@ -14,9 +14,6 @@ const int TILE = 4;
 // close.
 const float DEPTH_GAP = 1e-4;
 
-ivec2 screen_size() {
-    return ivec2(round(2.0 / cam.ndc_per_pixel));
-}
 ivec2 tile_grid() {
-    return (screen_size() + TILE - 1) / TILE;
+    return (ivec2(image_size()) + TILE - 1) / TILE;
 }

@@ -34,7 +34,7 @@ vec2 standard_sample_position(int s) {
 // r^2 scale / (den + u sqrt(f)). Both r.xy and den are affine in the window position, so each
 // sample steps from the pixel centre's.
 int silhouette_coverage(out float nearest, out vec3 n) {
-    vec3 ray = frame_ray(gl_FragCoord.xy);
+    vec3 ray = frame_ray(camera_pixel(gl_FragCoord.xy));
     float den = v_k.x + v_k.z * ray.z;
     // Window x grows with NDC x, window y against NDC y.
     vec3 step_x = v_ray_x * cam.ndc_per_pixel.x, step_y = -v_ray_y * cam.ndc_per_pixel.y;
@@ -77,7 +77,7 @@ int silhouette_coverage(out float nearest, out vec3 n) {
 
 // Each sample's full hit.
 int sample_coverage(out float nearest, out vec3 n) {
-    vec2 corner = floor(gl_FragCoord.xy);
+    vec2 corner = floor(camera_pixel(gl_FragCoord.xy));
     nearest = REVERSED_Z ? 0.0 : 1.0;
     n = vec3(0.0);
     vec3 nearest_normal = vec3(0.0);

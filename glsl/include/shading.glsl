@@ -27,8 +27,8 @@ vec3 shade(vec3 n, vec3 base) {
 
 // The pixel's ray relative to the eye: origin offset (orthographic) and direction with unit
 // forward component, so the ray parameter is the view depth.
-void pixel_ray(vec2 frag_coord, out vec3 origin, out vec3 dir) {
-    vec2 ndc = vec2(frag_coord.x * cam.ndc_per_pixel.x - 1.0, 1.0 - frag_coord.y * cam.ndc_per_pixel.y);
+void pixel_ray(vec2 pixel, out vec3 origin, out vec3 dir) {
+    vec2 ndc = pixel_ndc(pixel);
     vec3 offset = ndc.x * cam.ndc_scale_x * cam.right + ndc.y * cam.ndc_scale_y * cam.up;
     origin = ORTHOGRAPHIC ? offset : vec3(0.0);
     dir = ORTHOGRAPHIC ? cam.forward : cam.forward + offset;

@@ -19,9 +19,9 @@ vec2 tangent_slopes(vec3 a, vec3 b, float c_side, float cz, float b_len) {
     return vec2(min(k1, k2), max(k1, k2));
 }
 
-// The axis-aligned NDC rectangle (x0, y0, x1, y1; y up as in the pixel contract) around the
-// instance's silhouette, and false when nothing of it lies beyond the near plane. A silhouette
-// reaching the eye plane gets the whole screen.
+// The axis-aligned rectangle (x0, y0, x1, y1) in the image's NDC (y up as in the pixel
+// contract, `image_ndc`) around the instance's silhouette, and false when nothing of it lies
+// beyond the near plane. A silhouette reaching the eye plane gets the whole screen.
 bool silhouette_rect(Instance inst, out vec4 rect) {
     vec3 r = cam.right, u_axis = cam.up, f = cam.forward;
     float sx = cam.ndc_scale_x, sy = cam.ndc_scale_y, near = cam.near_plane;
@@ -36,11 +36,11 @@ bool silhouette_rect(Instance inst, out vec4 rect) {
     }
     if (ORTHOGRAPHIC) {
         vec2 h = vec2(length(a_r), length(a_u));
-        rect = vec4((c.xy - h) / vec2(sx, sy), (c.xy + h) / vec2(sx, sy));
+        rect = vec4((c.xy - h) / vec2(sx, sy), (c.xy + h) / vec2(sx, sy)) - cam.ndc_shift.xyxy;
     } else if (c.z > half_z) {
         vec2 kx = tangent_slopes(a_r, a_f, c.x, c.z, half_z);
         vec2 ky = tangent_slopes(a_u, a_f, c.y, c.z, half_z);
-        rect = vec4(kx.x / sx, ky.x / sy, kx.y / sx, ky.y / sy);
+        rect = vec4(kx.x / sx, ky.x / sy, kx.y / sx, ky.y / sy) - cam.ndc_shift.xyxy;
     }
     return true;
 }

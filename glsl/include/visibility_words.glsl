@@ -18,10 +18,10 @@ uint key_instance(uint low) {
 
 // Resolve tiles per row of the image.
 uint resolve_tiles_x() {
-    return (cam.image_width + RESOLVE_TILE - 1u) / RESOLVE_TILE;
+    return (image_size().x + RESOLVE_TILE - 1u) / RESOLVE_TILE;
 }
 
 // Where tile `t` (row-major) keeps its word, in 64-bit keys from the buffer's start.
 uint resolve_tile_word(uint t) {
-    return cam.image_width * cam.image_height + t;
+    return image_size().x * image_size().y + t;
 }

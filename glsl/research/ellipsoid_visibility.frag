@@ -22,15 +22,16 @@ void main() {
     float z;
     vec3 normal;
     bool cap;
-    if (!impostor_depth(gl_FragCoord.xy, z, normal, cap)) {
+    vec2 pixel = camera_pixel(gl_FragCoord.xy);
+    if (!impostor_depth(pixel, z, normal, cap)) {
         return;
     }
-    uvec2 p = uvec2(gl_FragCoord.xy);
+    uvec2 p = uvec2(pixel);
     uint64_t key = visibility_key(z, v_id + cam.first_instance);
     if (REVERSED_Z) {
-        atomicMax(visibility[p.y * cam.image_width + p.x], key);
+        atomicMax(visibility[p.y * image_size().x + p.x], key);
     } else {
-        atomicMin(visibility[p.y * cam.image_width + p.x], key);
+        atomicMin(visibility[p.y * image_size().x + p.x], key);
     }
     // Most fragments find their tile marked: a read spares them the atomic (a read racing
     // with an exchange only ever costs one more atomic, as in splat.comp).

@@ -20,5 +20,7 @@ void main() {
     v_normal = R * (in_position / radii);
     v_id = uint(gl_InstanceIndex);
     v_color = srgb_to_linear(unpackUnorm4x8(inst.color).rgb);
-    gl_Position = vec4(v.x / cam.ndc_scale_x, -v.y / cam.ndc_scale_y, depth_clip_z(v.z), v.z);
+    // Clip x, y = w times Vulkan's NDC (y down) of the shaders' NDC v.xy / (v.z ndc_scale).
+    vec2 xy = v.xy / vec2(cam.ndc_scale_x, cam.ndc_scale_y) - cam.ndc_shift * v.z;
+    gl_Position = vec4(xy.x, -xy.y, depth_clip_z(v.z), v.z);
 }

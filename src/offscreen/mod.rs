@@ -296,15 +296,35 @@ impl OffscreenRenderer {
     /// Renders the last uploaded scene and reads `outputs` back (the [`Frame`]'s other
     /// images are empty). Colour and depth targets always exist (the draw needs them); the
     /// normal and ID targets, which the fragment stage writes together, only when one of them
-    /// is asked for.
+    /// is asked for. The frame is the attachments: the camera's image at its
+    /// `viewport_origin`, the rest background.
     pub fn render_uploaded(
         &mut self,
         camera: &Camera,
         outputs: Outputs,
     ) -> Result<(Frame, FrameTiming)> {
-        let mut timing = self.draw(camera, outputs, true)?;
+        let [x, y] = camera.viewport_origin;
+        self.render_views(x + camera.width, y + camera.height, &[*camera], outputs)
+    }
+
+    /// Renders the last uploaded scene as several views of one frame -- a stereo pair side by
+    /// side, a split screen, an inset -- into one `width x height` set of attachments, each
+    /// view with its own pre-pass, all recorded into one command buffer (pre-passes first,
+    /// then one pass drawing every view into its rectangle), and reads `outputs` back.
+    /// The views' rectangles (each camera's size at its `viewport_origin`) lie inside the
+    /// attachments and do not overlap, and their cameras share one depth convention (one
+    /// depth clear); each pixel's depth is read back with the camera of the view holding it.
+    pub fn render_views(
+        &mut self,
+        width: u32,
+        height: u32,
+        cameras: &[Camera],
+        outputs: Outputs,
+    ) -> Result<(Frame, FrameTiming)> {
+        let extent = vk::Extent2D { width, height };
+        let mut timing = self.draw(extent, cameras, outputs, true)?;
         let start = Instant::now();
-        let frame = self.read_frame(camera, outputs)?;
+        let frame = self.read_frame(cameras, outputs)?;
         timing.readback = start.elapsed();
         Ok((frame, timing))
     }
@@ -312,16 +332,24 @@ impl OffscreenRenderer {
     /// Renders the last uploaded scene into the targets of `outputs` without reading them
     /// back: the frame a benchmark times.
     pub fn render_timed(&mut self, camera: &Camera, outputs: Outputs) -> Result<FrameTiming> {
-        self.draw(camera, outputs, false)
+        let [x, y] = camera.viewport_origin;
+        let extent = vk::Extent2D {
+            width: x + camera.width,
+            height: y + camera.height,
+        };
+        self.draw(extent, &[*camera], outputs, false)
     }
 
-    /// Records, submits and waits for one frame; copies the targets out with `readback`.
-    fn draw(&mut self, camera: &Camera, outputs: Outputs, readback: bool) -> Result<FrameTiming> {
-        camera.validate()?;
-        let extent = vk::Extent2D {
-            width: camera.width,
-            height: camera.height,
-        };
+    /// Records, submits and waits for one frame of `cameras` in attachments of `extent`;
+    /// copies the targets out with `readback`.
+    fn draw(
+        &mut self,
+        extent: vk::Extent2D,
+        cameras: &[Camera],
+        outputs: Outputs,
+        readback: bool,
+    ) -> Result<FrameTiming> {
+        check_views(extent, cameras)?;
         self.ensure_targets(extent, outputs)?;
         #[cfg(feature = "research")]
         let counting =
@@ -341,7 +369,7 @@ impl OffscreenRenderer {
                 renderer.reset_fragment_counter()?;
             }
         }
-        self.record(camera, extent, outputs, readback)?;
+        self.record(cameras, extent, outputs, readback)?;
         let start = Instant::now();
         self.submit_and_wait()?;
         let gpu_wall = start.elapsed();
@@ -462,6 +490,57 @@ impl Drop for OffscreenRenderer {
     fn drop(&mut self) {
         self.release();
     }
+}
+
+/// Checks that `cameras` can be the views of one offscreen frame in attachments of `extent`:
+/// at least one, each valid and inside, none overlapping another, one depth convention.
+fn check_views(extent: vk::Extent2D, cameras: &[Camera]) -> Result<()> {
+    let invalid = |why: String| Err(Error::invalid("offscreen views", why));
+    let Some(first) = cameras.first() else {
+        return invalid("no camera to render".into());
+    };
+    if extent.width == 0 || extent.height == 0 || extent.width > 16384 || extent.height > 16384 {
+        return invalid(format!(
+            "attachments of {}x{} are outside 1..=16384",
+            extent.width, extent.height
+        ));
+    }
+    let rect = |c: &Camera| {
+        let [x, y] = c.viewport_origin;
+        (x, y, x + c.width, y + c.height)
+    };
+    for (k, camera) in cameras.iter().enumerate() {
+        camera.validate()?;
+        let (x0, y0, x1, y1) = rect(camera);
+        if x1 > extent.width || y1 > extent.height {
+            return invalid(format!(
+                "view {k} ({}x{} at ({x0}, {y0})) reaches beyond the {}x{} attachments",
+                camera.width, camera.height, extent.width, extent.height
+            ));
+        }
+        if camera.depth.reversed != first.depth.reversed {
+            return invalid(format!(
+                "view {k} has {} Z but view 0 has {} Z: one depth buffer has one clear value",
+                if camera.depth.reversed {
+                    "reversed"
+                } else {
+                    "standard"
+                },
+                if first.depth.reversed {
+                    "reversed"
+                } else {
+                    "standard"
+                },
+            ));
+        }
+        for (j, other) in cameras[..k].iter().enumerate() {
+            let (a0, b0, a1, b1) = rect(other);
+            if x0 < a1 && a0 < x1 && y0 < b1 && b0 < y1 {
+                return invalid(format!("views {j} and {k} overlap"));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The offscreen pass: colour and depth, plus the normal and ID targets with `aux_outputs`,

@@ -10,7 +10,7 @@ use super::{OffscreenRenderer, Outputs};
 impl OffscreenRenderer {
     /// The frame the last read-back submission copied, with `outputs` filled in (the other
     /// images are left empty).
-    pub(super) fn read_frame(&self, camera: &Camera, outputs: Outputs) -> Result<Frame> {
+    pub(super) fn read_frame(&self, cameras: &[Camera], outputs: Outputs) -> Result<Frame> {
         let targets = self
             .targets
             .as_ref()
@@ -27,8 +27,18 @@ impl OffscreenRenderer {
             [bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]
         };
         let wanted = |offset: Option<u64>, asked: bool| offset.filter(|_| asked);
-        let map = camera.depth_map();
-        let far_value = camera.depth.clear_value();
+        // Each pixel's depth map is its view's (the views do not overlap); pixels of no view
+        // hold the clear value, which every view shares.
+        let width = extent.width as usize;
+        let mut view_of = vec![None; pixels];
+        for (k, camera) in cameras.iter().enumerate() {
+            let [x, y] = camera.viewport_origin.map(|v| v as usize);
+            for row in y..y + camera.height as usize {
+                view_of[row * width + x..row * width + x + camera.width as usize].fill(Some(k));
+            }
+        }
+        let maps: Vec<_> = cameras.iter().map(Camera::depth_map).collect();
+        let far_value = cameras[0].depth.clear_value();
         let mut frame = Frame {
             width: extent.width,
             height: extent.height,
@@ -42,10 +52,9 @@ impl OffscreenRenderer {
             frame.depth = (0..pixels)
                 .map(|i| {
                     let z = f32::from_ne_bytes(word(base, i));
-                    if z != far_value {
-                        map.view_depth(z as f64) as f32
-                    } else {
-                        f32::INFINITY
+                    match view_of[i] {
+                        Some(k) if z != far_value => maps[k].view_depth(z as f64) as f32,
+                        _ => f32::INFINITY,
                     }
                 })
                 .collect();

@@ -12,12 +12,12 @@ use super::targets::Targets;
 use super::{OffscreenRenderer, Outputs, BACKGROUND};
 
 impl OffscreenRenderer {
-    /// Records one frame into the command buffer: the pre-pass, the pass drawing into the
-    /// attachments of `outputs`, and with `readback` the copies of `outputs` to the readback
-    /// buffer.
+    /// Records one frame of `cameras` into the command buffer: each view's pre-pass, the
+    /// pass drawing every view into the attachments of `outputs`, and with `readback` the
+    /// copies of `outputs` to the readback buffer.
     pub(super) fn record(
         &mut self,
-        camera: &Camera,
+        cameras: &[Camera],
         extent: vk::Extent2D,
         outputs: Outputs,
         readback: bool,
@@ -47,8 +47,10 @@ impl OffscreenRenderer {
             if let Some(q) = queries {
                 q.begin(device, cmd);
             }
-            // The culling pre-pass runs outside the rendering pass.
-            renderer.record_prepass(device, allocator, cmd, camera)?;
+            // The views' pre-passes run outside the rendering pass, all before it.
+            for camera in cameras {
+                renderer.record_prepass(device, allocator, cmd, camera)?;
+            }
 
             // Attachments to render layouts. The previous frame's copy read them: wait for it.
             let mut barriers: Vec<vk::ImageMemoryBarrier> = colors
@@ -150,7 +152,7 @@ impl OffscreenRenderer {
             )
             .clear_value(vk::ClearValue {
                 depth_stencil: vk::ClearDepthStencilValue {
-                    depth: camera.depth.clear_value(),
+                    depth: cameras[0].depth.clear_value(),
                     stencil: 0,
                 },
             });
@@ -166,7 +168,9 @@ impl OffscreenRenderer {
             if let Some(q) = queries {
                 q.begin_statistics(device, cmd);
             }
-            renderer.record(device, allocator, cmd, camera)?;
+            for camera in cameras {
+                renderer.record(device, allocator, cmd, camera)?;
+            }
             if let Some(q) = queries {
                 q.end_statistics(device, cmd);
             }

@@ -54,6 +54,16 @@ impl Binding {
         Binding::GlyphStamps,
     ];
 
+    /// Whether each view of a frame has a buffer of its own (what its pre-pass computes for
+    /// its camera), or all share the renderer's (the instances, the benchmark's counters and
+    /// floor lists).
+    pub fn per_view(self) -> bool {
+        !matches!(
+            self,
+            Binding::Instances | Binding::FragmentCounter | Binding::FloorPixels
+        )
+    }
+
     /// The shader stages that read or write the binding.
     pub fn stages(self) -> vk::ShaderStageFlags {
         let vertex_and_compute = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::COMPUTE;
@@ -79,7 +89,7 @@ impl Binding {
     }
 
     /// Name of the buffer (allocation names and errors).
-    fn name(self) -> &'static str {
+    pub fn name(self) -> &'static str {
         match self {
             Binding::Instances => "ellipsoid instances",
             Binding::FragmentCounter => "fragment and ray-cast counters",

@@ -32,18 +32,19 @@ pub(crate) struct ChunkSets {
     pub sets: Vec<vk::DescriptorSet>,
 }
 
-/// Allocates and writes one set per chunk of `chunking`, pointing at the chunk's slices of
-/// `buffers`, in a new pool the caller owns.
+/// Allocates and writes one set per chunk of `chunking` for one view, pointing at the
+/// chunk's slices of the renderer's `shared` buffers and the view's own, in a new pool the
+/// caller owns.
 pub(crate) fn create_chunk_sets(
     device: &ash::Device,
     layout: vk::DescriptorSetLayout,
-    buffers: &SceneBuffers,
+    (shared, view): (&SceneBuffers, &SceneBuffers),
     chunking: &Chunking,
     instance_stride: u64,
 ) -> Result<ChunkSets> {
     let handles = Binding::ALL
         .iter()
-        .map(|&b| buffers.handle(b))
+        .map(|&b| if b.per_view() { view } else { shared }.handle(b))
         .collect::<Result<Vec<_>>>()?;
     let sets = chunking.len();
     let sizes = [vk::DescriptorPoolSize::default()

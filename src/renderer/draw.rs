@@ -69,15 +69,17 @@ impl EllipsoidRenderer {
     }
 
     /// Records the draw into `cmd`, inside the host's pass. Sets viewport and scissor to the
-    /// camera's whole image. Records nothing if the scene is empty. A frame whose plan has a
-    /// pre-pass needs `record_prepass` with the same camera first, before the pass, and with
-    /// no upload or update in between (an error otherwise): one pre-pass serves one draw, so
-    /// a second view in the same frame records its own pre-pass first.
+    /// camera's image: its size at its `viewport_origin`. Records nothing if the scene is
+    /// empty. A frame whose plan has a pre-pass needs `record_prepass` with the same camera
+    /// first, before the pass, and with no upload or update in between (an error otherwise):
+    /// one pre-pass serves one draw, so each view of a frame records its own pre-pass.
     ///
     /// # Safety
     /// `cmd` is a command buffer of `device` recording inside a pass compatible with the
-    /// current [`crate::Target`] (same attachments, formats and sample count; for a render
-    /// pass, its subpass), whose attachments are the camera's image size; it is submitted as
+    /// [`crate::Target`] that was current when this camera's `record_prepass` was recorded
+    /// (the current one, in a frame without a pre-pass): same attachments, formats and sample
+    /// count; for a render pass, its subpass; whose attachments hold the camera's rectangle (its size at its
+    /// `viewport_origin`); it is submitted as
     /// [`EllipsoidRenderer::record_prepass`] requires.
     pub unsafe fn record(
         &mut self,
@@ -87,52 +89,36 @@ impl EllipsoidRenderer {
         camera: &Camera,
     ) -> Result<()> {
         camera.validate()?;
-        // The indirect draw needs this frame's pre-pass, recorded with the same plan.
-        let prepared = self.prepared.take();
+        // The indirect draw needs this frame's pre-pass of this camera, recorded with the
+        // same plan: the first view still waiting for its draw with it.
+        let prepared = self
+            .views
+            .iter()
+            .position(|v| v.prepared.as_ref().is_some_and(|(seen, _)| seen == camera));
+        let prepared = prepared.and_then(|view| Some((view, self.views[view].prepared.take()?.1)));
         if self.scene.count == 0 {
             return Ok(());
         }
-        let plan = match prepared {
-            Some((prepared_camera, plan)) if prepared_camera == *camera => {
-                if plan.target != self.target {
-                    return Err(Error::invalid(
-                        "record",
-                        "the target changed after record_prepass: record the pre-pass again \
-                         for the new target",
-                    ));
-                }
-                plan
-            }
-            _ => {
-                let plan = self.plan(camera)?;
+        // A view draws into the target that was current at its pre-pass (its plan's).
+        let (view, plan) = match prepared {
+            Some(prepared) => prepared,
+            None => {
+                // A frame without a pre-pass reads no view's buffers: any view's sets do.
+                let plan = self.plan_for_view(0, camera)?;
                 if plan.prepass {
                     return Err(Error::invalid(
                         "record",
                         "this frame has a pre-pass: call record_prepass with the same camera \
-                         first",
+                         first (each pre-pass serves one draw)",
                     ));
                 }
-                plan
+                (0, plan)
             }
         };
         let (pipeline, resolve) = self.prepare(device, allocator, &plan)?;
-        let sets = self.descriptor_sets(device)?;
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: camera.width as f32,
-            height: camera.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
-        let scissor = vk::Rect2D {
-            offset: vk::Offset2D { x: 0, y: 0 },
-            extent: vk::Extent2D {
-                width: camera.width,
-                height: camera.height,
-            },
-        };
-        let indirect = self.buffers.handle(Binding::IndirectDraw)?;
+        let sets = self.descriptor_sets(device, view)?;
+        let (viewport, scissor) = viewport_and_scissor(camera);
+        let indirect = self.views[view].buffers.handle(Binding::IndirectDraw)?;
         let tiles = resolve_tiles(camera.width, camera.height);
         let layout = self.pipelines.draw_layout;
         // The visibility-buffer draw is done by now (`record_prepass`): only its resolve
@@ -215,4 +201,29 @@ impl EllipsoidRenderer {
         }
         Ok(())
     }
+}
+
+/// The viewport and scissor of `camera`'s image in the attachments: its size at its
+/// `viewport_origin` (which `Camera::validate` keeps within 16384 pixels), depth range [0, 1].
+pub(super) fn viewport_and_scissor(camera: &Camera) -> (vk::Viewport, vk::Rect2D) {
+    let [x, y] = camera.viewport_origin;
+    let viewport = vk::Viewport {
+        x: x as f32,
+        y: y as f32,
+        width: camera.width as f32,
+        height: camera.height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    };
+    let scissor = vk::Rect2D {
+        offset: vk::Offset2D {
+            x: x as i32,
+            y: y as i32,
+        },
+        extent: vk::Extent2D {
+            width: camera.width,
+            height: camera.height,
+        },
+    };
+    (viewport, scissor)
 }

@@ -48,6 +48,7 @@ mod push;
 mod research;
 mod upload;
 mod uploaded;
+mod view;
 #[cfg(feature = "research")]
 mod visibility_draw;
 
@@ -70,6 +71,7 @@ use pipelines::Pipelines;
 use plan::PlanInputs;
 pub use plan::{FramePlan, MAX_SETUP_ONCE_INSTANCES, SETUP_ONCE_MAX_AREA_PX};
 use uploaded::UploadedScene;
+use view::{View, MAX_VIEWS};
 
 /// Pipeline, descriptor and instance data for drawing one scene into a host's frame.
 ///
@@ -117,13 +119,13 @@ pub struct EllipsoidRenderer {
     target: usize,
     slots: FrameSlots<Retired>,
     pipelines: Pipelines,
+    /// The buffers every view shares (`Binding::per_view` is false).
     buffers: SceneBuffers,
-    /// The per-chunk descriptor sets, and the pool holding them alone.
-    descriptor_pool: vk::DescriptorPool,
-    descriptor_sets: Vec<vk::DescriptorSet>,
+    /// The views drawn so far: each frame's `record_prepass` calls take them in order.
+    views: Vec<View>,
+    /// The view the next `record_prepass` of this frame takes.
+    next_view: usize,
     scene: UploadedScene,
-    /// The plan and camera of the pre-pass recorded for the next `record`.
-    prepared: Option<(Camera, FramePlan)>,
     /// How the glyphs are drawn: the shipped impostor unless the benchmark chose a baseline.
     config: DrawConfig,
     /// Fragment shaders count shaded pixels (the benchmark's measuring aid).
@@ -132,11 +134,6 @@ pub struct EllipsoidRenderer {
     splat_floor: u32,
     /// The stamp of the last recorded pre-pass (never 0; see `gpu_layout::IndirectDraw`).
     frame_stamp: u32,
-    /// The stamp and camera of the last pre-pass that stamped the glyphs its frame showed,
-    /// since the last upload (frames between that did not stamp leave it).
-    shown_stamped: Option<(u32, Camera)>,
-    /// The camera of the last pre-pass recorded.
-    last_camera: Option<Camera>,
     #[cfg(feature = "research")]
     meshes: research::Meshes,
     /// The glyph count the visible-pixel floor's lists were made for (`set_floor_pixels`).
@@ -185,19 +182,16 @@ impl EllipsoidRenderer {
             slots: FrameSlots::new(options.frames_in_flight)?,
             pipelines: Pipelines::new(options.pipeline_cache),
             buffers: SceneBuffers::default(),
-            descriptor_pool: vk::DescriptorPool::null(),
-            descriptor_sets: Vec::new(),
+            views: vec![View::default()],
+            next_view: 0,
             scene: UploadedScene {
                 chunk_limit: options.settings.max_chunk_instances,
                 ..UploadedScene::default()
             },
-            prepared: None,
             config: DrawConfig::default(),
             count_fragments: false,
             splat_floor: 0,
             frame_stamp: 1,
-            shown_stamped: None,
-            last_camera: None,
             #[cfg(feature = "research")]
             meshes: research::Meshes::default(),
             #[cfg(feature = "research")]
@@ -208,7 +202,7 @@ impl EllipsoidRenderer {
         match renderer
             .pipelines
             .create_layouts(device)
-            .and_then(|_| renderer.size_buffers(device, allocator, 0, (1, 1), false, false))
+            .and_then(|_| renderer.size_buffers(device, allocator, 0, 0, (1, 1), false, false))
         {
             Ok(()) => Ok(renderer),
             Err(e) => {
@@ -222,16 +216,32 @@ impl EllipsoidRenderer {
     /// What the next frame with `camera` does: footprint, culling, set-up once, shader
     /// variants, the compute splat. `record_prepass` makes this plan and `record` draws with
     /// it; the visible-first splat depends on the frames recorded before (a still camera), so
-    /// after `record_prepass` the plan of the same camera may differ.
+    /// after `record_prepass` the plan of the same camera may differ. The plan is that of
+    /// the view whose last pre-pass had this camera (a host recording its views in the same
+    /// order every frame draws it there), else of the view the next `record_prepass` takes.
     pub fn plan(&self, camera: &Camera) -> Result<FramePlan> {
+        let view = self
+            .views
+            .iter()
+            .position(|v| v.last_camera == Some(*camera))
+            .unwrap_or(self.next_view);
+        self.plan_for_view(view, camera)
+    }
+
+    /// The plan of `camera` drawn as view `view` (whose history a new view lacks).
+    fn plan_for_view(&self, view: usize, camera: &Camera) -> Result<FramePlan> {
         camera.validate()?;
+        let (last_camera, shown_stamped) = self
+            .views
+            .get(view)
+            .map_or((None, None), |v| (v.last_camera, v.shown_stamped));
         FramePlan::new(PlanInputs {
             compute_splat_features: self.compute_splat_features,
             max_storage_buffer_range: self.caps.limits.max_storage_buffer_range,
             standard_sample_locations: self.caps.limits.standard_sample_locations == vk::TRUE,
             chunks: self.chunking().len(),
-            still: self.last_camera == Some(*camera),
-            shown_stamped: self.shown_stamped.is_some_and(|(_, seen)| seen == *camera),
+            still: last_camera == Some(*camera),
+            shown_stamped: shown_stamped.is_some_and(|(_, seen)| seen == *camera),
             scene: &self.scene,
             settings: &self.settings,
             config: self.config,
@@ -281,8 +291,9 @@ impl EllipsoidRenderer {
     }
 
     /// Starts frame slot `slot` (in `0..frames_in_flight`): destroys the buffers and
-    /// descriptor sets replaced while frames that might still read them were recorded. Call
-    /// it once per frame, before recording anything else of the frame.
+    /// descriptor sets replaced while frames that might still read them were recorded, and
+    /// makes the frame's first `record_prepass` take view 0 again. Call it once per frame,
+    /// before recording anything else of the frame.
     ///
     /// # Safety
     /// Every command buffer recorded with this renderer since `slot` last began has finished
@@ -298,13 +309,22 @@ impl EllipsoidRenderer {
             // uses it.
             unsafe { object.destroy(device, allocator) };
         }
+        self.next_view = 0;
+        for view in &mut self.views {
+            view.prepared = None;
+        }
         Ok(())
     }
 
-    /// Bytes of GPU memory the scene's buffers take (instances, culling and set-up buffers,
-    /// occlusion tiles).
+    /// Bytes of GPU memory the scene's buffers take (instances, and every view's culling
+    /// and set-up buffers and occlusion tiles).
     pub fn gpu_memory_bytes(&self) -> u64 {
         self.buffers.memory_bytes()
+            + self
+                .views
+                .iter()
+                .map(|v| v.buffers.memory_bytes())
+                .sum::<u64>()
     }
 
     /// Number of instances uploaded.
@@ -329,11 +349,13 @@ impl EllipsoidRenderer {
 
     /// Makes every buffer but the instances' hold a scene of `count` instances in an image
     /// of `extent` pixels (the occlusion tiles; with `visibility`, the compute splat's
-    /// visibility buffer).
+    /// visibility buffer), those of each view for view `view` (made if new).
+    #[allow(clippy::too_many_arguments)]
     fn size_buffers(
         &mut self,
         device: &ash::Device,
         allocator: &mut Allocator,
+        view: usize,
         count: u32,
         extent: (u32, u32),
         visibility: bool,
@@ -390,35 +412,81 @@ impl EllipsoidRenderer {
                 records * size_of::<crate::gpu_layout::FootprintRecord>() as u64,
             ),
         ];
+        if self.views.len() <= view {
+            self.views.resize_with(view + 1, View::default);
+        }
         for (binding, bytes) in sizes {
-            self.buffers
-                .ensure(device, allocator, &mut self.slots, binding, bytes)?;
+            let buffers = if binding.per_view() {
+                &mut self.views[view].buffers
+            } else {
+                &mut self.buffers
+            };
+            buffers.ensure(device, allocator, &mut self.slots, binding, bytes)?;
+        }
+        if self.buffers.replaced {
+            self.shared_buffers_replaced();
         }
         Ok(())
     }
 
-    /// The descriptor sets, one per chunk: new ones (in a pool of their own) when a buffer
-    /// was replaced or the scene changed since the last were written; the old pool is
-    /// retired, since command buffers recorded earlier may still use it.
-    fn descriptor_sets(&mut self, device: &ash::Device) -> Result<Vec<vk::DescriptorSet>> {
-        if !self.buffers.replaced && !self.descriptor_sets.is_empty() {
-            return Ok(self.descriptor_sets.clone());
+    /// Every view's descriptor sets name a shared buffer that was replaced (or chunks that
+    /// changed): each view writes new ones before its next use.
+    fn shared_buffers_replaced(&mut self) {
+        for view in &mut self.views {
+            view.buffers.replaced = true;
+        }
+        self.buffers.replaced = false;
+    }
+
+    /// Takes the view the next `record_prepass` of this frame uses.
+    fn take_next_view(&mut self) -> Result<usize> {
+        let view = self.next_view;
+        if view >= MAX_VIEWS {
+            return Err(crate::error::Error::invalid(
+                "record_prepass",
+                format!(
+                    "more than {MAX_VIEWS} views in one frame: call begin_frame once per frame"
+                ),
+            ));
+        }
+        self.next_view += 1;
+        if self.views.len() <= view {
+            self.views.resize_with(view + 1, View::default);
+        }
+        Ok(view)
+    }
+
+    /// View `view`'s descriptor sets, one per chunk: new ones (in a pool of their own) when
+    /// a buffer was replaced or the scene changed since the last were written; the old pool
+    /// is retired, since command buffers recorded earlier may still use it.
+    fn descriptor_sets(
+        &mut self,
+        device: &ash::Device,
+        view: usize,
+    ) -> Result<Vec<vk::DescriptorSet>> {
+        if self.buffers.replaced {
+            self.shared_buffers_replaced();
+        }
+        let chunking = self.chunking();
+        let v = &mut self.views[view];
+        if !v.buffers.replaced && !v.descriptor_sets.is_empty() {
+            return Ok(v.descriptor_sets.clone());
         }
         let sets = descriptors::create_chunk_sets(
             device,
             self.pipelines.set_layout(),
-            &self.buffers,
-            &self.chunking(),
+            (&self.buffers, &v.buffers),
+            &chunking,
             self.scene.format.bytes() as u64,
         )?;
-        if self.descriptor_pool != vk::DescriptorPool::null() {
+        if v.descriptor_pool != vk::DescriptorPool::null() {
             self.slots
-                .retire(Retired::DescriptorPool(self.descriptor_pool));
+                .retire(Retired::DescriptorPool(v.descriptor_pool));
         }
-        self.descriptor_pool = sets.pool;
-        self.descriptor_sets = sets.sets;
-        self.buffers.replaced = false;
-        Ok(self.descriptor_sets.clone())
+        v.descriptor_pool = sets.pool;
+        v.descriptor_sets = sets.sets;
+        v.buffers.replaced = false;
+        Ok(v.descriptor_sets.clone())
     }
 
     /// Destroys everything the renderer created (nothing of the host's).
@@ -435,10 +503,12 @@ impl EllipsoidRenderer {
         // the caller guarantees no pending work uses them.
         unsafe {
             self.buffers.destroy(device, allocator);
+            for view in &mut self.views {
+                view.destroy(device, allocator);
+            }
             #[cfg(feature = "research")]
             self.meshes.destroy(device, allocator);
             self.pipelines.destroy(device);
-            device.destroy_descriptor_pool(self.descriptor_pool, None);
         }
     }
 }

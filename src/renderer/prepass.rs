@@ -23,6 +23,12 @@ impl EllipsoidRenderer {
     /// draw and before this draw's indirect and vertex reads. Call it before the pass that
     /// `record` draws into.
     ///
+    /// A frame may have several views (two eyes, several viewports, several targets): record
+    /// each view's pre-pass, then each view's draw with the same camera, in any pass after
+    /// them. Each call takes the frame's next view, with buffers of its own (the first after
+    /// `begin_frame` takes view 0), so record the views in the same order every frame: a
+    /// view's still camera is then recognised and its visible-first splat runs.
+    ///
     /// It writes the indirect command with `vkCmdUpdateBuffer`, clears the occlusion tiles
     /// with `vkCmdFillBuffer`, then runs the steps of `glsl/cull.comp`, each after a
     /// compute-to-compute barrier. When the image grew since the last frame the tiles buffer
@@ -44,13 +50,13 @@ impl EllipsoidRenderer {
         cmd: vk::CommandBuffer,
         camera: &Camera,
     ) -> Result<()> {
-        self.prepared = None;
-        let plan = self.plan(camera)?;
-        self.last_camera = Some(*camera);
-        // Every pre-pass has a stamp of its own (never 0); the glyphs the last stamping frame
-        // showed (of this scene) go first, whatever frames came between.
+        let view = self.take_next_view()?;
+        let plan = self.plan_for_view(view, camera)?;
+        self.views[view].last_camera = Some(*camera);
+        // Every pre-pass has a stamp of its own (never 0); the glyphs the view's last stamping
+        // frame showed (of this scene) go first, whatever frames came between.
         self.frame_stamp = self.frame_stamp.checked_add(1).unwrap_or(1);
-        let shown = self.shown_stamped.map(|(stamp, _)| stamp);
+        let shown = self.views[view].shown_stamped.map(|(stamp, _)| stamp);
         if !plan.prepass {
             return Ok(());
         }
@@ -58,34 +64,39 @@ impl EllipsoidRenderer {
         self.check_floor_pixels(&plan)?;
         let (pipeline, _) = self.prepare(device, allocator, &plan)?;
         let marks = plan.mark_shown && self.splat_floor == 0;
-        if plan.culling.occlusion || plan.resolve {
-            self.size_buffers(
-                device,
-                allocator,
-                self.scene.count,
-                (camera.width, camera.height),
-                plan.resolve,
-                marks,
-            )?;
-        }
+        let extent = if plan.culling.occlusion || plan.resolve {
+            (camera.width, camera.height)
+        } else {
+            (1, 1)
+        };
+        self.size_buffers(
+            device,
+            allocator,
+            view,
+            self.scene.count,
+            extent,
+            plan.resolve,
+            marks,
+        )?;
         #[cfg(feature = "research")]
         if plan.visibility_draw {
             // SAFETY: caller contract; the visibility buffer was sized for `camera` above.
-            unsafe { self.record_visibility_draw(device, cmd, camera, &plan, pipeline)? };
-            self.prepared = Some((*camera, plan));
+            unsafe { self.record_visibility_draw(device, cmd, view, camera, &plan, pipeline)? };
+            self.views[view].prepared = Some((*camera, plan));
             return Ok(());
         }
         #[cfg(not(feature = "research"))]
         let _ = pipeline;
         let dispatches = self.prepass_dispatches(device, &plan, camera, marks)?;
+        let own = &self.views[view].buffers;
         let buffers = PrepassBuffers {
-            indirect: self.buffers.handle(Binding::IndirectDraw)?,
-            tiles: self.buffers.handle(Binding::OcclusionTiles)?,
+            indirect: own.handle(Binding::IndirectDraw)?,
+            tiles: own.handle(Binding::OcclusionTiles)?,
         };
-        let visibility = self.buffers.handle(Binding::Visibility)?;
-        let stamps = self.buffers.handle(Binding::GlyphStamps)?;
-        let sets = self.descriptor_sets(device)?;
-        let groups = self.buffers.handle(Binding::CullGroups)?;
+        let visibility = own.handle(Binding::Visibility)?;
+        let stamps = own.handle(Binding::GlyphStamps)?;
+        let groups = own.handle(Binding::CullGroups)?;
+        let sets = self.descriptor_sets(device, view)?;
         let chunking = self.chunking();
         let groups_slice = chunking.groups_slice();
         // Each chunk culls its own instances into its own indirect command; the occlusion
@@ -144,9 +155,9 @@ impl EllipsoidRenderer {
             unsafe { prepass.record(device, cmd) };
         }
         if marks {
-            self.shown_stamped = Some((self.frame_stamp, *camera));
+            self.views[view].shown_stamped = Some((self.frame_stamp, *camera));
         }
-        self.prepared = Some((*camera, plan));
+        self.views[view].prepared = Some((*camera, plan));
         Ok(())
     }
 }

@@ -6,9 +6,6 @@ use crate::camera::Camera;
 use crate::gpu_layout::PushConstants;
 use crate::settings::Material;
 
-/// How far a footprint reaches beyond the exact silhouette bounds, in pixels.
-const QUAD_MARGIN_PX: f32 = 0.01;
-
 /// The push constants for `camera`, relative to the scene `origin`, for the chunk whose first
 /// instance is `first_instance`.
 pub(crate) fn push_constants(
@@ -20,6 +17,7 @@ pub(crate) fn push_constants(
 ) -> PushConstants {
     let b = camera.basis();
     let (sx, sy) = camera.ndc_scale();
+    let (shift_x, shift_y) = camera.ndc_shift();
     // The eye in view axes, relative to the scene origin, in float64 then rounded once.
     let rel = camera.eye - origin;
     let eye = DVec3::new(rel.dot(b.right), rel.dot(b.up), rel.dot(b.forward)).as_vec3();
@@ -34,17 +32,17 @@ pub(crate) fn push_constants(
         forward: b.forward.as_vec3().to_array(),
         depth_a: depth.a as f32,
         ndc_per_pixel: [2.0 / camera.width as f32, 2.0 / camera.height as f32],
-        quad_margin_px: QUAD_MARGIN_PX,
+        ndc_shift: [shift_x as f32, shift_y as f32],
         depth_b: depth.b as f32,
         ambient: material.ambient,
         diffuse: material.diffuse,
         specular: material.specular,
-        shininess: material.shininess,
         specular_color: material.specular_color,
+        shininess: material.shininess,
         depth_c: depth.c as f32,
         first_instance,
         radius_unit,
-        image_width: camera.width,
-        image_height: camera.height,
+        // Camera::validate keeps origin + size within 16384 on each axis.
+        viewport_origin: camera.viewport_origin[0] | camera.viewport_origin[1] << 16,
     }
 }

@@ -40,7 +40,9 @@ impl EllipsoidRenderer {
     /// frame of its scene would be (no visible-first splat; it stamps what it shows again):
     /// what the benchmark's `impostor-first-frame` measures.
     pub fn forget_shown(&mut self) {
-        self.shown_stamped = None;
+        for view in &mut self.views {
+            view.shown_stamped = None;
+        }
     }
 
     /// Gives the visible-pixel floor (`set_splat_floor(3)`) the pixels each glyph shows:

@@ -36,8 +36,12 @@ impl EllipsoidRenderer {
         scene: &Scene,
     ) -> Result<()> {
         let packed = pack_scene(scene, self.settings.instance_format)?;
-        // A pre-pass recorded before this upload culled the old scene.
-        self.prepared = None;
+        // A pre-pass recorded before this upload culled the old scene; the stamps of the old
+        // scene say nothing of this one.
+        for view in &mut self.views {
+            view.prepared = None;
+            view.shown_stamped = None;
+        }
         // Until the new scene is recorded, none is drawn (so a failed upload draws nothing).
         let chunk_limit = self.settings.max_chunk_instances;
         self.scene = UploadedScene {
@@ -48,9 +52,18 @@ impl EllipsoidRenderer {
         self.buffers.replaced = true; // the chunks and slices change
         let uploaded = UploadedScene::new(scene, &packed, chunk_limit);
         let bytes = packed.records.bytes();
-        self.size_buffers(device, allocator, uploaded.count, (1, 1), false, false)?;
-        // The stamps of the old scene say nothing of this one, nor its floor's lists.
-        self.shown_stamped = None;
+        for view in 0..self.views.len() {
+            self.size_buffers(
+                device,
+                allocator,
+                view,
+                uploaded.count,
+                (1, 1),
+                false,
+                false,
+            )?;
+        }
+        // Nor do the floor's lists.
         #[cfg(feature = "research")]
         {
             self.floor_pixels_for = None;
@@ -98,7 +111,9 @@ impl EllipsoidRenderer {
             return Ok(());
         }
         // A pre-pass recorded before this update planned for the old instances.
-        self.prepared = None;
+        for view in &mut self.views {
+            view.prepared = None;
+        }
         let format = self.scene.format;
         let packed = pack_relative(
             ellipsoids,

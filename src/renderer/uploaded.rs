@@ -1,9 +1,9 @@
 //! What the renderer keeps of the uploaded scene on the CPU: the facts that choose shader
 //! variants and footprints each frame.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
-use crate::camera::{Camera, Projection};
+use crate::camera::Camera;
 use crate::instances::{InstanceFormat, PackedInstances};
 use crate::scene::Scene;
 
@@ -71,10 +71,13 @@ impl UploadedScene {
     /// plane, and their share of the sample; `None` when no sampled glyph is on screen beyond
     /// the near plane.
     pub fn projected_sample(&self, camera: &Camera) -> Option<(f64, f64)> {
-        let (sx, sy) = camera.ndc_scale();
-        let pixels_per_unit = camera.height as f64 / (2.0 * sy);
+        let k = camera.intrinsics();
+        // Square pixels per square screen-plane unit.
+        let pixels_per_area = k.fx * k.fy;
         let screen = camera.width as f64 * camera.height as f64;
+        let (lo, hi) = camera.screen_window();
         let basis = camera.basis();
+        let orthographic = camera.is_orthographic();
         let (mut sum, mut n) = (0.0, 0usize);
         for &(center, radius, area) in &self.size_sample {
             let depth = camera.view_depth(center);
@@ -84,15 +87,15 @@ impl UploadedScene {
             // Only glyphs that reach the screen (bounding sphere against the view rectangle,
             // widened by the radius), each counted for at most the whole screen.
             let offset = center - camera.eye;
-            let (x, y) = (offset.dot(basis.right), offset.dot(basis.up));
-            let (scale, half_x, half_y) = match camera.projection {
-                Projection::Perspective { .. } => (pixels_per_unit / depth, sx * depth, sy * depth),
-                Projection::Orthographic { .. } => (pixels_per_unit, sx, sy),
-            };
-            if x.abs() > half_x + radius * 1.5 || y.abs() > half_y + radius * 1.5 {
+            let scale = if orthographic { 1.0 } else { depth };
+            let p = DVec2::new(offset.dot(basis.right), offset.dot(basis.up));
+            let (lo, hi) = (lo * scale, hi * scale);
+            let reach = radius * 1.5;
+            if p.x < lo.x - reach || p.x > hi.x + reach || p.y < lo.y - reach || p.y > hi.y + reach
+            {
                 continue;
             }
-            let on_screen = (area * scale * scale).min(screen);
+            let on_screen = (area * pixels_per_area / (scale * scale)).min(screen);
             sum += on_screen;
             n += 1;
         }
@@ -108,8 +111,8 @@ impl UploadedScene {
             return 1.0;
         };
         let basis = camera.basis();
-        let (sx, sy) = camera.ndc_scale();
-        let (mut min, mut max) = ([1.0f64, 1.0], [-1.0f64, -1.0]);
+        let (window_lo, window_hi) = camera.screen_window();
+        let (mut min, mut max) = (window_hi, window_lo);
         for k in 0..8 {
             let corner = DVec3::new(
                 if k & 1 == 0 { lo.x } else { hi.x },
@@ -118,21 +121,20 @@ impl UploadedScene {
             );
             let offset = corner - camera.eye;
             let depth = offset.dot(basis.forward);
-            let scale = match camera.projection {
-                Projection::Perspective { .. } if depth <= camera.near => return 1.0,
-                Projection::Perspective { .. } => depth,
-                Projection::Orthographic { .. } => 1.0,
+            let scale = if camera.is_orthographic() {
+                1.0
+            } else if depth <= camera.near {
+                return 1.0;
+            } else {
+                depth
             };
-            let ndc = [
-                offset.dot(basis.right) / (scale * sx),
-                offset.dot(basis.up) / (scale * sy),
-            ];
-            for a in 0..2 {
-                min[a] = min[a].min(ndc[a]);
-                max[a] = max[a].max(ndc[a]);
-            }
+            let screen = DVec2::new(offset.dot(basis.right), offset.dot(basis.up)) / scale;
+            min = min.min(screen);
+            max = max.max(screen);
         }
-        let side = |a: usize| (max[a].min(1.0) - min[a].max(-1.0)).max(0.0) / 2.0;
+        let size = window_hi - window_lo;
+        let side =
+            |a: usize| (max[a].min(window_hi[a]) - min[a].max(window_lo[a])).max(0.0) / size[a];
         side(0) * side(1)
     }
 

@@ -45,29 +45,16 @@ impl EllipsoidRenderer {
         &mut self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
+        view: usize,
         camera: &Camera,
         plan: &FramePlan,
         pipeline: vk::Pipeline,
     ) -> Result<()> {
-        let visibility = self.buffers.handle(Binding::Visibility)?;
-        let sets = self.descriptor_sets(device)?;
+        let visibility = self.views[view].buffers.handle(Binding::Visibility)?;
+        let sets = self.descriptor_sets(device, view)?;
         let empty = if plan.reversed_z { 0 } else { u32::MAX };
-        let extent = vk::Extent2D {
-            width: camera.width,
-            height: camera.height,
-        };
-        let area = vk::Rect2D {
-            offset: vk::Offset2D { x: 0, y: 0 },
-            extent,
-        };
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: camera.width as f32,
-            height: camera.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
+        // The pass has no attachments: its area is the camera's rectangle.
+        let (viewport, area) = super::draw::viewport_and_scissor(camera);
         let rendering = vk::RenderingInfo::default()
             .render_area(area)
             .layer_count(1);

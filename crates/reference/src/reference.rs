@@ -18,9 +18,9 @@
 use std::sync::{Mutex, PoisonError};
 use std::thread;
 
-use glam::{DMat3, DVec3};
+use glam::{DMat3, DVec2, DVec3};
 
-use ellipsoid_splat::camera::{Basis, Camera, Projection, Ray};
+use ellipsoid_splat::camera::{Basis, Camera, Ray};
 use ellipsoid_splat::ellipsoid::Ellipsoid;
 use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::frame::NO_INSTANCE;
@@ -282,8 +282,6 @@ struct Context<'a> {
     forward: DVec3,
     prepared: Vec<Prepared>,
     bins: TileBins,
-    /// NDC offsets of one [`HAIR`] in x and in y.
-    hair_ndc: (f64, f64),
 }
 
 /// The result of sampling one pixel.
@@ -344,10 +342,6 @@ impl<'a> Context<'a> {
             forward: basis.forward,
             prepared,
             bins,
-            hair_ndc: (
-                2.0 * HAIR / camera.width as f64,
-                2.0 * HAIR / camera.height as f64,
-            ),
         }
     }
 
@@ -400,16 +394,14 @@ impl<'a> Context<'a> {
         if centre.tied() {
             return sample;
         }
-        let (x, y) = self.camera.pixel_ndc(i, j);
-        let (hx, hy) = self.hair_ndc;
+        let centre_px = DVec2::new(i as f64 + 0.5, j as f64 + 0.5);
         let key = centre.key();
         let mut neighbours = [None; 4];
-        for (slot, (sx, sy)) in
-            neighbours
-                .iter_mut()
-                .zip([(x - hx, y), (x + hx, y), (x, y - hy), (x, y + hy)])
-        {
-            let trace = self.trace(&self.camera.ray_at_ndc(sx, sy), candidates, false);
+        // Left, right, down, up (pixel y grows downwards).
+        let steps = [(-HAIR, 0.0), (HAIR, 0.0), (0.0, HAIR), (0.0, -HAIR)];
+        for (slot, (dx, dy)) in neighbours.iter_mut().zip(steps) {
+            let at = centre_px + DVec2::new(dx, dy);
+            let trace = self.trace(&self.camera.ray_at_pixel(at), candidates, false);
             if trace.key() != key {
                 return sample;
             }
@@ -438,8 +430,11 @@ impl<'a> Context<'a> {
                 let across = (rel - along * self.forward).length();
                 let lateral = F32_ROUNDOFF * (across + e.extent);
                 let axial = F32_ROUNDOFF * (along.abs() + e.extent);
-                let shift_px = F32_ROUNDOFF * (self.camera.width + self.camera.height) as f64
-                    + lateral / self.pixel_size_at(hit.depth);
+                // The shaders' NDC reach 1 plus the principal point's shift (§3.2).
+                let (nx, ny) = self.camera.ndc_shift();
+                let reach = self.camera.width as f64 * (1.0 + nx.abs())
+                    + self.camera.height as f64 * (1.0 + ny.abs());
+                let shift_px = F32_ROUNDOFF * reach + lateral / self.pixel_size_at(hit.depth);
                 sample.depth_floor = (depth_grad * shift_px + axial) / hit.depth;
                 sample.normal_floor_deg = (normal_grad * shift_px).to_degrees();
             }
@@ -447,13 +442,14 @@ impl<'a> Context<'a> {
         sample
     }
 
-    /// World size of one pixel (vertically) at view depth `depth`.
+    /// World size of one pixel (its shorter side) at view depth `depth`.
     fn pixel_size_at(&self, depth: f64) -> f64 {
-        let (_, sy) = self.camera.ndc_scale();
-        let per_unit = 2.0 * sy / self.camera.height as f64;
-        match self.camera.projection {
-            Projection::Perspective { .. } => depth * per_unit,
-            Projection::Orthographic { .. } => per_unit,
+        let k = self.camera.intrinsics();
+        let per_unit = 1.0 / k.fx.max(k.fy);
+        if self.camera.is_orthographic() {
+            per_unit
+        } else {
+            depth * per_unit
         }
     }
 
@@ -611,27 +607,20 @@ fn tile_range(
     if z + radius < camera.near {
         return None;
     }
-    let (sx, sy) = camera.ndc_scale();
-    // The rectangle in NDC: (x_min, x_max, y_min, y_max).
-    let ndc = match camera.projection {
-        Projection::Orthographic { .. } => (
-            (x - radius) / sx,
-            (x + radius) / sx,
-            (y - radius) / sy,
-            (y + radius) / sy,
-        ),
-        Projection::Perspective { .. } => {
-            let (x0, x1) = clipped_slopes(x, z, radius, camera.near)?;
-            let (y0, y1) = clipped_slopes(y, z, radius, camera.near)?;
-            (x0 / sx, x1 / sx, y0 / sy, y1 / sy)
-        }
+    // The rectangle on the screen plane: (x_min, x_max, y_min, y_max).
+    let screen = if camera.is_orthographic() {
+        (x - radius, x + radius, y - radius, y + radius)
+    } else {
+        let (x0, x1) = clipped_slopes(x, z, radius, camera.near)?;
+        let (y0, y1) = clipped_slopes(y, z, radius, camera.near)?;
+        (x0, x1, y0, y1)
     };
-    // NDC to continuous pixel coordinates (pixel i spans [i, i + 1]; rows grow downwards).
+    // To continuous pixel coordinates (pixel i spans [i, i + 1]; rows grow downwards).
     let (w, h) = (camera.width as f64, camera.height as f64);
-    let px0 = (ndc.0 + 1.0) * 0.5 * w - 1.0;
-    let px1 = (ndc.1 + 1.0) * 0.5 * w + 1.0;
-    let py0 = (1.0 - ndc.3) * 0.5 * h - 1.0;
-    let py1 = (1.0 - ndc.2) * 0.5 * h + 1.0;
+    let low = camera.screen_to_pixel(DVec2::new(screen.0, screen.3));
+    let high = camera.screen_to_pixel(DVec2::new(screen.1, screen.2));
+    let (px0, py0) = (low.x - 1.0, low.y - 1.0);
+    let (px1, py1) = (high.x + 1.0, high.y + 1.0);
     if !(px1 >= 0.0 && px0 <= w && py1 >= 0.0 && py0 <= h) {
         return None;
     }
@@ -686,6 +675,7 @@ fn clipped_slopes(x: f64, z: f64, r: f64, near: f64) -> Option<(f64, f64)> {
 
 #[cfg(test)]
 mod tests {
+    use ellipsoid_splat::camera::Projection;
     use glam::{DQuat, EulerRot};
 
     use super::*;
@@ -878,7 +868,7 @@ mod tests {
             let center = DVec3::new(1.0, 2.0, 3.0);
             let eye = center + DVec3::new(1.0, 2.0, 2.0) / 3.0 * distance;
             let cam = perspective(eye, center, 10.0, 0.1, 64, 64);
-            let ray = cam.ray_at_ndc(0.0, 0.0);
+            let ray = cam.ray_at_pixel(DVec2::new(32.0, 32.0));
             let e = sphere(center, radius);
             let hit = intersect(&e, &ray, cam.near, cam.basis().forward).unwrap();
             let want = cam.view_depth(center) - radius;

@@ -5,9 +5,9 @@ use std::num::IntErrorKind;
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Parser, Subcommand};
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
-use ellipsoid_splat::camera::{Camera, Projection};
+use ellipsoid_splat::camera::{Camera, Intrinsics, Projection};
 use ellipsoid_splat::ellipsoid::Ellipsoid;
 use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::InstanceFormat;
@@ -103,6 +103,22 @@ impl ViewArgs {
                 "--supersample",
                 "does not apply to `view`, which shows the swapchain's pixels; use `render`",
             ));
+        }
+        for (flag, given, why) in [
+            (
+                "--jitter",
+                render.jitter.is_some(),
+                "does not apply to `view`, whose frames follow the mouse; use `render`",
+            ),
+            (
+                "--viewport",
+                render.viewport.is_some(),
+                "does not apply to `view`, which draws the whole window; use `render`",
+            ),
+        ] {
+            if given {
+                return Err(Error::invalid(flag, why));
+            }
         }
         if render.intersection != IntersectionArg::Stable {
             return Err(Error::invalid(
@@ -368,6 +384,28 @@ pub struct RenderArgs {
     /// Orthographic projection with this view height.
     #[arg(long, value_parser = parse_number, allow_hyphen_values = true)]
     pub ortho: Option<f64>,
+    /// A pinhole camera's intrinsics `fx,fy,cx,cy` in pixels (OpenCV's; instead of --fov-y):
+    /// the ray through pixel centre (i + 0.5, j + 0.5), row 0 at the top, has the camera-frame
+    /// direction ((i + 0.5 - cx) / fx, (j + 0.5 - cy) / fy, 1), x right, y down, z forward.
+    /// Off-centre principal points, asymmetric frusta and non-square pixels. In the camera's
+    /// pixels (--viewport's size when given).
+    #[arg(
+        long,
+        value_parser = parse_intrinsics,
+        allow_hyphen_values = true,
+        conflicts_with_all = ["ortho", "fov_y"]
+    )]
+    pub intrinsics: Option<Intrinsics>,
+    /// Sub-pixel jitter `dx,dy` in pixels (x right, y down): pixel (i, j) samples the
+    /// unjittered image plane at (i + 0.5 + dx, j + 0.5 + dy), as a temporal antialiasing
+    /// sequence does.
+    #[arg(long, value_parser = parse_vec2, allow_hyphen_values = true)]
+    pub jitter: Option<DVec2>,
+    /// Draw the camera's w x h image into the rectangle `x,y,w,h` of the --width x --height
+    /// output (camera pixel (i, j) is output pixel (x + i, y + j)); the rest stays
+    /// background. --intrinsics and --jitter are in the camera's pixels.
+    #[arg(long, value_parser = parse_viewport)]
+    pub viewport: Option<[u32; 4]>,
     /// Near-plane distance (default: half the distance to the scene's bounding sphere).
     #[arg(long, value_parser = parse_number, allow_hyphen_values = true)]
     pub near: Option<f64>,
@@ -510,6 +548,14 @@ impl RenderArgs {
         Ok(RenderPlan { scene, outputs })
     }
 
+    /// The camera's image size: the --viewport rectangle's, or the whole output's.
+    pub fn camera_size(&self) -> (u32, u32) {
+        match self.viewport {
+            Some([_, _, w, h]) => (w, h),
+            None => (self.width, self.height),
+        }
+    }
+
     /// Every numeric and vector flag on its own.
     fn check_numbers(&self) -> Result<()> {
         for (flag, value) in [("--width", self.width), ("--height", self.height)] {
@@ -519,6 +565,18 @@ impl RenderArgs {
                     format!(
                         "{value} pixels is outside 1..={MAX_IMAGE_SIDE} (the largest image side \
                          the renderer accepts)"
+                    ),
+                ));
+            }
+        }
+        if let Some([x, y, w, h]) = self.viewport {
+            if x as u64 + w as u64 > self.width as u64 || y as u64 + h as u64 > self.height as u64 {
+                return Err(Error::invalid(
+                    "--viewport",
+                    format!(
+                        "the {w}x{h} rectangle at ({x}, {y}) reaches beyond the {}x{} output \
+                         (--width, --height)",
+                        self.width, self.height
                     ),
                 ));
             }
@@ -620,6 +678,55 @@ fn parse_number(text: &str) -> std::result::Result<f64, String> {
     })
 }
 
+/// `count` comma-separated finite numbers, named by `what`.
+fn parse_numbers<const N: usize>(text: &str, what: &str) -> std::result::Result<[f64; N], String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() != N {
+        return Err(format!("expected {what}, got '{text}'"));
+    }
+    let mut v = [0.0; N];
+    for (slot, part) in v.iter_mut().zip(&parts) {
+        *slot = part
+            .parse::<f64>()
+            .map_err(|_| format!("'{part}' is not a number"))?;
+        if !slot.is_finite() {
+            return Err(format!("'{part}' is not finite"));
+        }
+    }
+    Ok(v)
+}
+
+fn parse_intrinsics(text: &str) -> std::result::Result<Intrinsics, String> {
+    let [fx, fy, cx, cy] = parse_numbers(text, "fx,fy,cx,cy")?;
+    if !(fx > 0.0 && fy > 0.0) {
+        return Err(format!(
+            "the focal lengths fx and fy must be positive, got {fx} and {fy}"
+        ));
+    }
+    Ok(Intrinsics { fx, fy, cx, cy })
+}
+
+fn parse_vec2(text: &str) -> std::result::Result<DVec2, String> {
+    parse_numbers(text, "dx,dy").map(DVec2::from_array)
+}
+
+fn parse_viewport(text: &str) -> std::result::Result<[u32; 4], String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() != 4 {
+        return Err(format!("expected x,y,w,h in whole pixels, got '{text}'"));
+    }
+    let mut v = [0u32; 4];
+    for (slot, part) in v.iter_mut().zip(&parts) {
+        *slot = part
+            .parse::<u32>()
+            .map_err(|_| format!("'{part}' is not a whole number of pixels"))?;
+    }
+    if v[2] == 0 || v[3] == 0 {
+        return Err(format!("the rectangle {}x{} is empty", v[2], v[3]));
+    }
+    Ok(v)
+}
+
 fn parse_pixels(text: &str) -> std::result::Result<u32, String> {
     text.trim()
         .parse::<u32>()
@@ -642,20 +749,7 @@ fn parse_sample_count(text: &str) -> std::result::Result<u32, String> {
 }
 
 fn parse_vec3(text: &str) -> std::result::Result<DVec3, String> {
-    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-    if parts.len() != 3 {
-        return Err(format!("expected x,y,z, got '{text}'"));
-    }
-    let mut v = [0.0; 3];
-    for (slot, part) in v.iter_mut().zip(&parts) {
-        *slot = part
-            .parse::<f64>()
-            .map_err(|_| format!("'{part}' is not a number"))?;
-        if !slot.is_finite() {
-            return Err(format!("'{part}' is not finite"));
-        }
-    }
-    Ok(DVec3::from_array(v))
+    parse_numbers(text, "x,y,z").map(DVec3::from_array)
 }
 
 /// The most ellipsoids a scene can have. Instance indices are u32, and 0xFFFFFFFF
@@ -848,14 +942,20 @@ pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
     let (center, radius) = scene
         .bounding_sphere()
         .ok_or_else(|| Error::invalid("--scene", "has no ellipsoids"))?;
-    let projection = match args.ortho {
-        Some(height) => Projection::Orthographic { height },
-        None => Projection::Perspective {
+    let projection = match (args.ortho, args.intrinsics) {
+        (Some(height), _) => Projection::Orthographic { height },
+        (None, Some(intrinsics)) => Projection::PerspectiveIntrinsics(intrinsics),
+        (None, None) => Projection::Perspective {
             fov_y_deg: args.fov_y,
         },
     };
-    let mut camera = Camera::framing(center, radius, args.width, args.height)?;
+    let (width, height) = args.camera_size();
+    let mut camera = Camera::framing(center, radius, width, height)?;
     camera.projection = projection;
+    camera.jitter = args.jitter.unwrap_or(DVec2::ZERO);
+    if let Some([x, y, _, _]) = args.viewport {
+        camera.viewport_origin = [x, y];
+    }
     camera.up = args.up;
     if let Some(target) = args.target {
         camera.target = target;
@@ -907,7 +1007,20 @@ pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
             }
         }
     };
-    camera.validate()?;
+    camera.validate().map_err(|e| match e {
+        Error::Invalid { what, reason } if what.starts_with("camera ") => {
+            let flag = match what.as_str() {
+                "camera intrinsics" | "camera principal point" if args.intrinsics.is_some() => {
+                    "--intrinsics"
+                }
+                "camera principal point" | "camera jitter" => "--jitter",
+                "camera viewport" => "--viewport",
+                _ => return Error::Invalid { what, reason },
+            };
+            Error::invalid(flag, reason)
+        }
+        other => other,
+    })?;
     Ok(camera)
 }
 
@@ -931,21 +1044,21 @@ pub fn nothing_in_view(args: &RenderArgs, camera: &Camera, scene: &Scene) -> Opt
             "the image is empty: {looking}, the whole scene ({sphere}) is behind the camera"
         ));
     }
-    let (sx, sy) = camera.ndc_scale();
-    let half_diagonal = sx.hypot(sy);
-    let outside = match camera.projection {
+    // The screen-plane corner farthest from the view axis.
+    let (lo, hi) = camera.screen_window();
+    let half_diagonal = lo.x.abs().max(hi.x.abs()).hypot(lo.y.abs().max(hi.y.abs()));
+    let outside = if camera.is_orthographic() {
+        lateral - radius > half_diagonal
+    } else {
         // The frustum lies in the cone of half-angle atan(half_diagonal) around the view
         // direction; the sphere is outside when its angular distance from the axis exceeds
         // that half-angle plus its own angular radius.
-        Projection::Perspective { .. } => {
-            let distance = offset.length();
-            distance > radius && {
-                let angle = lateral.atan2(depth);
-                let angular_radius = (radius / distance).asin();
-                angle - angular_radius > half_diagonal.atan()
-            }
+        let distance = offset.length();
+        distance > radius && {
+            let angle = lateral.atan2(depth);
+            let angular_radius = (radius / distance).asin();
+            angle - angular_radius > half_diagonal.atan()
         }
-        Projection::Orthographic { .. } => lateral - radius > half_diagonal,
     };
     if outside {
         return Some(format!(

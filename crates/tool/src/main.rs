@@ -100,8 +100,9 @@ fn render(args: &RenderArgs) -> Result<()> {
     // Only the targets of the outputs asked for are allocated, drawn and read back.
     let outputs = plan.outputs;
     let k = args.supersample;
+    let drawn = supersample::supersampled_camera(&camera, k)?;
     let (frame, timing) =
-        renderer.render_uploaded(&supersample::supersampled_camera(&camera, k)?, outputs)?;
+        renderer.render_views(args.width * k, args.height * k, &[drawn], outputs)?;
     renderer.context().check_validation()?;
     let frame = if k > 1 {
         supersample::box_filter(&frame, k)?
@@ -122,8 +123,8 @@ fn render(args: &RenderArgs) -> Result<()> {
          frame {:.1} ms (submit to fence) on {device}; GPU memory {:.1} MiB ({:.1} bytes per \
          ellipsoid)",
         args.output.display(),
-        camera.width,
-        camera.height,
+        args.width,
+        args.height,
         scene.len(),
         start.elapsed().as_secs_f64() * 1e3,
         load_time.as_secs_f64() * 1e3,

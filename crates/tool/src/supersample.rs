@@ -8,7 +8,7 @@
 //! offset `(K / 2, K / 2)` (integer division), at `(K / 2 + 0.5) / K` of the pixel -- its
 //! centre for odd K, half a sample right of and below it for even K.
 
-use ellipsoid_splat::camera::Camera;
+use ellipsoid_splat::camera::{Camera, Intrinsics, Projection};
 use ellipsoid_splat::error::{Error, Result};
 use ellipsoid_splat::frame::Frame;
 use ellipsoid_splat_reference::coverage::srgb_to_linear;
@@ -23,11 +23,30 @@ pub fn supersampled_camera(camera: &Camera, k: u32) -> Result<Camera> {
     let (Some(width), Some(height)) = (width, height) else {
         return Err(Error::invalid("--supersample", "the image size overflows"));
     };
-    Ok(Camera {
+    // K times as many pixels per unit of the image plane: intrinsics, jitter and the
+    // viewport's origin scale with the image.
+    let k_f = k as f64;
+    let scale = |i: Intrinsics| Intrinsics {
+        fx: i.fx * k_f,
+        fy: i.fy * k_f,
+        cx: i.cx * k_f,
+        cy: i.cy * k_f,
+    };
+    let projection = match camera.projection {
+        Projection::PerspectiveIntrinsics(i) => Projection::PerspectiveIntrinsics(scale(i)),
+        Projection::OrthographicIntrinsics(i) => Projection::OrthographicIntrinsics(scale(i)),
+        centred => centred,
+    };
+    let camera = Camera {
         width,
         height,
+        projection,
+        jitter: camera.jitter * k_f,
+        viewport_origin: camera.viewport_origin.map(|v| v * k),
         ..*camera
-    })
+    };
+    camera.validate()?;
+    Ok(camera)
 }
 
 /// Linear light in [0, 1] to the nearest sRGB-encoded byte.

@@ -557,3 +557,59 @@ fn every_color_mode_is_accepted_and_an_unknown_one_is_named() {
         );
     }
 }
+
+/// The camera flags of general cameras: a malformed value is a usage error naming the flag
+/// (status 2), a value the camera contract refuses an error naming the flag and why (status
+/// 1), both before the device is touched.
+#[test]
+fn bad_camera_flags_are_named() {
+    let usage: [(&[&str], &str, &str); 6] = [
+        (&["--intrinsics", "1,2,3"], "--intrinsics", "fx,fy,cx,cy"),
+        (
+            &["--intrinsics", "100,0,5,5"],
+            "--intrinsics",
+            "must be positive",
+        ),
+        (
+            &["--intrinsics", "100,nan,5,5"],
+            "--intrinsics",
+            "not finite",
+        ),
+        (&["--jitter", "0.5"], "--jitter", "dx,dy"),
+        (&["--viewport", "0,0,10"], "--viewport", "x,y,w,h"),
+        (&["--viewport", "0,0,0,10"], "--viewport", "empty"),
+    ];
+    for (args, flag, reason) in usage {
+        let what = args.join(" ");
+        let error = error_line(&render_args(args), 2, &what);
+        assert_names(&error, &[flag, reason], &what);
+    }
+    for conflict in ["--fov-y", "--ortho"] {
+        let args = ["--intrinsics", "100,100,50,50", conflict, "30"];
+        let what = args.join(" ");
+        let error = error_line(&render_args(&args), 2, &what);
+        assert_names(&error, &["--intrinsics", conflict], &what);
+    }
+    let refused: [(&[&str], &str, &str); 3] = [
+        (
+            &["--viewport", "1900,0,64,48"],
+            "--viewport",
+            "reaches beyond the 1920x1080 output",
+        ),
+        (
+            &["--scene", "random:10", "--jitter", "1e9,0"],
+            "--jitter",
+            "half images from the centre",
+        ),
+        (
+            &["--scene", "random:10", "--intrinsics", "100,100,1e9,5"],
+            "--intrinsics",
+            "half images from the centre",
+        ),
+    ];
+    for (args, flag, reason) in refused {
+        let what = args.join(" ");
+        let error = error_line(&render_args(args), 1, &what);
+        assert_names(&error, &[flag, reason], &what);
+    }
+}

@@ -2,7 +2,7 @@
 //! target, pan in the view plane, zoom towards a point, fit, reset, and the projection toggle.
 //! Pure math on [`Camera`], so it is tested without a window.
 
-use glam::{DQuat, DVec3};
+use glam::{DQuat, DVec2, DVec3};
 
 use ellipsoid_splat::{Camera, Projection};
 
@@ -57,10 +57,18 @@ impl ViewCamera {
     /// The camera state of `camera` (the one `render` would use) over a scene bounded by
     /// `bounds`.
     pub fn from_camera(camera: &Camera, near: Option<f64>, bounds: (DVec3, f64)) -> Self {
+        // The window resizes, so the viewer keeps a centred projection with square pixels:
+        // an intrinsics camera keeps its vertical field of view (or view height).
+        let fy = camera.intrinsics().fy;
+        let image_height = f64::from(camera.height);
         let (fov_y_deg, ortho_height) = match camera.projection {
             Projection::Perspective { fov_y_deg } => (fov_y_deg, None),
+            Projection::PerspectiveIntrinsics(_) => {
+                (2.0 * (0.5 * image_height / fy).atan().to_degrees(), None)
+            }
             // Switching to perspective later uses `render`'s default field of view.
             Projection::Orthographic { height } => (45.0, Some(height)),
+            Projection::OrthographicIntrinsics(_) => (45.0, Some(image_height / fy)),
         };
         Self {
             eye: camera.eye,
@@ -108,9 +116,9 @@ impl ViewCamera {
     pub fn render_flags(&self, width: u32, height: u32) -> ellipsoid_splat::Result<String> {
         let camera = self.camera(width, height)?;
         let v = |v: DVec3| format!("{:?},{:?},{:?}", v.x, v.y, v.z);
-        let projection = match camera.projection {
-            Projection::Perspective { fov_y_deg } => format!("--fov-y {fov_y_deg:?}"),
-            Projection::Orthographic { height } => format!("--ortho {height:?}"),
+        let projection = match self.ortho_height {
+            Some(height) => format!("--ortho {height:?}"),
+            None => format!("--fov-y {:?}", self.fov_y_deg),
         };
         Ok(format!(
             "--width {width} --height {height} --eye {} --target {} --up {} {projection} --near {:?}",
@@ -232,9 +240,7 @@ impl ViewCamera {
 /// The point on `camera`'s ray through window position `(x, y)` (fractional pixels from the
 /// top left) at view depth `depth`.
 pub fn point_at(camera: &Camera, x: f64, y: f64, depth: f64) -> DVec3 {
-    let ndc_x = 2.0 * x / f64::from(camera.width.max(1)) - 1.0;
-    let ndc_y = 1.0 - 2.0 * y / f64::from(camera.height.max(1));
-    let ray = camera.ray_at_ndc(ndc_x, ndc_y);
+    let ray = camera.ray_at_pixel(DVec2::new(x, y));
     let forward = camera.basis().forward;
     // Perspective rays have forward component 1; orthographic rays are unit `forward`.
     ray.origin + ray.direction * (depth / ray.direction.dot(forward))
