@@ -100,8 +100,11 @@ fn main() -> Result<()> {
     };
     let wanted = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
     let family = families.iter().position(|f| f.queue_flags.contains(wanted)).ok_or("no queue")? as u32;
-    let (core, mut vulkan13) = ellipsoid_splat::features::required_device_features();
-    let mut features = vk::PhysicalDeviceFeatures2::default().features(core).push_next(&mut vulkan13);
+    // The features the renderer needs for this target (a render-pass target would not need
+    // dynamic rendering), as vkCreateDevice takes them.
+    let target = ellipsoid_splat::Target::dynamic(COLOR, DEPTH);
+    let (core, mut vulkan12, mut vulkan13) = target.required_features().to_vk();
+    let mut features = vk::PhysicalDeviceFeatures2::default().features(core).push_next(&mut vulkan12).push_next(&mut vulkan13);
     let queues = [vk::DeviceQueueCreateInfo::default().queue_family_index(family).queue_priorities(&[1.0])];
     let info = vk::DeviceCreateInfo::default().queue_create_infos(&queues).push_next(&mut features);
     // SAFETY: the create info points at live locals; the device has one queue in `family`.
@@ -118,8 +121,8 @@ fn main() -> Result<()> {
 
     // 3. The targets, a command buffer, the renderer, a scene and a camera that frames it.
     let (color_usage, depth_usage) = (vk::ImageUsageFlags::COLOR_ATTACHMENT, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT);
-    let host = HostDevice { instance: &instance, physical_device: physical, device: &device, queue_family_index: family };
-    let options = RendererOptions::new(ellipsoid_splat::Target::dynamic(COLOR, DEPTH));
+    let host = HostDevice::new(&instance, physical, &device, family, target.required_features());
+    let options = RendererOptions::new(target);
     // SAFETY: `alloc` allocates from `device`; the handles belong together and the device has
     // the renderer's features; everything is destroyed in step 5.
     let (color, depth, pool, cmd, mut renderer) = unsafe {

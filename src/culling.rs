@@ -10,6 +10,7 @@ use crate::gpu_layout::{IndirectDraw, PushConstants};
 /// up glyphs once, if it does that). Nothing culled
 /// can change a pixel: see `glsl/cull.comp`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct Culling {
     /// Drop instances whose silhouette lies off screen or before the near plane.
     pub frustum: bool,
@@ -84,8 +85,8 @@ pub(crate) enum CullSelect {
     Drawn = 3,
 }
 
-/// Instances per workgroup (`local_size_x`).
-const GROUP_SIZE: u64 = 256;
+/// Instances per workgroup (`local_size_x` of `cull.comp`).
+pub(crate) const GROUP_SIZE: u64 = 256;
 /// Occlusion tile edge in pixels (`TILE`).
 const TILE: u64 = 4;
 /// Most workgroups in one dimension of a dispatch that every device supports.

@@ -45,7 +45,7 @@ pub enum Error {
     #[error("GPU allocation of {what} failed: {reason}")]
     Allocation {
         /// What was being allocated.
-        what: &'static str,
+        what: String,
         /// The allocator's message.
         reason: String,
     },
@@ -115,21 +115,6 @@ impl Error {
         }
     }
 
-    /// The error of a failed `gpu-allocator` allocation of `what`.
-    pub fn allocation(what: &'static str, error: gpu_allocator::AllocationError) -> Self {
-        match error {
-            gpu_allocator::AllocationError::OutOfMemory => Error::OutOfMemory {
-                what: what.to_string(),
-                device: true,
-                reason: error.to_string(),
-            },
-            error => Error::Allocation {
-                what,
-                reason: error.to_string(),
-            },
-        }
-    }
-
     /// An `Invalid` error from two displayable parts.
     pub fn invalid(what: impl Into<String>, reason: impl Into<String>) -> Self {
         Error::Invalid {
@@ -177,10 +162,5 @@ mod tests {
         );
         let other = Error::vulkan("vkCreateBuffer", vk::Result::ERROR_UNKNOWN);
         assert!(matches!(other, Error::Vulkan { .. }));
-        let allocator = Error::allocation("instances", gpu_allocator::AllocationError::OutOfMemory);
-        assert!(
-            matches!(allocator, Error::OutOfMemory { .. }),
-            "{allocator}"
-        );
     }
 }

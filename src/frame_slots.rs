@@ -7,8 +7,8 @@
 //! used only by work recorded up to then; once every slot has begun after `F`, all of that work
 //! is complete and the object is destroyed.
 
+use crate::allocator::MemoryAllocator;
 use ash::vk;
-use gpu_allocator::vulkan::Allocator;
 
 use crate::error::{Error, Result};
 use crate::gpu::GpuBuffer;
@@ -27,7 +27,7 @@ impl Retired {
     /// # Safety
     /// No pending work uses it (the frame-slot rule above proves that for what `begin`
     /// returns).
-    pub unsafe fn destroy(self, device: &ash::Device, allocator: &mut Allocator) {
+    pub unsafe fn destroy(self, device: &ash::Device, allocator: &mut dyn MemoryAllocator) {
         match self {
             // SAFETY: caller contract.
             Retired::Buffer(buffer) => unsafe { buffer.destroy(device, allocator) },

@@ -45,6 +45,7 @@
 //! # fn main() {}
 //! ```
 
+pub mod allocator;
 pub mod barriers;
 pub mod bounds;
 pub mod camera;
@@ -79,11 +80,13 @@ pub mod icosphere;
 #[cfg(feature = "offscreen")]
 pub mod offscreen;
 
+pub use allocator::MemoryAllocator;
 pub use camera::{Camera, Intrinsics, Projection};
 pub use culling::Culling;
 pub use depth::DepthConvention;
 pub use ellipsoid::Ellipsoid;
 pub use error::{Error, Result};
+pub use features::DeviceFeatures;
 pub use host_camera::HostViewport;
 pub use instances::InstanceFormat;
 pub use renderer::{DrawReason, EllipsoidRenderer, FramePlan};

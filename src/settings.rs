@@ -8,6 +8,7 @@ use crate::instances::InstanceFormat;
 /// Blinn-Phong material after Gumhold 2003: ambient, diffuse, specular, shininess, specular
 /// colour.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Material {
     /// Ambient weight.
     pub ambient: f32,
@@ -37,6 +38,7 @@ impl Default for Material {
 /// creation ([`crate::RendererOptions::settings`]) or later through
 /// [`crate::EllipsoidRenderer::set_settings`], which says what each change costs.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Settings {
     /// Shading parameters.
     pub material: Material,

@@ -4,7 +4,7 @@
 use ash::vk;
 
 use crate::error::{Error, Result};
-use crate::features;
+use crate::features::DeviceFeatures;
 use crate::settings::Settings;
 
 /// Normal attachment format when `Target::aux_outputs` is set.
@@ -12,21 +12,45 @@ pub const NORMAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 /// Instance-ID attachment format when `Target::aux_outputs` is set.
 pub const ID_FORMAT: vk::Format = vk::Format::R32_UINT;
 
-/// The host's Vulkan objects the renderer works with. All are borrowed: the renderer never
-/// destroys them, and the host keeps them alive until it has destroyed the renderer.
+/// The host's Vulkan objects the renderer works with, and the features the host enabled on
+/// its device. The handles are borrowed: the renderer never destroys them, and the host keeps
+/// them alive until it has destroyed the renderer.
 #[derive(Clone, Copy)]
+#[non_exhaustive]
 pub struct HostDevice<'a> {
     /// The instance the device was created from (to query the physical device).
     pub instance: &'a ash::Instance,
     /// The physical device behind `device`.
     pub physical_device: vk::PhysicalDevice,
-    /// A device created with [`features::required_device_features`] enabled
-    /// (`sampleRateShading` only if a target is multisampled).
+    /// The host's device.
     pub device: &'a ash::Device,
     /// The queue family whose queue will execute the command buffers the renderer records
     /// into: it must support graphics and compute. The renderer records no queue-family
     /// ownership transfers.
     pub queue_family_index: u32,
+    /// The features the host enabled on `device`, of those the renderer uses: each target
+    /// needs its [`Target::required_features`], and the compute splat runs only where
+    /// [`DeviceFeatures::COMPUTE_SPLAT`] are enabled too.
+    pub enabled_features: DeviceFeatures,
+}
+
+impl<'a> HostDevice<'a> {
+    /// The host's device, its queue family and the renderer's features it enabled.
+    pub fn new(
+        instance: &'a ash::Instance,
+        physical_device: vk::PhysicalDevice,
+        device: &'a ash::Device,
+        queue_family_index: u32,
+        enabled_features: DeviceFeatures,
+    ) -> Self {
+        Self {
+            instance,
+            physical_device,
+            device,
+            queue_family_index,
+            enabled_features,
+        }
+    }
 }
 
 /// The kind of pass the ellipsoids are drawn in.
@@ -56,6 +80,7 @@ pub enum Pass {
 
 /// The pass the ellipsoids are drawn into and what the renderer writes there.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct Target {
     /// The pass's attachments.
     pub pass: Pass,
@@ -70,6 +95,16 @@ pub struct Target {
 }
 
 impl Target {
+    /// A single-sample target of `pass` writing colour attachment 0 and depth (change
+    /// `samples` and `aux_outputs` after).
+    pub fn new(pass: Pass) -> Self {
+        Self {
+            pass,
+            samples: vk::SampleCountFlags::TYPE_1,
+            aux_outputs: false,
+        }
+    }
+
     /// A single-sample dynamic-rendering target with colour and depth attachments.
     pub fn dynamic(color: vk::Format, depth: vk::Format) -> Self {
         Self {
@@ -105,6 +140,21 @@ impl Target {
     /// More than one sample per pixel.
     pub fn multisampled(&self) -> bool {
         self.samples != vk::SampleCountFlags::TYPE_1
+    }
+
+    /// The device features drawing into this target needs: `maintenance4` always (the
+    /// pre-pass's compute shaders), `dynamicRendering` only for [`Pass::Dynamic`] (a
+    /// render-pass host need not enable it), `sampleRateShading` only for multisampled
+    /// targets, where the renderer may shade every sample (it is needed only then:
+    /// `Settings::per_sample_shading`, or sample counts or devices without the standard
+    /// sample locations).
+    pub fn required_features(&self) -> DeviceFeatures {
+        DeviceFeatures {
+            maintenance4: true,
+            dynamic_rendering: matches!(self.pass, Pass::Dynamic { .. }),
+            sample_rate_shading: self.multisampled(),
+            ..DeviceFeatures::default()
+        }
     }
 
     /// Checks the description against itself and what the device allows.
@@ -157,17 +207,30 @@ impl Target {
                 "{s:?} samples per pixel: the device supports {supported:?} for colour and depth"
             ));
         }
-        if self.multisampled() && !caps.sample_rate_shading {
-            return bad(
-                "multisampling needs the sampleRateShading feature, which the device lacks".into(),
-            );
+        // sampleRateShading is checked where a frame shades every sample (the plan).
+        let needed = DeviceFeatures {
+            sample_rate_shading: false,
+            ..self.required_features()
+        };
+        let missing = needed.missing_from(caps.enabled);
+        if !missing.is_empty() {
+            return bad(format!(
+                "{} needs {}, which the host did not enable (HostDevice::enabled_features)",
+                match self.pass {
+                    Pass::Dynamic { .. } => "a dynamic-rendering target",
+                    Pass::RenderPass { .. } => "a render-pass target",
+                },
+                missing.join(", ")
+            ));
         }
         Ok(())
     }
 }
 
-/// How the renderer is set up for a host.
+/// How the renderer is set up for a host: [`RendererOptions::new`], then change the fields
+/// that differ.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct RendererOptions {
     /// The pass the ellipsoids are drawn into (more can be added with `set_target`).
     pub target: Target,
@@ -176,9 +239,6 @@ pub struct RendererOptions {
     pub frames_in_flight: u32,
     /// The material and the work-skipping the renderer does.
     pub settings: Settings,
-    /// The host enabled [`crate::features::compute_splat_features`] on the device: the
-    /// compute splat may run (see [`Settings::compute_splat`]).
-    pub compute_splat_features: bool,
     /// The host's pipeline cache, used for every pipeline the renderer builds (borrowed; null
     /// for none).
     pub pipeline_cache: vk::PipelineCache,
@@ -192,7 +252,6 @@ impl RendererOptions {
             frames_in_flight: 1,
             pipeline_cache: vk::PipelineCache::null(),
             settings: Settings::default(),
-            compute_splat_features: false,
         }
     }
 }
@@ -201,7 +260,8 @@ impl RendererOptions {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct DeviceCaps {
     pub limits: vk::PhysicalDeviceLimits,
-    pub sample_rate_shading: bool,
+    /// What the host enabled, of what the device supports.
+    pub enabled: DeviceFeatures,
 }
 
 impl HostDevice<'_> {
@@ -236,12 +296,16 @@ impl HostDevice<'_> {
                 ),
             ));
         }
-        let (core, vulkan13) = features::supported_features(self.instance, self.physical_device);
-        let missing = features::missing_features(&vulkan13);
-        if !missing.is_empty() {
+        // SAFETY: as above.
+        let supported = unsafe { DeviceFeatures::supported(self.instance, self.physical_device) };
+        let unsupported = self.enabled_features.missing_from(supported);
+        if !unsupported.is_empty() {
             return Err(Error::invalid(
-                "device features",
-                format!("the physical device lacks {}", missing.join(", ")),
+                "HostDevice::enabled_features",
+                format!(
+                    "names {}, which the physical device does not support",
+                    unsupported.join(", ")
+                ),
             ));
         }
         // SAFETY: as above.
@@ -251,7 +315,7 @@ impl HostDevice<'_> {
         };
         Ok(DeviceCaps {
             limits: properties.limits,
-            sample_rate_shading: core.sample_rate_shading == vk::TRUE,
+            enabled: self.enabled_features,
         })
     }
 }

@@ -61,15 +61,17 @@ fn four_samples_resolve_to_the_exact_covered_fraction_at_both_shading_rates() {
     let mut renderer = validated_renderer();
     renderer.set_samples(vk::SampleCountFlags::TYPE_4).unwrap();
     for per_sample_shading in [false, true] {
-        renderer.set_settings(Settings {
-            material: Material {
-                ambient: 1.0,
-                diffuse: 0.0,
-                specular: 0.0,
-                ..Material::default()
-            },
-            per_sample_shading,
-            ..Settings::default()
+        renderer.set_settings({
+            let mut settings = Settings::default();
+            settings.material = {
+                let mut material = Material::default();
+                material.ambient = 1.0;
+                material.diffuse = 0.0;
+                material.specular = 0.0;
+                material
+            };
+            settings.per_sample_shading = per_sample_shading;
+            settings
         });
         renderer.upload(&scene).unwrap();
         let frame = renderer.render_uploaded(&camera, Outputs::ALL).unwrap().0;

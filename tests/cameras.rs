@@ -101,9 +101,10 @@ fn every_camera_kind_matches_the_reference() {
     for splat in [false, true] {
         let mut renderer = validated_renderer();
         if splat {
-            renderer.set_settings(Settings {
-                compute_splat_min_glyphs: 1,
-                ..Settings::default()
+            renderer.set_settings({
+                let mut settings = Settings::default();
+                settings.compute_splat_min_glyphs = 1;
+                settings
             });
         }
         renderer.upload(&scene).unwrap();
@@ -200,9 +201,10 @@ fn a_stereo_pair_side_by_side_is_exact() {
     for splat in [false, true] {
         let mut renderer = validated_renderer();
         if splat {
-            renderer.set_settings(Settings {
-                compute_splat_min_glyphs: 1,
-                ..Settings::default()
+            renderer.set_settings({
+                let mut settings = Settings::default();
+                settings.compute_splat_min_glyphs = 1;
+                settings
             });
         }
         renderer.upload(&scene).unwrap();
@@ -236,10 +238,11 @@ fn each_view_keeps_its_own_history() {
     .with_viewport_origin(W, 0)
     .unwrap();
     let mut renderer = validated_renderer();
-    renderer.set_settings(Settings {
-        compute_splat_min_glyphs: 1,
-        visible_first_min_hidden_px: 0.0,
-        ..Settings::default()
+    renderer.set_settings({
+        let mut settings = Settings::default();
+        settings.compute_splat_min_glyphs = 1;
+        settings.visible_first_min_hidden_px = 0.0;
+        settings
     });
     renderer.upload(&scene).unwrap();
     let mut frames = Vec::new();

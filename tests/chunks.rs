@@ -3,7 +3,7 @@
 //! lowered so a few thousand glyphs make many chunks, and every output is compared bit for
 //! bit with the one-chunk rendering.
 
-use ellipsoid_splat::{Outputs, Settings};
+use ellipsoid_splat::Outputs;
 use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
@@ -20,9 +20,10 @@ fn assert_chunking_changes_nothing(scene: &Scene, camera: &Camera, expect_setup_
         expect_setup_once
     );
     let (whole, _) = renderer.render_uploaded(camera, Outputs::ALL).unwrap();
-    renderer.set_settings(Settings {
-        max_chunk_instances: 256,
-        ..*renderer.settings()
+    renderer.set_settings({
+        let mut settings = *renderer.settings();
+        settings.max_chunk_instances = 256;
+        settings
     });
     // The chunk size takes effect at the next upload: until then the scene is drawn as
     // uploaded, with the buffers and descriptor sets cut for it.
@@ -80,9 +81,10 @@ fn compact_instances_stay_within_their_quantisation_error() {
         Camera::look_at(DVec3::new(4.0, 5.0, 22.0), DVec3::ZERO, 45.0, 1.0, 240, 180).unwrap();
     let reference = render_reference(&scene, &camera).unwrap();
     let mut renderer = validated_renderer();
-    renderer.set_settings(Settings {
-        instance_format: InstanceFormat::Compact,
-        ..*renderer.settings()
+    renderer.set_settings({
+        let mut settings = *renderer.settings();
+        settings.instance_format = InstanceFormat::Compact;
+        settings
     });
     renderer.upload(&scene).unwrap();
     let (compact, _) = renderer.render_uploaded(&camera, Outputs::ALL).unwrap();
@@ -93,9 +95,10 @@ fn compact_instances_stay_within_their_quantisation_error() {
     if let Err(broken) = stats.check(&bounds) {
         panic!("compact format beyond its quantisation error: {broken}\n{stats}");
     }
-    renderer.set_settings(Settings {
-        max_chunk_instances: 256,
-        ..*renderer.settings()
+    renderer.set_settings({
+        let mut settings = *renderer.settings();
+        settings.max_chunk_instances = 256;
+        settings
     });
     renderer.upload(&scene).unwrap();
     let (chunked, _) = renderer.render_uploaded(&camera, Outputs::ALL).unwrap();

@@ -25,12 +25,13 @@ fn assert_splat_matches_draw(
     format: InstanceFormat,
 ) {
     // Visible first however deep the scene lies, to check it on every case.
-    let settings = |compute_splat| Settings {
-        compute_splat,
-        compute_splat_min_glyphs: 0,
-        visible_first_min_hidden_px: 0.0,
-        instance_format: format,
-        ..Settings::default()
+    let settings = |compute_splat| {
+        let mut settings = Settings::default();
+        settings.compute_splat = compute_splat;
+        settings.compute_splat_min_glyphs = 0;
+        settings.visible_first_min_hidden_px = 0.0;
+        settings.instance_format = format;
+        settings
     };
     renderer.set_settings(settings(false));
     renderer.upload(scene).expect("upload");
@@ -271,10 +272,11 @@ fn glyphs_too_large_to_splat_are_drawn_in_the_same_frame() {
     {
         let overflow: Vec<u32> = (1..=12).map(|k| 100 * k).chain([5_000, 5_001]).collect();
         let count = |renderer: &mut OffscreenRenderer, scene: &Scene, splat: bool| {
-            renderer.set_settings(Settings {
-                compute_splat: splat,
-                compute_splat_min_glyphs: 0,
-                ..Settings::default()
+            renderer.set_settings({
+                let mut settings = Settings::default();
+                settings.compute_splat = splat;
+                settings.compute_splat_min_glyphs = 0;
+                settings
             });
             renderer.upload(scene).expect("upload");
             renderer.set_count_fragments(true);
@@ -333,10 +335,11 @@ fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
         InstanceFormat::Full,
     );
     // The copies never show: every visible ID is even.
-    renderer.set_settings(Settings {
-        compute_splat: true,
-        compute_splat_min_glyphs: 0,
-        ..Settings::default()
+    renderer.set_settings({
+        let mut settings = Settings::default();
+        settings.compute_splat = true;
+        settings.compute_splat_min_glyphs = 0;
+        settings
     });
     let frame = renderer
         .render(&tied, &camera, Outputs::ALL)
@@ -358,18 +361,20 @@ fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
 #[test]
 fn visible_first_frames_match_the_draw_at_each_stop_of_an_orbit() {
     let scene = random_cloud(6_000, 25, 10.0, 0.5);
-    let splat = Settings {
-        compute_splat_min_glyphs: 0,
-        visible_first_min_hidden_px: 0.0,
-        ..Settings::default()
+    let splat = {
+        let mut settings = Settings::default();
+        settings.compute_splat_min_glyphs = 0;
+        settings.visible_first_min_hidden_px = 0.0;
+        settings
     };
     let mut splatted = validated_renderer();
     splatted.set_settings(splat);
     splatted.upload(&scene).expect("upload");
     let mut drawn = validated_renderer();
-    drawn.set_settings(Settings {
-        compute_splat: false,
-        ..splat
+    drawn.set_settings({
+        let mut settings = splat;
+        settings.compute_splat = false;
+        settings
     });
     drawn.upload(&scene).expect("upload");
     for stop in 0..6 {
@@ -400,9 +405,10 @@ fn visible_first_frames_match_the_draw_at_each_stop_of_an_orbit() {
         {
             if stop == 2 && k == 2 {
                 // A drawn frame between stamps nothing and keeps the stamps of the last.
-                splatted.set_settings(Settings {
-                    compute_splat: false,
-                    ..splat
+                splatted.set_settings({
+                    let mut settings = splat;
+                    settings.compute_splat = false;
+                    settings
                 });
                 splatted.render_uploaded(&camera, Outputs::ALL).unwrap();
                 splatted.set_settings(splat);
@@ -463,11 +469,12 @@ fn chunked_splat_matches_the_draw(
     camera: &Camera,
 ) {
     let render = |renderer: &mut OffscreenRenderer, compute_splat: bool, chunk: u32| {
-        renderer.set_settings(Settings {
-            compute_splat,
-            compute_splat_min_glyphs: 0,
-            max_chunk_instances: chunk,
-            ..Settings::default()
+        renderer.set_settings({
+            let mut settings = Settings::default();
+            settings.compute_splat = compute_splat;
+            settings.compute_splat_min_glyphs = 0;
+            settings.max_chunk_instances = chunk;
+            settings
         });
         renderer.upload(scene).expect("upload");
         let plan = renderer.plan(camera).expect("plan");
@@ -566,9 +573,10 @@ fn visibility_buffer_draw_matches_the_draw_bit_for_bit() {
     for (name, scene, camera, chunk) in cases {
         let render = |renderer: &mut OffscreenRenderer, method: Method| {
             renderer.set_draw_config(method.config());
-            renderer.set_settings(Settings {
-                max_chunk_instances: chunk,
-                ..method.settings()
+            renderer.set_settings({
+                let mut settings = method.settings();
+                settings.max_chunk_instances = chunk;
+                settings
             });
             renderer.upload(scene).expect("upload");
             let plan = renderer.plan(&camera).expect("plan");

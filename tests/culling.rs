@@ -4,7 +4,7 @@
 //! instances on a scene built for it.
 
 use ash::vk;
-use ellipsoid_splat::{Outputs, Settings};
+use ellipsoid_splat::Outputs;
 use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
@@ -19,20 +19,26 @@ use glam::{DQuat, DVec3};
 /// Every kind alone, and all together.
 const VARIANTS: [Culling; 4] = [
     Culling::ON,
-    Culling {
-        frustum: true,
-        pixel_centres: false,
-        occlusion: false,
+    {
+        let mut culling = Culling::OFF;
+        culling.frustum = true;
+        culling.pixel_centres = false;
+        culling.occlusion = false;
+        culling
     },
-    Culling {
-        frustum: false,
-        pixel_centres: true,
-        occlusion: false,
+    {
+        let mut culling = Culling::OFF;
+        culling.frustum = false;
+        culling.pixel_centres = true;
+        culling.occlusion = false;
+        culling
     },
-    Culling {
-        frustum: false,
-        pixel_centres: false,
-        occlusion: true,
+    {
+        let mut culling = Culling::OFF;
+        culling.frustum = false;
+        culling.pixel_centres = false;
+        culling.occlusion = true;
+        culling
     },
 ];
 
@@ -60,9 +66,10 @@ fn set_sampling(renderer: &mut OffscreenRenderer, sampling: Sampling) {
         Sampling::FourPerPixel | Sampling::FourPerSample => vk::SampleCountFlags::TYPE_4,
     };
     renderer.set_samples(samples).expect("4x MSAA");
-    renderer.set_settings(Settings {
-        per_sample_shading: matches!(sampling, Sampling::FourPerSample),
-        ..*renderer.settings()
+    renderer.set_settings({
+        let mut settings = *renderer.settings();
+        settings.per_sample_shading = matches!(sampling, Sampling::FourPerSample);
+        settings
     });
 }
 
@@ -75,9 +82,10 @@ fn assert_culling_exact(
     scene: &Scene,
     camera: &Camera,
 ) -> (Vec<u64>, u64) {
-    renderer.set_settings(Settings {
-        culling: Culling::OFF,
-        ..*renderer.settings()
+    renderer.set_settings({
+        let mut settings = *renderer.settings();
+        settings.culling = Culling::OFF;
+        settings
     });
     renderer.upload(scene).expect("upload");
     let (plain, timing) = renderer
@@ -91,9 +99,10 @@ fn assert_culling_exact(
         .any(|&id| id != ellipsoid_splat::NO_INSTANCE));
     let mut vertices = Vec::new();
     for culling in VARIANTS {
-        renderer.set_settings(Settings {
-            culling,
-            ..*renderer.settings()
+        renderer.set_settings({
+            let mut settings = *renderer.settings();
+            settings.culling = culling;
+            settings
         });
         let (culled, timing) = renderer
             .render_uploaded(camera, Outputs::ALL)
@@ -244,21 +253,24 @@ fn setup_in_the_prepass_changes_no_pixel() {
     renderer.upload(&scene).expect("upload");
     for camera in [perspective, orthographic] {
         for culling in [Culling::ON, Culling::OFF] {
-            renderer.set_settings(Settings {
-                culling,
-                ..*renderer.settings()
+            renderer.set_settings({
+                let mut settings = *renderer.settings();
+                settings.culling = culling;
+                settings
             });
-            renderer.set_settings(Settings {
-                setup_once: false,
-                ..*renderer.settings()
+            renderer.set_settings({
+                let mut settings = *renderer.settings();
+                settings.setup_once = false;
+                settings
             });
             let (plain, _) = renderer
                 .render_uploaded(&camera, Outputs::ALL)
                 .expect("render");
             assert!(!renderer.plan(&camera).expect("plan").setup_once);
-            renderer.set_settings(Settings {
-                setup_once: true,
-                ..*renderer.settings()
+            renderer.set_settings({
+                let mut settings = *renderer.settings();
+                settings.setup_once = true;
+                settings
             });
             assert!(
                 renderer.plan(&camera).expect("plan").setup_once,

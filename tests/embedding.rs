@@ -11,8 +11,8 @@ use ellipsoid_splat_test_host as host;
 
 use ash::vk;
 use ellipsoid_splat::{
-    Camera, Ellipsoid, EllipsoidRenderer, HostDevice, Material, Pass, RendererOptions, Scene,
-    Settings, Target,
+    Camera, DeviceFeatures, Ellipsoid, EllipsoidRenderer, HostDevice, Material, Pass,
+    RendererOptions, Scene, Settings, Target,
 };
 use glam::{DMat4, DQuat, DVec2, DVec3};
 use gpu_allocator::vulkan::Allocator;
@@ -177,17 +177,31 @@ struct SecondFrame {
     update: Ellipsoid,
 }
 
+/// The renderer's features the host's device enables.
+fn host_features(host: &Host) -> DeviceFeatures {
+    let mut features = DeviceFeatures::default();
+    features.maintenance4 = true;
+    features.dynamic_rendering = host.dynamic_rendering();
+    features.sample_rate_shading = host.dynamic_rendering();
+    if host.int64_atomics() {
+        features = features.union(DeviceFeatures::COMPUTE_SPLAT);
+    }
+    features
+}
+
 /// The renderer on the host's device with `options`.
 fn new_renderer(host: &mut Host, options: RendererOptions) -> EllipsoidRenderer {
+    let features = host_features(host);
     let handles = host.handles();
-    let host_device = HostDevice {
-        instance: handles.instance,
-        physical_device: handles.physical_device,
-        device: handles.device,
-        queue_family_index: handles.queue_family,
-    };
-    // SAFETY: the host's handles belong together and enable the required features (and the
-    // compute splat's where `Host::int64_atomics` says so, which the options then declare).
+    let host_device = HostDevice::new(
+        handles.instance,
+        handles.physical_device,
+        handles.device,
+        handles.queue_family,
+        features,
+    );
+    // SAFETY: the host's handles belong together and enable the features `host_features`
+    // names.
     unsafe { EllipsoidRenderer::new(&host_device, handles.allocator, options) }.unwrap()
 }
 
@@ -273,25 +287,13 @@ fn render(
         camera,
         pass,
     } = host_scene(host, setup, kind, depth, samples);
-    let options = RendererOptions {
-        target: Target {
-            pass,
-            samples,
-            aux_outputs: false,
-        },
-        frames_in_flight: 2,
-        pipeline_cache: vk::PipelineCache::null(),
-        // No specular highlight: the green channel stays the plane's alone.
-        settings: Settings {
-            material: Material {
-                specular: 0.0,
-                ..Material::default()
-            },
-            per_sample_shading,
-            ..Settings::default()
-        },
-        compute_splat_features: false,
-    };
+    let mut drawn_into = Target::new(pass);
+    drawn_into.samples = samples;
+    let mut options = RendererOptions::new(drawn_into);
+    options.frames_in_flight = 2;
+    // No specular highlight: the green channel stays the plane's alone.
+    options.settings.material.specular = 0.0;
+    options.settings.per_sample_shading = per_sample_shading;
     let mut renderer = new_renderer(host, options);
     let plan = renderer.plan(&camera).unwrap();
     let pixel_rate = samples != vk::SampleCountFlags::TYPE_1 && !per_sample_shading;
@@ -545,6 +547,82 @@ fn multisampled_silhouettes_are_exact_with_one_shading_per_pixel() {
     assert!(messages.is_empty(), "validation: {messages:#?}");
 }
 
+/// A render-pass host enables neither dynamicRendering nor sampleRateShading: its
+/// single-sample frames and its 4x frames shaded once per pixel draw exactly under
+/// validation, and a dynamic-rendering target or per-sample shading is refused, naming the
+/// feature the host did not enable.
+#[test]
+fn a_render_pass_host_needs_no_dynamic_rendering() {
+    let mut host = Host::render_pass_only(true).unwrap();
+    let setup = Setup::new([1.0, 0.0, 0.0]);
+    let depth = DepthKind::ReversedInfinite;
+    for samples in [vk::SampleCountFlags::TYPE_1, vk::SampleCountFlags::TYPE_4] {
+        let (rgba, camera) = render(
+            &mut host,
+            &setup,
+            TargetKind::RenderPass,
+            depth,
+            samples,
+            false,
+            None,
+        );
+        let label = format!("render-pass host, {samples:?}");
+        let exact_curve = samples == vk::SampleCountFlags::TYPE_1;
+        let checked = check(
+            &setup,
+            &rgba,
+            &camera,
+            samples.as_raw(),
+            exact_curve,
+            &label,
+        );
+        assert!(
+            checked.near_curve > 40,
+            "{label}: the plane must cut the ellipsoid"
+        );
+    }
+    let scene = host_scene(
+        &mut host,
+        &setup,
+        TargetKind::RenderPass,
+        depth,
+        vk::SampleCountFlags::TYPE_4,
+    );
+    let mut per_sample = Target::new(scene.pass.clone());
+    per_sample.samples = vk::SampleCountFlags::TYPE_4;
+    let mut options = RendererOptions::new(per_sample);
+    options.settings.per_sample_shading = true;
+    let renderer = new_renderer(&mut host, options);
+    let err = renderer.plan(&scene.camera).unwrap_err();
+    assert!(err.to_string().contains("sampleRateShading"), "{err}");
+    let features = host_features(&host);
+    let handles = host.handles();
+    let host_device = HostDevice::new(
+        handles.instance,
+        handles.physical_device,
+        handles.device,
+        handles.queue_family,
+        features,
+    );
+    let dynamic = RendererOptions::new(Target::dynamic(
+        HostTarget::COLOR_FORMAT,
+        HostTarget::DEPTH_FORMAT,
+    ));
+    // SAFETY: the host's handles belong together; the renderer is refused before it records.
+    let refused = unsafe { EllipsoidRenderer::new(&host_device, handles.allocator, dynamic) };
+    let err = refused
+        .err()
+        .expect("a dynamic target on a render-pass host is refused");
+    assert!(err.to_string().contains("dynamicRendering"), "{err}");
+    let (device, allocator) = host.device_and_allocator();
+    // SAFETY: nothing was recorded with it.
+    unsafe { renderer.destroy(device, allocator) };
+    scene.mesh.destroy(&mut host);
+    scene.target.destroy(&mut host);
+    let messages = host.messages();
+    assert!(messages.is_empty(), "validation: {messages:#?}");
+}
+
 /// Two frames recorded into one command buffer under synchronization validation: the second
 /// uploads a larger scene over the first and updates one instance, and the picture is the
 /// second frame's alone (the moved, blue ellipsoid; the old one nowhere).
@@ -623,36 +701,22 @@ fn two_views_into_two_targets_in_one_command_buffer() {
         second_camera.projection,
         ellipsoid_splat::Projection::PerspectiveIntrinsics(_)
     ));
-    let settings = Settings {
-        material: Material {
-            specular: 0.0,
-            ..Material::default()
-        },
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.material = {
+            let mut material = Material::default();
+            material.specular = 0.0;
+            material
+        };
+        settings
     };
-    let options = RendererOptions {
-        target: Target {
-            pass: first.pass.clone(),
-            samples,
-            aux_outputs: false,
-        },
-        frames_in_flight: 2,
-        pipeline_cache: vk::PipelineCache::null(),
-        settings,
-        compute_splat_features: false,
-    };
+    let mut options = RendererOptions::new(Target::new(first.pass.clone()));
+    options.frames_in_flight = 2;
+    options.settings = settings;
     let mut renderer = new_renderer(&mut host, options);
     let targets = [
-        Target {
-            pass: first.pass.clone(),
-            samples,
-            aux_outputs: false,
-        },
-        Target {
-            pass: second.pass.clone(),
-            samples,
-            aux_outputs: false,
-        },
+        Target::new(first.pass.clone()),
+        Target::new(second.pass.clone()),
     ];
     let cameras = [first.camera, second_camera];
     let scene = Scene::new(vec![setup.glyph]);
@@ -768,18 +832,20 @@ fn render_small_glyphs(
         camera,
         pass,
     } = host_scene(host, &setup, kind, depth, samples);
-    let options = RendererOptions {
-        settings: Settings {
-            compute_splat,
-            compute_splat_min_glyphs: 0,
-            ..Settings::default()
-        },
-        compute_splat_features: host.int64_atomics(),
-        ..RendererOptions::new(Target {
-            pass,
-            samples,
-            aux_outputs: false,
-        })
+    let options = {
+        let mut options = RendererOptions::new({
+            let mut target = Target::new(pass);
+            target.samples = samples;
+            target.aux_outputs = false;
+            target
+        });
+        options.settings = {
+            let mut settings = Settings::default();
+            settings.compute_splat = compute_splat;
+            settings.compute_splat_min_glyphs = 0;
+            settings
+        };
+        options
     };
     // 20,000 glyphs of about a pixel in a slab around the plane, many cutting through it.
     let glyphs = (0..20_000)

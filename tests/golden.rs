@@ -283,17 +283,18 @@ impl CaseSettings {
             DrawConfig::default(),
             "baselines need `research`"
         );
-        renderer.set_settings(Settings {
-            instance_format: self.format,
-            culling: self.culling,
-            setup_once: self.setup_once,
-            small_glyph_triangles: self.small_glyph_triangles,
-            sphere_path: self.sphere_path,
-            cap_free_path: self.cap_free_path,
-            max_chunk_instances: self.max_chunk_instances,
-            compute_splat: self.compute_splat,
-            compute_splat_min_glyphs: self.compute_splat_min_glyphs,
-            ..Settings::default()
+        renderer.set_settings({
+            let mut settings = Settings::default();
+            settings.instance_format = self.format;
+            settings.culling = self.culling;
+            settings.setup_once = self.setup_once;
+            settings.small_glyph_triangles = self.small_glyph_triangles;
+            settings.sphere_path = self.sphere_path;
+            settings.cap_free_path = self.cap_free_path;
+            settings.max_chunk_instances = self.max_chunk_instances;
+            settings.compute_splat = self.compute_splat;
+            settings.compute_splat_min_glyphs = self.compute_splat_min_glyphs;
+            settings
         });
     }
 }
@@ -469,10 +470,12 @@ fn cases() -> Vec<Case> {
             "cloud-300-cull-frustum",
             cloud_300,
             CaseSettings {
-                culling: Culling {
-                    frustum: true,
-                    pixel_centres: false,
-                    occlusion: false,
+                culling: {
+                    let mut culling = Culling::OFF;
+                    culling.frustum = true;
+                    culling.pixel_centres = false;
+                    culling.occlusion = false;
+                    culling
                 },
                 ..shipped
             },
@@ -482,10 +485,12 @@ fn cases() -> Vec<Case> {
             "cloud-300-cull-no-occlusion",
             cloud_300,
             CaseSettings {
-                culling: Culling {
-                    frustum: true,
-                    pixel_centres: true,
-                    occlusion: false,
+                culling: {
+                    let mut culling = Culling::OFF;
+                    culling.frustum = true;
+                    culling.pixel_centres = true;
+                    culling.occlusion = false;
+                    culling
                 },
                 ..shipped
             },

@@ -22,11 +22,13 @@ fn partial_outputs_equal_the_full_frame_and_leave_the_rest_empty() {
     };
     let covered = full.id.iter().filter(|&&id| id != u32::MAX).count();
     assert!(covered > 5_000, "the scene covers only {covered} pixels");
-    let only = |color, depth, normal, id| Outputs {
-        color,
-        depth,
-        normal,
-        id,
+    let only = |color, depth, normal, id| {
+        let mut outputs = Outputs::default();
+        outputs.color = color;
+        outputs.depth = depth;
+        outputs.normal = normal;
+        outputs.id = id;
+        outputs
     };
     for outputs in [
         only(true, false, false, false),

@@ -2,7 +2,7 @@
 //! sphere path for all-sphere scenes and the cap-free fragment stage when nothing reaches the
 //! near plane.
 
-use ellipsoid_splat::{Outputs, Settings};
+use ellipsoid_splat::Outputs;
 use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
@@ -19,13 +19,15 @@ fn assert_same_frames(
     camera: &Camera,
 ) -> (bool, bool) {
     renderer.upload(scene).expect("upload");
-    renderer.set_settings(Settings {
-        sphere_path: false,
-        ..*renderer.settings()
+    renderer.set_settings({
+        let mut settings = *renderer.settings();
+        settings.sphere_path = false;
+        settings
     });
-    renderer.set_settings(Settings {
-        cap_free_path: false,
-        ..*renderer.settings()
+    renderer.set_settings({
+        let mut settings = *renderer.settings();
+        settings.cap_free_path = false;
+        settings
     });
     let (general, _) = renderer
         .render_uploaded(camera, Outputs::ALL)
@@ -34,13 +36,15 @@ fn assert_same_frames(
         .id
         .iter()
         .any(|&id| id != ellipsoid_splat::NO_INSTANCE));
-    renderer.set_settings(Settings {
-        sphere_path: true,
-        ..*renderer.settings()
+    renderer.set_settings({
+        let mut settings = *renderer.settings();
+        settings.sphere_path = true;
+        settings
     });
-    renderer.set_settings(Settings {
-        cap_free_path: true,
-        ..*renderer.settings()
+    renderer.set_settings({
+        let mut settings = *renderer.settings();
+        settings.cap_free_path = true;
+        settings
     });
     let (variant, _) = renderer
         .render_uploaded(camera, Outputs::ALL)

@@ -100,34 +100,35 @@ fn renderer_for(
     pipeline_cache: vk::PipelineCache,
     settings: Settings,
 ) -> Result<EllipsoidRenderer> {
+    // One colour attachment (the resolve attachment is not a colour attachment).
+    let mut drawn_into = Target::new(Pass::RenderPass {
+        render_pass: target.render_pass(),
+        subpass: 0,
+        color_attachment_count: 1,
+        depth_format: HostTarget::DEPTH_FORMAT,
+    });
+    drawn_into.samples = target.samples();
+    // What this host's device enables of the renderer's features: the target's (a render
+    // pass, so dynamic rendering only because the host has it anyway); not the 64-bit atomics
+    // the compute splat needs.
+    let mut enabled = drawn_into.required_features();
+    enabled.dynamic_rendering = true;
+    enabled.sample_rate_shading = true;
     let host = host.handles();
-    let device = HostDevice {
-        instance: host.instance,
-        physical_device: host.physical_device,
-        device: host.device,
-        queue_family_index: host.queue_family,
-    };
-    let options = RendererOptions {
-        target: Target {
-            // One colour attachment (the resolve attachment is not a colour attachment).
-            pass: Pass::RenderPass {
-                render_pass: target.render_pass(),
-                subpass: 0,
-                color_attachment_count: 1,
-                depth_format: HostTarget::DEPTH_FORMAT,
-            },
-            samples: target.samples(),
-            aux_outputs: false,
-        },
-        frames_in_flight: FRAMES_IN_FLIGHT,
-        pipeline_cache,
-        settings,
-        // This host does not enable the 64-bit atomics the compute splat needs.
-        compute_splat_features: false,
-    };
-    // SAFETY: the host's handles belong together, its device enables the features of
-    // `ellipsoid_splat::features::required_device_features`, and the render pass and pipeline
-    // cache outlive the renderer (the callers destroy both after it).
+    let device = HostDevice::new(
+        host.instance,
+        host.physical_device,
+        host.device,
+        host.queue_family,
+        enabled,
+    );
+    let mut options = RendererOptions::new(drawn_into);
+    options.frames_in_flight = FRAMES_IN_FLIGHT;
+    options.pipeline_cache = pipeline_cache;
+    options.settings = settings;
+    // SAFETY: the host's handles belong together, its device enables the features `enabled`
+    // names, and the render pass and pipeline cache outlive the renderer (the callers destroy
+    // both after it).
     Ok(unsafe { EllipsoidRenderer::new(&device, host.allocator, options) }?)
 }
 
@@ -266,9 +267,10 @@ fn run_bench() -> Result<bool> {
         for (_, samples, per_sample_shading) in variants {
             let target = HostTarget::new(&mut host, kind, depth, samples, 1280, 720)?;
             let mesh = MeshPipeline::new(&mut host, &target, &meshes(false))?;
-            let settings = Settings {
-                per_sample_shading,
-                ..Settings::default()
+            let settings = {
+                let mut settings = Settings::default();
+                settings.per_sample_shading = per_sample_shading;
+                settings
             };
             let renderer = renderer_for(&mut host, &target, vk::PipelineCache::null(), settings)?;
             setups.push((target, mesh, renderer, Vec::new()));

@@ -1,29 +1,29 @@
 //! A buffer and its memory, owned together and freed together.
 
 use ash::vk;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
-use gpu_allocator::MemoryLocation;
 
+use crate::allocator::{BufferMemory, MemoryAllocator, MemoryUse};
 use crate::error::{Error, Result, VkCall};
 
-/// A `VkBuffer` bound to its own allocation. Free it with [`GpuBuffer::destroy`]; dropping it
-/// without that leaks and is logged as an error (it cannot free: it holds no allocator).
+/// A `VkBuffer` bound to memory of its own from the host's allocator. Free it with
+/// [`GpuBuffer::destroy`]; dropping it without that leaks and is logged as an error (it
+/// cannot free: it holds no allocator).
 pub struct GpuBuffer {
     buffer: vk::Buffer,
-    allocation: Option<Allocation>,
+    memory: Option<BufferMemory>,
     size: vk::DeviceSize,
     name: &'static str,
 }
 
 impl GpuBuffer {
-    /// Creates a buffer of `size` bytes (at least 1) in `location`.
+    /// Creates a buffer of `size` bytes (at least 1) with memory for `memory_use`.
     pub fn new(
         device: &ash::Device,
-        allocator: &mut Allocator,
+        allocator: &mut dyn MemoryAllocator,
         name: &'static str,
         size: vk::DeviceSize,
         usage: vk::BufferUsageFlags,
-        location: MemoryLocation,
+        memory_use: MemoryUse,
     ) -> Result<Self> {
         let size = size.max(1);
         let info = vk::BufferCreateInfo::default()
@@ -32,40 +32,20 @@ impl GpuBuffer {
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
         // SAFETY: valid create info; the buffer is destroyed by `destroy` or on error below.
         let buffer = unsafe { device.create_buffer(&info, None) }.call("vkCreateBuffer")?;
-        // SAFETY: `buffer` was just created from `device`.
-        let requirements = unsafe { device.get_buffer_memory_requirements(buffer) };
-        let allocation = allocator.allocate(&AllocationCreateDesc {
-            name,
-            requirements,
-            location,
-            linear: true,
-            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-        });
-        let allocation = match allocation {
-            Ok(a) => a,
+        match allocator.allocate_buffer_memory(device, buffer, name, memory_use) {
+            Ok(memory) => Ok(Self {
+                buffer,
+                memory: Some(memory),
+                size,
+                name,
+            }),
             Err(e) => {
-                // SAFETY: the buffer is unused and unbound.
+                // SAFETY: the buffer is unused (and unbound: the allocator binds only on
+                // success).
                 unsafe { device.destroy_buffer(buffer, None) };
-                return Err(Error::allocation(name, e));
+                Err(e)
             }
-        };
-        // SAFETY: memory and offset come from an allocation made for these requirements.
-        let bound =
-            unsafe { device.bind_buffer_memory(buffer, allocation.memory(), allocation.offset()) };
-        if let Err(result) = bound {
-            // SAFETY: nothing uses the buffer yet.
-            unsafe { device.destroy_buffer(buffer, None) };
-            if let Err(e) = allocator.free(allocation) {
-                log::error!("freeing {name}: {e}");
-            }
-            return Err(Error::vulkan("vkBindBufferMemory", result));
         }
-        Ok(Self {
-            buffer,
-            allocation: Some(allocation),
-            size,
-            name,
-        })
     }
 
     /// The handle.
@@ -78,22 +58,27 @@ impl GpuBuffer {
         self.size
     }
 
+    /// Bytes of memory the allocator gave it (at least `size`).
+    pub fn memory_bytes(&self) -> u64 {
+        self.memory.as_ref().map_or(0, BufferMemory::size)
+    }
+
     /// The mapped bytes, for host-visible buffers.
     #[cfg(feature = "offscreen")]
     pub fn mapped(&self) -> Option<&[u8]> {
-        self.allocation.as_ref()?.mapped_slice()
+        self.memory.as_ref()?.mapped()
     }
 
     /// The mapped bytes for writing, for host-visible buffers.
     pub fn mapped_mut(&mut self) -> Option<&mut [u8]> {
-        self.allocation.as_mut()?.mapped_slice_mut()
+        self.memory.as_mut()?.mapped_mut()
     }
 
     /// Copies `bytes` to the start of a host-visible buffer.
     pub fn write(&mut self, bytes: &[u8]) -> Result<()> {
         let name = self.name;
         let dst = self.mapped_mut().ok_or_else(|| Error::Allocation {
-            what: name,
+            what: name.to_string(),
             reason: "buffer is not host-visible".into(),
         })?;
         if bytes.len() > dst.len() {
@@ -111,11 +96,11 @@ impl GpuBuffer {
     ///
     /// # Safety
     /// `device` and `allocator` made the buffer, and no pending GPU work uses it.
-    pub unsafe fn destroy(mut self, device: &ash::Device, allocator: &mut Allocator) {
-        if let Some(allocation) = self.allocation.take() {
+    pub unsafe fn destroy(mut self, device: &ash::Device, allocator: &mut dyn MemoryAllocator) {
+        if let Some(memory) = self.memory.take() {
             // SAFETY: caller contract; the buffer is owned here.
             unsafe { device.destroy_buffer(self.buffer, None) };
-            if let Err(e) = allocator.free(allocation) {
+            if let Err(e) = allocator.free_buffer_memory(memory) {
                 log::error!("freeing {}: {e}", self.name);
             }
         }
@@ -124,7 +109,7 @@ impl GpuBuffer {
 
 impl Drop for GpuBuffer {
     fn drop(&mut self) {
-        if self.allocation.is_some() {
+        if self.memory.is_some() {
             log::error!("buffer '{}' dropped without destroy(): leaked", self.name);
         }
     }

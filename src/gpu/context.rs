@@ -9,12 +9,14 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 use crate::error::{Error, Result, VkCall};
+use crate::features::DeviceFeatures;
 use crate::gpu::validation::{self, MessageLog, ValidationMessage};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
 /// How to build a [`Context`].
 #[derive(Clone, Debug, Default)]
+#[non_exhaustive]
 pub struct ContextOptions {
     /// Enable `VK_LAYER_KHRONOS_validation` with a messenger that records every warning and error.
     pub validation: bool,
@@ -68,6 +70,8 @@ pub struct DeviceInfo {
     /// Whether `shaderInt64` and `shaderBufferInt64Atomics` were enabled: the compute splat
     /// path ([`crate::Settings::compute_splat`]) needs both.
     pub compute_splat: bool,
+    /// The renderer's features the device was created with.
+    pub renderer_features: DeviceFeatures,
     /// Sample counts the device supports for the offscreen attachments: colour, depth and
     /// integer colour (the ID output) alike.
     pub sample_counts: vk::SampleCountFlags,
@@ -206,7 +210,7 @@ impl Context {
                 unsafe { device.destroy_device(None) };
                 destroy_instance(&instance, messenger);
                 return Err(Error::Allocation {
-                    what: "allocator",
+                    what: "allocator".into(),
                     reason: e.to_string(),
                 });
             }
@@ -394,7 +398,8 @@ fn choose_device(
 struct EnabledFeatures {
     pipeline_statistics: bool,
     fragment_stores_and_atomics: bool,
-    compute_splat: bool,
+    /// The renderer's features that were enabled.
+    renderer: DeviceFeatures,
 }
 
 /// Creates the device with dynamic rendering; returns it and the optional features enabled.
@@ -406,34 +411,44 @@ fn create_device(
     // SAFETY: `pd` was enumerated from `instance`.
     let supported = unsafe { instance.get_physical_device_features(pd) };
     let mut supported13 = vk::PhysicalDeviceVulkan13Features::default();
-    let mut supported12 = vk::PhysicalDeviceVulkan12Features::default();
-    let mut supported2 = vk::PhysicalDeviceFeatures2::default()
-        .push_next(&mut supported13)
-        .push_next(&mut supported12);
+    let mut supported2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut supported13);
     // SAFETY: as above; the chain points at locals.
     unsafe { instance.get_physical_device_features2(pd, &mut supported2) };
-    let missing = crate::features::missing_features(&supported13);
+    // SAFETY: as above.
+    let renderer_supported = unsafe { DeviceFeatures::supported(instance, pd) };
+    // The offscreen targets are dynamic rendering, possibly multisampled; the compute splat
+    // where the device has it.
+    let needed = DeviceFeatures {
+        dynamic_rendering: true,
+        maintenance4: true,
+        ..DeviceFeatures::default()
+    };
+    let missing = needed.missing_from(renderer_supported);
     if !missing.is_empty() {
         return Err(Error::NoDevice(format!(
             "device lacks {}",
             missing.join(", ")
         )));
     }
+    let wanted = DeviceFeatures {
+        sample_rate_shading: true,
+        ..needed.union(DeviceFeatures::COMPUTE_SPLAT)
+    };
+    let mut renderer = wanted.intersection(renderer_supported);
+    if !renderer.contains(DeviceFeatures::COMPUTE_SPLAT) {
+        renderer.shader_int64 = false;
+        renderer.shader_buffer_int64_atomics = false;
+    }
     let enabled = EnabledFeatures {
         pipeline_statistics: supported.pipeline_statistics_query == vk::TRUE,
         fragment_stores_and_atomics: supported.fragment_stores_and_atomics == vk::TRUE,
-        compute_splat: supported.shader_int64 == vk::TRUE
-            && supported12.shader_buffer_int64_atomics == vk::TRUE,
+        renderer,
     };
-    let features = vk::PhysicalDeviceFeatures::default()
+    let (core, mut features12, features13) = renderer.to_vk();
+    let features = core
         .pipeline_statistics_query(enabled.pipeline_statistics)
-        .fragment_stores_and_atomics(enabled.fragment_stores_and_atomics)
-        .sample_rate_shading(supported.sample_rate_shading == vk::TRUE)
-        .shader_int64(enabled.compute_splat);
-    let mut features13 = crate::features::required_vulkan13_features()
-        .synchronization2(supported13.synchronization2 == vk::TRUE);
-    let mut features12 = vk::PhysicalDeviceVulkan12Features::default()
-        .shader_buffer_int64_atomics(enabled.compute_splat);
+        .fragment_stores_and_atomics(enabled.fragment_stores_and_atomics);
+    let mut features13 = features13.synchronization2(supported13.synchronization2 == vk::TRUE);
     let priorities = [1.0f32];
     let queues = [vk::DeviceQueueCreateInfo::default()
         .queue_family_index(family)
@@ -476,7 +491,8 @@ fn device_info(
         max_storage_buffer_range: props.limits.max_storage_buffer_range,
         pipeline_statistics: enabled.pipeline_statistics,
         fragment_stores_and_atomics: enabled.fragment_stores_and_atomics,
-        compute_splat: enabled.compute_splat,
+        compute_splat: enabled.renderer.contains(DeviceFeatures::COMPUTE_SPLAT),
+        renderer_features: enabled.renderer,
         sample_counts: props.limits.framebuffer_color_sample_counts
             & props.limits.framebuffer_depth_sample_counts
             & attachment_sample_counts(instance, pd, crate::target::NORMAL_FORMAT)

@@ -57,7 +57,7 @@ impl GpuImage {
             Err(e) => {
                 // SAFETY: unused, unbound image.
                 unsafe { device.destroy_image(image, None) };
-                return Err(Error::allocation(name, e));
+                return Err(crate::allocator::gpu_allocation_error(name, e));
             }
         };
         let cleanup = |device: &ash::Device, allocator: &mut Allocator, allocation| {

@@ -112,16 +112,14 @@ impl OffscreenRenderer {
             self.context.instance().clone(),
             self.context.device().clone(),
         );
-        let host = HostDevice {
-            instance: &instance,
-            physical_device: self.context.physical_device(),
-            device: &device,
-            queue_family_index: family,
-        };
-        let options = RendererOptions {
-            compute_splat_features: self.context.info().compute_splat,
-            ..RendererOptions::new(target(true, vk::SampleCountFlags::TYPE_1))
-        };
+        let host = HostDevice::new(
+            &instance,
+            self.context.physical_device(),
+            &device,
+            family,
+            self.context.info().renderer_features,
+        );
+        let options = RendererOptions::new(target(true, vk::SampleCountFlags::TYPE_1));
         let (_, allocator) = self.context.device_and_allocator();
         // SAFETY: the context's handles belong together and have the required features (and
         // the compute splat's where `info` says so).
@@ -445,7 +443,7 @@ impl OffscreenRenderer {
         }
         if live != 0 {
             return Err(Error::Allocation {
-                what: "shutdown",
+                what: "shutdown".into(),
                 reason: format!(
                     "{live} allocation(s) still live after every resource was destroyed"
                 ),

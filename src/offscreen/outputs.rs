@@ -4,6 +4,7 @@
 /// The outputs of an offscreen frame.
 /// The default is none: a frame that only draws.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub struct Outputs {
     /// sRGB colour.
     pub color: bool,

@@ -16,7 +16,7 @@ impl OffscreenRenderer {
             .as_ref()
             .expect("targets exist after ensure_targets");
         let bytes = targets.readback.mapped().ok_or_else(|| Error::Allocation {
-            what: "readback",
+            what: "readback".into(),
             reason: "not host-visible".into(),
         })?;
         let extent = targets.read.color.extent();

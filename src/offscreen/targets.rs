@@ -1,9 +1,9 @@
 //! The offscreen renderer's attachments and the host buffer they are copied into, made for
 //! one image size and one choice of outputs.
 
+use crate::allocator::MemoryUse;
 use ash::vk;
 use gpu_allocator::vulkan::Allocator;
-use gpu_allocator::MemoryLocation;
 
 use crate::error::Result;
 use crate::gpu::{GpuBuffer, GpuImage};
@@ -176,7 +176,7 @@ impl Targets {
             "readback",
             Self::layout(extent, outputs).1,
             vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
+            MemoryUse::Readback,
         ) {
             Ok(b) => b,
             Err(e) => {

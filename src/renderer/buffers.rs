@@ -2,9 +2,9 @@
 //! through the same rule (a buffer too small is replaced, and the old one retired until no
 //! recorded frame can use it).
 
+use crate::allocator::MemoryAllocator;
+use crate::allocator::MemoryUse;
 use ash::vk;
-use gpu_allocator::vulkan::Allocator;
-use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result};
 use crate::frame_slots::{FrameSlots, Retired};
@@ -125,11 +125,11 @@ impl Binding {
 
     /// Where the buffer lives: the counter is read by the host and the floor's pixel lists
     /// written by it; the rest only the GPU touches.
-    fn location(self) -> MemoryLocation {
+    fn memory_use(self) -> MemoryUse {
         match self {
-            Binding::FragmentCounter => MemoryLocation::GpuToCpu,
-            Binding::FloorPixels => MemoryLocation::CpuToGpu,
-            _ => MemoryLocation::GpuOnly,
+            Binding::FragmentCounter => MemoryUse::Readback,
+            Binding::FloorPixels => MemoryUse::Upload,
+            _ => MemoryUse::GpuOnly,
         }
     }
 }
@@ -177,7 +177,7 @@ impl SceneBuffers {
     pub fn ensure(
         &mut self,
         device: &ash::Device,
-        allocator: &mut Allocator,
+        allocator: &mut dyn MemoryAllocator,
         slots: &mut FrameSlots<Retired>,
         binding: Binding,
         bytes: u64,
@@ -196,7 +196,7 @@ impl SceneBuffers {
             binding.name(),
             bytes,
             binding.usage(),
-            binding.location(),
+            binding.memory_use(),
         )?);
         self.replaced = true;
         Ok(())
@@ -208,7 +208,7 @@ impl SceneBuffers {
     pub fn replace(
         &mut self,
         device: &ash::Device,
-        allocator: &mut Allocator,
+        allocator: &mut dyn MemoryAllocator,
         slots: &mut FrameSlots<Retired>,
         binding: Binding,
         bytes: u64,
@@ -223,20 +223,24 @@ impl SceneBuffers {
             binding.name(),
             bytes,
             binding.usage(),
-            binding.location(),
+            binding.memory_use(),
         )?))
     }
 
-    /// Bytes of GPU memory all buffers take.
+    /// Bytes of memory the allocator gave all buffers.
     pub fn memory_bytes(&self) -> u64 {
-        self.buffers.iter().flatten().map(GpuBuffer::size).sum()
+        self.buffers
+            .iter()
+            .flatten()
+            .map(GpuBuffer::memory_bytes)
+            .sum()
     }
 
     /// Destroys every buffer.
     ///
     /// # Safety
     /// No pending work uses them.
-    pub unsafe fn destroy(&mut self, device: &ash::Device, allocator: &mut Allocator) {
+    pub unsafe fn destroy(&mut self, device: &ash::Device, allocator: &mut dyn MemoryAllocator) {
         for buffer in self.buffers.iter_mut().filter_map(Option::take) {
             // SAFETY: caller contract.
             unsafe { buffer.destroy(device, allocator) };

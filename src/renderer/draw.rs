@@ -1,7 +1,7 @@
 //! Recording the draw: one instanced (or indirect) draw per chunk, inside the host's pass.
 
+use crate::allocator::MemoryAllocator;
 use ash::vk;
-use gpu_allocator::vulkan::Allocator;
 
 use crate::camera::Camera;
 use crate::draw::Geometry;
@@ -23,7 +23,7 @@ impl EllipsoidRenderer {
     pub(crate) fn prepare(
         &mut self,
         device: &ash::Device,
-        allocator: &mut Allocator,
+        allocator: &mut dyn MemoryAllocator,
         plan: &FramePlan,
     ) -> Result<(vk::Pipeline, Option<vk::Pipeline>)> {
         #[cfg(feature = "research")]
@@ -61,7 +61,7 @@ impl EllipsoidRenderer {
     pub unsafe fn prepare_for(
         &mut self,
         device: &ash::Device,
-        allocator: &mut Allocator,
+        allocator: &mut dyn MemoryAllocator,
         camera: &Camera,
     ) -> Result<()> {
         let plan = self.plan(camera)?;
@@ -84,7 +84,7 @@ impl EllipsoidRenderer {
     pub unsafe fn record(
         &mut self,
         device: &ash::Device,
-        allocator: &mut Allocator,
+        allocator: &mut dyn MemoryAllocator,
         cmd: vk::CommandBuffer,
         camera: &Camera,
     ) -> Result<()> {

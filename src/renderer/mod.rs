@@ -52,13 +52,14 @@ mod view;
 #[cfg(feature = "research")]
 mod visibility_draw;
 
+use crate::allocator::MemoryAllocator;
 use ash::vk;
 use glam::DVec3;
-use gpu_allocator::vulkan::Allocator;
 
 use crate::camera::Camera;
 use crate::draw::DrawConfig;
 use crate::error::Result;
+use crate::features::DeviceFeatures;
 use crate::frame_slots::{FrameSlots, Retired};
 use crate::settings::Settings;
 use crate::target::DeviceCaps;
@@ -159,15 +160,14 @@ impl EllipsoidRenderer {
     ///
     /// # Safety
     /// `host`'s handles are valid and belong together (the device was created from
-    /// `physical_device`, which comes from `instance`), the device has the features of
-    /// [`crate::features::required_device_features`] enabled (and those of
-    /// [`crate::features::compute_splat_features`] if `options.compute_splat_features` says
-    /// so: the renderer trusts it), `allocator` allocates from
-    /// that device, and `options.target`'s render pass (if any) and `options.pipeline_cache`
-    /// outlive the renderer.
+    /// `physical_device`, which comes from `instance`), the device has the features
+    /// `host.enabled_features` names enabled (the renderer trusts it), `allocator`
+    /// allocates from that device and is the one every later call passes, and
+    /// `options.target`'s render pass (if any) and `options.pipeline_cache` outlive the
+    /// renderer.
     pub unsafe fn new(
         host: &HostDevice,
-        allocator: &mut Allocator,
+        allocator: &mut dyn MemoryAllocator,
         options: RendererOptions,
     ) -> Result<Self> {
         let caps = host.caps()?;
@@ -176,7 +176,7 @@ impl EllipsoidRenderer {
         let mut renderer = Self {
             caps,
             settings: options.settings,
-            compute_splat_features: options.compute_splat_features,
+            compute_splat_features: caps.enabled.contains(DeviceFeatures::COMPUTE_SPLAT),
             targets: vec![options.target],
             target: 0,
             slots: FrameSlots::new(options.frames_in_flight)?,
@@ -239,6 +239,7 @@ impl EllipsoidRenderer {
             compute_splat_features: self.compute_splat_features,
             max_storage_buffer_range: self.caps.limits.max_storage_buffer_range,
             standard_sample_locations: self.caps.limits.standard_sample_locations == vk::TRUE,
+            sample_rate_shading: self.caps.enabled.sample_rate_shading,
             chunks: self.chunking().len(),
             still: last_camera == Some(*camera),
             shown_stamped: shown_stamped.is_some_and(|(_, seen)| seen == *camera),
@@ -301,7 +302,7 @@ impl EllipsoidRenderer {
     pub unsafe fn begin_frame(
         &mut self,
         device: &ash::Device,
-        allocator: &mut Allocator,
+        allocator: &mut dyn MemoryAllocator,
         slot: u32,
     ) -> Result<()> {
         for object in self.slots.begin(slot)? {
@@ -316,8 +317,9 @@ impl EllipsoidRenderer {
         Ok(())
     }
 
-    /// Bytes of GPU memory the scene's buffers take (instances, and every view's culling
-    /// and set-up buffers and occlusion tiles).
+    /// Bytes of memory the host's allocator gave the renderer's buffers (instances, and every
+    /// view's culling and set-up buffers and occlusion tiles): what the scene costs the
+    /// host's memory budget.
     pub fn gpu_memory_bytes(&self) -> u64 {
         self.buffers.memory_bytes()
             + self
@@ -354,7 +356,7 @@ impl EllipsoidRenderer {
     fn size_buffers(
         &mut self,
         device: &ash::Device,
-        allocator: &mut Allocator,
+        allocator: &mut dyn MemoryAllocator,
         view: usize,
         count: u32,
         extent: (u32, u32),
@@ -493,7 +495,7 @@ impl EllipsoidRenderer {
     ///
     /// # Safety
     /// No command buffer recorded with the renderer is pending or will be submitted again.
-    pub unsafe fn destroy(mut self, device: &ash::Device, allocator: &mut Allocator) {
+    pub unsafe fn destroy(mut self, device: &ash::Device, allocator: &mut dyn MemoryAllocator) {
         self.destroyed = true;
         for object in self.slots.drain() {
             // SAFETY: the caller guarantees no pending work uses it.

@@ -130,6 +130,8 @@ pub(crate) struct PlanInputs<'a> {
     pub max_storage_buffer_range: u32,
     /// The device uses the standard sample locations (`standardSampleLocations`).
     pub standard_sample_locations: bool,
+    /// The host enabled `sampleRateShading` (shading every sample needs it).
+    pub sample_rate_shading: bool,
     /// Chunks the scene is drawn in (the splat resolves once per chunk).
     pub chunks: u32,
     /// The last pre-pass recorded had this camera.
@@ -153,6 +155,7 @@ impl FramePlan {
             compute_splat_features,
             max_storage_buffer_range,
             standard_sample_locations,
+            sample_rate_shading,
             chunks,
             still,
             shown_stamped,
@@ -307,6 +310,14 @@ impl FramePlan {
             }
             _ => 1,
         };
+        if target.multisampled() && coverage_samples == 1 && !sample_rate_shading {
+            return Err(Error::invalid(
+                "multisampled target",
+                "shading every sample needs sampleRateShading, which the host did not enable \
+                 (HostDevice::enabled_features); with 2 or 4 samples and the standard sample \
+                 locations, Settings::per_sample_shading off shades once per pixel without it",
+            ));
+        }
         Ok(Self {
             compute_splat,
             drawn_because,
@@ -417,6 +428,7 @@ mod tests {
             compute_splat_features: features,
             max_storage_buffer_range: 1 << 27,
             standard_sample_locations: true,
+            sample_rate_shading: true,
             chunks: 1,
             still: false,
             shown_stamped: false,
@@ -560,6 +572,7 @@ mod tests {
             compute_splat_features: true,
             max_storage_buffer_range: 1 << 27,
             standard_sample_locations: true,
+            sample_rate_shading: true,
             chunks: 1,
             still: false,
             shown_stamped: false,
@@ -597,6 +610,7 @@ mod tests {
                 compute_splat_features: true,
                 max_storage_buffer_range: 1 << 27,
                 standard_sample_locations: true,
+                sample_rate_shading: true,
                 chunks,
                 still,
                 shown_stamped,

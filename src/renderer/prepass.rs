@@ -1,7 +1,7 @@
 //! Recording the culling pre-pass of a frame: one per chunk, sharing the occlusion tiles.
 
+use crate::allocator::MemoryAllocator;
 use ash::vk;
-use gpu_allocator::vulkan::Allocator;
 
 use crate::camera::Camera;
 use crate::culling::{
@@ -46,7 +46,7 @@ impl EllipsoidRenderer {
     pub unsafe fn record_prepass(
         &mut self,
         device: &ash::Device,
-        allocator: &mut Allocator,
+        allocator: &mut dyn MemoryAllocator,
         cmd: vk::CommandBuffer,
         camera: &Camera,
     ) -> Result<()> {

@@ -1,9 +1,9 @@
 //! The benchmark's side of the renderer (feature `research`): drawing with a baseline
 //! configuration, icosphere meshes, and counting shaded pixels.
 
+use crate::allocator::MemoryAllocator;
+use crate::allocator::MemoryUse;
 use ash::vk;
-use gpu_allocator::vulkan::Allocator;
-use gpu_allocator::MemoryLocation;
 
 use crate::barriers;
 use crate::draw::{DrawConfig, Geometry};
@@ -57,7 +57,7 @@ impl EllipsoidRenderer {
     pub unsafe fn set_floor_pixels(
         &mut self,
         device: &ash::Device,
-        allocator: &mut Allocator,
+        allocator: &mut dyn MemoryAllocator,
         ids: &[u32],
         width: u32,
     ) -> Result<()> {
@@ -185,7 +185,7 @@ impl Meshes {
     pub fn ensure(
         &mut self,
         device: &ash::Device,
-        allocator: &mut Allocator,
+        allocator: &mut dyn MemoryAllocator,
         level: u32,
     ) -> Result<()> {
         if level > 4 {
@@ -200,14 +200,14 @@ impl Meshes {
         let mesh = icosphere(level);
         let vertex_bytes: &[u8] = bytemuck::cast_slice(&mesh.positions);
         let index_bytes: &[u8] = bytemuck::cast_slice(&mesh.indices);
-        let upload = |allocator: &mut Allocator, name, bytes: &[u8], usage| {
+        let upload = |allocator: &mut dyn MemoryAllocator, name, bytes: &[u8], usage| {
             let mut buffer = GpuBuffer::new(
                 device,
                 allocator,
                 name,
                 bytes.len() as u64,
                 usage,
-                MemoryLocation::CpuToGpu,
+                MemoryUse::Upload,
             )?;
             if let Err(e) = buffer.write(bytes) {
                 // SAFETY: just made, never used.
@@ -273,7 +273,7 @@ impl Meshes {
     ///
     /// # Safety
     /// No pending work uses them.
-    pub unsafe fn destroy(&mut self, device: &ash::Device, allocator: &mut Allocator) {
+    pub unsafe fn destroy(&mut self, device: &ash::Device, allocator: &mut dyn MemoryAllocator) {
         for mesh in self.levels.drain(..) {
             // SAFETY: caller contract.
             unsafe {

@@ -1,8 +1,8 @@
 //! Uploads: a whole scene or a range of instances, staged and copied between barriers.
 
+use crate::allocator::MemoryAllocator;
+use crate::allocator::MemoryUse;
 use ash::vk;
-use gpu_allocator::vulkan::Allocator;
-use gpu_allocator::MemoryLocation;
 
 use crate::barriers;
 use crate::ellipsoid::Ellipsoid;
@@ -31,7 +31,7 @@ impl EllipsoidRenderer {
     pub unsafe fn upload(
         &mut self,
         device: &ash::Device,
-        allocator: &mut Allocator,
+        allocator: &mut dyn MemoryAllocator,
         cmd: vk::CommandBuffer,
         scene: &Scene,
     ) -> Result<()> {
@@ -92,7 +92,7 @@ impl EllipsoidRenderer {
     pub unsafe fn update(
         &mut self,
         device: &ash::Device,
-        allocator: &mut Allocator,
+        allocator: &mut dyn MemoryAllocator,
         cmd: vk::CommandBuffer,
         first: u32,
         ellipsoids: &[Ellipsoid],
@@ -137,7 +137,7 @@ impl EllipsoidRenderer {
     unsafe fn record_copy(
         &mut self,
         device: &ash::Device,
-        allocator: &mut Allocator,
+        allocator: &mut dyn MemoryAllocator,
         cmd: vk::CommandBuffer,
         offset: u64,
         bytes: &[u8],
@@ -152,7 +152,7 @@ impl EllipsoidRenderer {
             "instance staging",
             bytes.len() as u64,
             vk::BufferUsageFlags::TRANSFER_SRC,
-            MemoryLocation::CpuToGpu,
+            MemoryUse::Upload,
         )?;
         if let Err(e) = staging.write(bytes) {
             // SAFETY: just made, never used.

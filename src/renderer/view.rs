@@ -3,8 +3,8 @@
 //! 0), so a host that records its views in the same order every frame finds each view's
 //! history -- the camera of its last pre-pass, the glyphs it last showed -- where it left it.
 
+use crate::allocator::MemoryAllocator;
 use ash::vk;
-use gpu_allocator::vulkan::Allocator;
 
 use crate::camera::Camera;
 
@@ -38,7 +38,7 @@ impl View {
     ///
     /// # Safety
     /// No pending work uses them.
-    pub unsafe fn destroy(&mut self, device: &ash::Device, allocator: &mut Allocator) {
+    pub unsafe fn destroy(&mut self, device: &ash::Device, allocator: &mut dyn MemoryAllocator) {
         // SAFETY: caller contract; a null pool is ignored.
         unsafe {
             self.buffers.destroy(device, allocator);

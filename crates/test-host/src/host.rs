@@ -18,6 +18,9 @@ pub struct Host {
     queue_family: u32,
     /// The device has 64-bit buffer atomics enabled (what the renderer's compute splat needs).
     int64_atomics: bool,
+    /// The device has dynamicRendering and sampleRateShading enabled (a render-pass-only host
+    /// has neither).
+    dynamic_rendering: bool,
     /// `Some` until drop: dropped before the device is destroyed.
     allocator: Option<Allocator>,
     command_pool: vk::CommandPool,
@@ -46,9 +49,20 @@ impl Host {
     /// validation layer with synchronization validation and collects every warning and error
     /// (read them with [`Host::messages`]).
     pub fn new(validation: bool) -> HostResult<Host> {
+        Self::create(validation, true)
+    }
+
+    /// As [`Host::new`], but the device enables neither dynamicRendering nor
+    /// sampleRateShading: such a host draws only into [`crate::TargetKind::RenderPass`]
+    /// targets, single-sampled or shaded once per pixel.
+    pub fn render_pass_only(validation: bool) -> HostResult<Host> {
+        Self::create(validation, false)
+    }
+
+    fn create(validation: bool, dynamic_rendering: bool) -> HostResult<Host> {
         let instance = HostInstance::new(validation)?;
         let (physical_device, queue_family, device, int64_atomics) =
-            create_device(instance.instance())?;
+            create_device(instance.instance(), dynamic_rendering)?;
         // SAFETY: the device was created with one queue in `queue_family`.
         let queue = unsafe { device.get_device_queue(queue_family, 0) };
 
@@ -59,6 +73,7 @@ impl Host {
             queue,
             queue_family,
             int64_atomics,
+            dynamic_rendering,
             allocator: None,
             command_pool: vk::CommandPool::null(),
             command_buffer: vk::CommandBuffer::null(),
@@ -123,6 +138,12 @@ impl Host {
     /// (enabled wherever the device has them).
     pub fn int64_atomics(&self) -> bool {
         self.int64_atomics
+    }
+
+    /// Whether the device enables dynamicRendering and sampleRateShading
+    /// ([`Host::render_pass_only`] enables neither).
+    pub fn dynamic_rendering(&self) -> bool {
+        self.dynamic_rendering
     }
 
     /// The host's memory allocator.
@@ -260,6 +281,7 @@ fn has_features(
 /// queue family, and creates a device with one queue and those features.
 fn create_device(
     instance: &ash::Instance,
+    dynamic_rendering: bool,
 ) -> HostResult<(vk::PhysicalDevice, u32, ash::Device, bool)> {
     // SAFETY: valid instance.
     let devices = unsafe { instance.enumerate_physical_devices() }
@@ -269,8 +291,13 @@ fn create_device(
         match suitable_queue_family(instance, physical_device) {
             Ok(family) => {
                 let int64_atomics = has_int64_atomics(instance, physical_device);
-                let device =
-                    create_logical_device(instance, physical_device, family, int64_atomics)?;
+                let device = create_logical_device(
+                    instance,
+                    physical_device,
+                    family,
+                    int64_atomics,
+                    dynamic_rendering,
+                )?;
                 return Ok((physical_device, family, device, int64_atomics));
             }
             Err(why) => rejected.push(why),
@@ -335,26 +362,28 @@ fn has_int64_atomics(instance: &ash::Instance, physical_device: vk::PhysicalDevi
     supported.features.shader_int64 == vk::TRUE && vulkan12.shader_buffer_int64_atomics == vk::TRUE
 }
 
-/// A device with one queue in `family` and [`FEATURES`] enabled, plus 64-bit buffer atomics
-/// with `int64_atomics`.
+/// A device with one queue in `family` and [`FEATURES`] enabled (without dynamicRendering and
+/// sampleRateShading unless `dynamic_rendering`), plus 64-bit buffer atomics with
+/// `int64_atomics`.
 fn create_logical_device(
     instance: &ash::Instance,
     physical_device: vk::PhysicalDevice,
     family: u32,
     int64_atomics: bool,
+    dynamic_rendering: bool,
 ) -> HostResult<ash::Device> {
     let priorities = [1.0];
     let queue_infos = [vk::DeviceQueueCreateInfo::default()
         .queue_family_index(family)
         .queue_priorities(&priorities)];
     let mut features13 = vk::PhysicalDeviceVulkan13Features::default()
-        .dynamic_rendering(true)
+        .dynamic_rendering(dynamic_rendering)
         .maintenance4(true)
         .synchronization2(true);
     let mut features12 =
         vk::PhysicalDeviceVulkan12Features::default().shader_buffer_int64_atomics(int64_atomics);
     let core = vk::PhysicalDeviceFeatures::default()
-        .sample_rate_shading(true)
+        .sample_rate_shading(dynamic_rendering)
         .shader_int64(int64_atomics);
     let mut features2 = vk::PhysicalDeviceFeatures2::default()
         .features(core)

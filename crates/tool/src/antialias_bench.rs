@@ -161,11 +161,12 @@ fn measure_errors(
         coverage_from(reference, &small, pattern)
     };
     let area = coverage(SamplePattern::Grid(4))?;
-    let unlit = Material {
-        ambient: 1.0,
-        diffuse: 0.0,
-        specular: 0.0,
-        ..Material::default()
+    let unlit = {
+        let mut material = Material::default();
+        material.ambient = 1.0;
+        material.diffuse = 0.0;
+        material.specular = 0.0;
+        material
     };
     let white = ellipsoid_splat::Scene::new(
         bench
@@ -180,9 +181,10 @@ fn measure_errors(
     );
     let mut errors = Vec::new();
     for ((renderer, variant), settings) in renderers.iter_mut().zip(VARIANTS).zip(settings) {
-        renderer.set_settings(Settings {
-            material: unlit,
-            ..*settings
+        renderer.set_settings({
+            let mut settings = *settings;
+            settings.material = unlit;
+            settings
         });
         let frame = match variant.mode {
             Some(AntialiasMode::Supersample(k)) => {
@@ -228,10 +230,11 @@ pub fn run(
             _ => vk::SampleCountFlags::TYPE_1,
         };
         renderer.set_samples(samples)?;
-        let these = Settings {
-            per_sample_shading: variant.mode == Some(AntialiasMode::Msaa4PerSample),
-            compute_splat: variant.compute_splat,
-            ..Settings::default()
+        let these = {
+            let mut settings = Settings::default();
+            settings.per_sample_shading = variant.mode == Some(AntialiasMode::Msaa4PerSample);
+            settings.compute_splat = variant.compute_splat;
+            settings
         };
         renderer.set_settings(these);
         settings.push(these);

@@ -180,15 +180,17 @@ pub fn run_antialias_point(
 ) -> Result<AntialiasResult> {
     // The shipped draw, whatever a sweep point before it drew with (the textbook baseline).
     renderer.set_draw_config(DrawConfig::default());
-    renderer.set_settings(Settings {
-        material: Material {
-            ambient: 1.0,
-            diffuse: 0.0,
-            specular: 0.0,
-            ..Material::default()
-        },
-        per_sample_shading: mode == AntialiasMode::Msaa4PerSample,
-        ..Settings::default()
+    renderer.set_settings({
+        let mut settings = Settings::default();
+        settings.material = {
+            let mut material = Material::default();
+            material.ambient = 1.0;
+            material.diffuse = 0.0;
+            material.specular = 0.0;
+            material
+        };
+        settings.per_sample_shading = mode == AntialiasMode::Msaa4PerSample;
+        settings
     });
     let frame = match mode {
         AntialiasMode::Msaa4 | AntialiasMode::Msaa4PerSample => {

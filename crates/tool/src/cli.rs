@@ -474,11 +474,13 @@ impl RenderArgs {
     /// The images these arguments ask for: colour always, the others when their flag is
     /// given.
     pub fn outputs(&self) -> Outputs {
-        Outputs {
-            color: self.file(Image::Color).is_some(),
-            depth: self.file(Image::Depth).is_some(),
-            normal: self.file(Image::Normal).is_some(),
-            id: self.file(Image::Id).is_some(),
+        {
+            let mut outputs = Outputs::default();
+            outputs.color = self.file(Image::Color).is_some();
+            outputs.depth = self.file(Image::Depth).is_some();
+            outputs.normal = self.file(Image::Normal).is_some();
+            outputs.id = self.file(Image::Id).is_some();
+            outputs
         }
     }
 
@@ -1109,28 +1111,25 @@ mod tests {
     #[test]
     fn outputs_follow_the_flags() {
         let colour_only = render_args(&["--width", "16384", "--height", "16384"]).outputs();
-        assert_eq!(
-            colour_only,
-            Outputs {
-                color: true,
-                ..Outputs::default()
-            }
-        );
+        assert_eq!(colour_only, {
+            let mut outputs = Outputs::default();
+            outputs.color = true;
+            outputs
+        });
         assert_eq!(
             Image::all_in(colour_only).collect::<Vec<_>>(),
             vec![Image::Color]
         );
         let all =
             render_args(&["--depth", "d.exr", "--normal", "n.exr", "--id", "i.png"]).outputs();
-        assert_eq!(
-            all,
-            Outputs {
-                color: true,
-                depth: true,
-                normal: true,
-                id: true
-            }
-        );
+        assert_eq!(all, {
+            let mut outputs = Outputs::default();
+            outputs.color = true;
+            outputs.depth = true;
+            outputs.normal = true;
+            outputs.id = true;
+            outputs
+        });
         let id = render_args(&["--id", "i.exr"]).outputs();
         assert!(id.color && id.id && !id.depth && !id.normal);
     }

@@ -44,11 +44,12 @@ fn main() -> ExitCode {
 }
 
 fn context_options(args: &DeviceArgs) -> ContextOptions {
-    ContextOptions {
-        validation: args.validation,
-        synchronization_validation: args.validation,
-        device: args.device.clone(),
-        ..ContextOptions::default()
+    {
+        let mut context = ContextOptions::default();
+        context.validation = args.validation;
+        context.synchronization_validation = args.validation;
+        context.device = args.device.clone();
+        context
     }
 }
 
@@ -73,10 +74,11 @@ fn render(args: &RenderArgs) -> Result<()> {
         intersection: args.intersection.into(),
         ..DrawConfig::default()
     });
-    renderer.set_settings(Settings {
-        instance_format: args.instance_format(),
-        per_sample_shading: args.per_sample_shading,
-        ..Settings::default()
+    renderer.set_settings({
+        let mut settings = Settings::default();
+        settings.instance_format = args.instance_format();
+        settings.per_sample_shading = args.per_sample_shading;
+        settings
     });
     let samples = ash::vk::SampleCountFlags::from_raw(args.samples);
     let offered = renderer.context().info().sample_counts;

@@ -125,9 +125,10 @@ impl Feature {
     /// returns the outputs timed frames draw.
     fn apply(self, renderer: &mut OffscreenRenderer, on: bool) -> Outputs {
         // The draw's features are measured on the draw: the splat would take their frames.
-        let mut settings = Settings {
-            compute_splat: false,
-            ..Settings::default()
+        let mut settings = {
+            let mut settings = Settings::default();
+            settings.compute_splat = false;
+            settings
         };
         let mut timed = Outputs::COLOR_DEPTH;
         match self {

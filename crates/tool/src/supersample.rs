@@ -187,14 +187,16 @@ mod tests {
             Camera::look_at(DVec3::new(0.5, 1.0, 16.0), DVec3::ZERO, 45.0, 1.0, 96, 64).unwrap();
         let big = supersampled_camera(&camera, k).unwrap();
         let mut renderer = validated_renderer();
-        renderer.set_settings(Settings {
-            material: Material {
-                ambient: 1.0,
-                diffuse: 0.0,
-                specular: 0.0,
-                ..Material::default()
-            },
-            ..Settings::default()
+        renderer.set_settings({
+            let mut settings = Settings::default();
+            settings.material = {
+                let mut material = Material::default();
+                material.ambient = 1.0;
+                material.diffuse = 0.0;
+                material.specular = 0.0;
+                material
+            };
+            settings
         });
         let drawn = renderer.render(&scene, &big, Outputs::ALL).unwrap();
         let out = box_filter(&drawn, k).unwrap();

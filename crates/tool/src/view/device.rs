@@ -12,7 +12,7 @@ use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::window::Window;
 
 use ellipsoid_splat::gpu::validation::{self, MessageLog};
-use ellipsoid_splat::{Error, HostDevice, Result};
+use ellipsoid_splat::{DeviceFeatures, Error, HostDevice, Result};
 
 use super::VkCall;
 
@@ -31,8 +31,9 @@ pub struct Gpu {
     pub queue_family: u32,
     /// The physical device behind `device`.
     pub physical_device: vk::PhysicalDevice,
-    /// The device enables the compute splat's 64-bit atomics (as `render`'s context does).
-    pub compute_splat: bool,
+    /// The renderer's features the device enables: its dynamic-rendering target's, and the
+    /// compute splat's where supported (as `render`'s context does).
+    pub features: DeviceFeatures,
     /// The device's name, for the summary line.
     pub name: String,
     /// `VK_KHR_swapchain` entry points.
@@ -142,10 +143,10 @@ impl Gpu {
         let made = choose_device(&instance, &surface_loader, surface, device).and_then(
             |(physical, family, name)| {
                 create_device(&instance, physical, family)
-                    .map(|(d, splat)| (physical, family, name, d, splat))
+                    .map(|(d, features)| (physical, family, name, d, features))
             },
         );
-        let (physical_device, queue_family, name, device, compute_splat) = match made {
+        let (physical_device, queue_family, name, device, features) = match made {
             Ok(parts) => parts,
             Err(e) => {
                 // SAFETY: nothing uses the surface.
@@ -171,7 +172,10 @@ impl Gpu {
                     surface_loader.destroy_surface(surface, None);
                 }
                 destroy_instance(messenger);
-                return Err(Error::allocation("allocator", e));
+                return Err(Error::Allocation {
+                    what: "allocator".into(),
+                    reason: e.to_string(),
+                });
             }
         };
         // SAFETY: the device was created with one queue in `queue_family`.
@@ -183,7 +187,7 @@ impl Gpu {
             queue,
             queue_family,
             physical_device,
-            compute_splat,
+            features,
             name,
             swapchain_loader,
             surface_loader,
@@ -207,12 +211,13 @@ impl Gpu {
 
     /// The renderer's view of the device.
     pub fn host(&self) -> HostDevice<'_> {
-        HostDevice {
-            instance: &self.instance,
-            physical_device: self.physical_device,
-            device: &self.device,
-            queue_family_index: self.queue_family,
-        }
+        HostDevice::new(
+            &self.instance,
+            self.physical_device,
+            &self.device,
+            self.queue_family,
+            self.features,
+        )
     }
 
     /// Bytes of device memory the allocator holds for every object of the viewer (renderer,
@@ -313,36 +318,32 @@ fn choose_device(
         })
 }
 
-/// The device with the renderer's required features, the compute splat's where supported
-/// (the same choice `render` makes, so both draw the same way), and `VK_KHR_swapchain`.
+/// The device with the features its target needs, the compute splat's where supported (the
+/// same choice `render` makes, so both draw the same way), and `VK_KHR_swapchain`.
 fn create_device(
     instance: &ash::Instance,
     physical: vk::PhysicalDevice,
     family: u32,
-) -> Result<(ash::Device, bool)> {
-    let mut supported13 = vk::PhysicalDeviceVulkan13Features::default();
-    let mut supported12 = vk::PhysicalDeviceVulkan12Features::default();
-    let mut supported = vk::PhysicalDeviceFeatures2::default()
-        .push_next(&mut supported13)
-        .push_next(&mut supported12);
-    // SAFETY: `physical` belongs to `instance`; the chain points at locals.
-    unsafe { instance.get_physical_device_features2(physical, &mut supported) };
-    let core_supported = supported.features;
-    let missing = ellipsoid_splat::features::missing_features(&supported13);
+) -> Result<(ash::Device, DeviceFeatures)> {
+    // SAFETY: `physical` belongs to `instance`.
+    let supported = unsafe { DeviceFeatures::supported(instance, physical) };
+    // The viewer's one target: dynamic rendering, one sample.
+    let mut needed = DeviceFeatures::default();
+    needed.dynamic_rendering = true;
+    needed.maintenance4 = true;
+    let missing = needed.missing_from(supported);
     if !missing.is_empty() {
         return Err(Error::NoDevice(format!(
             "device lacks {}",
             missing.join(", ")
         )));
     }
-    let splat = core_supported.shader_int64 == vk::TRUE
-        && supported12.shader_buffer_int64_atomics == vk::TRUE;
-    let (mut core, mut vulkan13) = ellipsoid_splat::features::required_device_features();
-    core = core
-        .sample_rate_shading(core_supported.sample_rate_shading == vk::TRUE)
-        .shader_int64(splat);
-    let mut vulkan12 =
-        vk::PhysicalDeviceVulkan12Features::default().shader_buffer_int64_atomics(splat);
+    let features = if supported.contains(DeviceFeatures::COMPUTE_SPLAT) {
+        needed.union(DeviceFeatures::COMPUTE_SPLAT)
+    } else {
+        needed
+    };
+    let (core, mut vulkan12, mut vulkan13) = features.to_vk();
     let priorities = [1.0f32];
     let queues = [vk::DeviceQueueCreateInfo::default()
         .queue_family_index(family)
@@ -356,5 +357,5 @@ fn create_device(
         .push_next(&mut vulkan12);
     // SAFETY: every pointer in `info` refers to locals that outlive the call.
     let device = unsafe { instance.create_device(physical, &info, None) }.call("vkCreateDevice")?;
-    Ok((device, splat))
+    Ok((device, features))
 }

@@ -97,9 +97,10 @@ pub fn run(args: &ViewArgs) -> Result<()> {
             format!("cannot open a window ({e}); is DISPLAY or WAYLAND_DISPLAY set?"),
         )
     })?;
-    let settings = Settings {
-        instance_format: render.instance_format(),
-        ..Settings::default()
+    let settings = {
+        let mut settings = Settings::default();
+        settings.instance_format = render.instance_format();
+        settings
     };
     let mut app = App {
         size: (render.width, render.height),

@@ -61,7 +61,10 @@ impl OwnedImage {
         };
         let made = allocator
             .allocate(&desc)
-            .map_err(|e| Error::allocation("viewer image", e))
+            .map_err(|e| Error::Allocation {
+                what: "viewer image".into(),
+                reason: e.to_string(),
+            })
             .and_then(|memory| {
                 // SAFETY: memory allocated for this image's requirements.
                 let bound =
@@ -143,7 +146,10 @@ impl ReadbackBuffer {
         };
         let made = allocator
             .allocate(&desc)
-            .map_err(|e| Error::allocation("viewer readback", e))
+            .map_err(|e| Error::Allocation {
+                what: "viewer readback".into(),
+                reason: e.to_string(),
+            })
             .and_then(|memory| {
                 // SAFETY: memory allocated for this buffer's requirements.
                 let bound =

@@ -150,13 +150,14 @@ impl Viewer {
     /// The renderer's target: dynamic rendering into colour (the swapchain's format),
     /// normal and ID, and depth.
     fn target(&self) -> Target {
-        Target {
-            pass: Pass::Dynamic {
+        {
+            let mut target = Target::new(Pass::Dynamic {
                 color_formats: vec![self.format.format, NORMAL_FORMAT, ID_FORMAT],
                 depth_format: DEPTH_FORMAT,
-            },
-            samples: vk::SampleCountFlags::TYPE_1,
-            aux_outputs: true,
+            });
+            target.samples = vk::SampleCountFlags::TYPE_1;
+            target.aux_outputs = true;
+            target
         }
     }
 
@@ -167,13 +168,9 @@ impl Viewer {
         scene: &Scene,
         sample: Option<Sample>,
     ) -> Result<Drawn> {
-        let options = RendererOptions {
-            target: self.target(),
-            frames_in_flight: FRAMES_IN_FLIGHT,
-            settings,
-            compute_splat_features: self.gpu.compute_splat,
-            pipeline_cache: vk::PipelineCache::null(),
-        };
+        let mut options = RendererOptions::new(self.target());
+        options.frames_in_flight = FRAMES_IN_FLIGHT;
+        options.settings = settings;
         let host = self.gpu.host();
         let (instance, physical, family) = (
             host.instance.clone(),
@@ -181,12 +178,13 @@ impl Viewer {
             host.queue_family_index,
         );
         let device = self.gpu.device.clone();
-        let host = ellipsoid_splat::HostDevice {
-            instance: &instance,
-            physical_device: physical,
-            device: &device,
-            queue_family_index: family,
-        };
+        let host = ellipsoid_splat::HostDevice::new(
+            &instance,
+            physical,
+            &device,
+            family,
+            self.gpu.features,
+        );
         // SAFETY: the `Gpu`'s handles belong together, its device enables the required
         // features (and the compute splat's when `compute_splat` says so), and the renderer is
         // destroyed before the device (`destroy`). No pipeline cache, no render pass.
