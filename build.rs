@@ -1,87 +1,186 @@
-//! Compiles every shader in `glsl/` to SPIR-V in `OUT_DIR` with glslangValidator.
-//! Writes only to `OUT_DIR`; reruns when a shader or an include changes.
+//! Compiles every shader in `glsl/` to SPIR-V in `OUT_DIR` with glslangValidator. Where that
+//! compiler is missing, and on docs.rs (`DOCS_RS`), it copies the committed builds from
+//! `spirv/` instead (`scripts/update-spirv.sh` refreshes them; a test checks they are
+//! byte-identical to what the compiler makes).
+//!
+//! Writes only to `OUT_DIR`: the SPIR-V, `spirv-files.txt` (this feature set's builds, one a
+//! line) and `spirv-origin.txt` (`compiled` and the compiler's version, or `committed` and
+//! why). Reruns when a shader or an include changes.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 const STAGES: &[&str] = &["vert", "frag", "comp"];
 
+/// Where the committed SPIR-V lives, relative to the package.
+const COMMITTED: &str = "spirv";
+
+/// One SPIR-V file to make: its source, its name in `OUT_DIR` and `spirv/`, the defines and
+/// the target environment.
+struct Build {
+    source: PathBuf,
+    spv: String,
+    defines: Vec<&'static str>,
+    target_env: &'static str,
+}
+
 fn main() {
     let glsl = PathBuf::from("glsl");
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let tool = std::env::var("GLSLANG_VALIDATOR").unwrap_or_else(|_| "glslangValidator".into());
     println!("cargo:rerun-if-env-changed=GLSLANG_VALIDATOR");
+    println!("cargo:rerun-if-env-changed=DOCS_RS");
     println!("cargo:rerun-if-changed=glsl");
 
     // The benchmark's baselines (glsl/research/) and the counting builds are compiled only
     // with the `research` feature: hosts never draw them.
     let research = std::env::var_os("CARGO_FEATURE_RESEARCH").is_some();
+    let builds = builds(&glsl, research);
+
+    // docs.rs builds without network or compilers beyond Rust's.
+    let origin = if std::env::var_os("DOCS_RS").is_some() {
+        copy_committed(&builds, &out, &tool, "DOCS_RS is set")
+    } else {
+        match compiler_version(&tool) {
+            Some(version) => {
+                compile(&builds, &glsl, &out, &tool);
+                format!("compiled\n{version}\n")
+            }
+            None => copy_committed(&builds, &out, &tool, "not found"),
+        }
+    };
+    let files: String = builds.iter().map(|b| format!("{}\n", b.spv)).collect();
+    write(&out.join("spirv-files.txt"), files.as_bytes());
+    write(&out.join("spirv-origin.txt"), origin.as_bytes());
+}
+
+/// Every SPIR-V file this feature set needs, in source order.
+fn builds(glsl: &Path, research: bool) -> Vec<Build> {
     let mut sources = Vec::new();
-    collect(&glsl, &mut sources);
+    collect(glsl, &mut sources);
     sources.retain(|src| research || !src.starts_with(glsl.join("research")));
     sources.sort();
-    let mut failures = Vec::new();
-    for src in &sources {
+    let mut builds = Vec::new();
+    for src in sources {
         println!("cargo:rerun-if-changed={}", src.display());
         let ext = src.extension().and_then(|e| e.to_str()).unwrap_or("");
         if !STAGES.contains(&ext) {
             continue; // includes are tracked above, compiled through their users
         }
         let name = src.file_name().expect("file has a name").to_string_lossy();
+        // Compute shaders target SPIR-V 1.6 (Vulkan 1.3), whose LocalSizeId replaces the
+        // WorkgroupSize built-in that 1.6 deprecates (a best-practices warning).
+        let target_env = if ext == "comp" {
+            "vulkan1.3"
+        } else {
+            "vulkan1.2"
+        };
         // Fragment shaders are built with and without AUX_OUTPUTS (they then declare and write
         // the normal and ID attachments: a pass without them must not see those outputs), and
         // for research also with COUNT_FRAGMENTS (they count shaded pixels with an atomic for
         // `bench`; it needs fragmentStoresAndAtomics).
-        let mut builds: Vec<(String, Vec<&str>)> = vec![(format!("{name}.spv"), vec![])];
+        let mut variants: Vec<(String, Vec<&'static str>)> = vec![(format!("{name}.spv"), vec![])];
         if ext == "frag" {
-            builds.push((format!("{name}.aux.spv"), vec!["-DAUX_OUTPUTS"]));
+            variants.push((format!("{name}.aux.spv"), vec!["-DAUX_OUTPUTS"]));
             if research {
-                builds.push((format!("{name}.counted.spv"), vec!["-DCOUNT_FRAGMENTS"]));
-                builds.push((
+                variants.push((format!("{name}.counted.spv"), vec!["-DCOUNT_FRAGMENTS"]));
+                variants.push((
                     format!("{name}.aux.counted.spv"),
                     vec!["-DAUX_OUTPUTS", "-DCOUNT_FRAGMENTS"],
                 ));
             }
         }
-        for (spv, defines) in builds {
-            let mut command = Command::new(&tool);
-            // Compute shaders target SPIR-V 1.6 (Vulkan 1.3), whose LocalSizeId replaces the
-            // WorkgroupSize built-in that 1.6 deprecates (a best-practices warning).
-            let env = if ext == "comp" {
-                "vulkan1.3"
-            } else {
-                "vulkan1.2"
-            };
-            command
-                .args(["-V", "--target-env", env, "--spirv-val"])
-                .arg(format!("-I{}", glsl.join("include").display()));
-            command.args(&defines);
-            let result = command.arg("-o").arg(out.join(&spv)).arg(src).output();
-            match result {
-                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                    panic!(
-                        "\n\nshader compiler `{tool}` not found.\n\
-                         Install it with:  sudo apt-get install glslang-tools\n\
-                         or point GLSLANG_VALIDATOR at a glslangValidator binary.\n"
-                    );
-                }
-                Err(e) => panic!("cannot run `{tool}`: {e}"),
-                Ok(o) if !o.status.success() => {
-                    // glslangValidator prints compile errors on stdout.
-                    failures.push(format!(
-                        "{}:\n{}{}",
-                        src.display(),
-                        String::from_utf8_lossy(&o.stdout),
-                        String::from_utf8_lossy(&o.stderr)
-                    ));
-                }
-                Ok(_) => {}
+        for (spv, defines) in variants {
+            builds.push(Build {
+                source: src.clone(),
+                spv,
+                defines,
+                target_env,
+            });
+        }
+    }
+    builds
+}
+
+/// The compiler's version line, or `None` where `tool` does not exist.
+fn compiler_version(tool: &str) -> Option<String> {
+    match Command::new(tool).arg("--version").output() {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+        Err(e) => panic!("cannot run `{tool}`: {e}"),
+        Ok(o) => {
+            let stdout = String::from_utf8_lossy(&o.stdout);
+            Some(
+                stdout
+                    .lines()
+                    .next()
+                    .unwrap_or("unknown version")
+                    .to_owned(),
+            )
+        }
+    }
+}
+
+/// Compiles every build into `out`; panics with every compile error.
+fn compile(builds: &[Build], glsl: &Path, out: &Path, tool: &str) {
+    let mut failures = Vec::new();
+    for build in builds {
+        let result = Command::new(tool)
+            .args(["-V", "--target-env", build.target_env, "--spirv-val"])
+            .arg(format!("-I{}", glsl.join("include").display()))
+            .args(&build.defines)
+            .arg("-o")
+            .arg(out.join(&build.spv))
+            .arg(&build.source)
+            .output();
+        match result {
+            Err(e) => panic!("cannot run `{tool}`: {e}"),
+            Ok(o) if !o.status.success() => {
+                // glslangValidator prints compile errors on stdout.
+                failures.push(format!(
+                    "{}:\n{}{}",
+                    build.source.display(),
+                    String::from_utf8_lossy(&o.stdout),
+                    String::from_utf8_lossy(&o.stderr)
+                ));
             }
+            Ok(_) => {}
         }
     }
     if !failures.is_empty() {
         panic!("\n\nshader compilation failed:\n{}", failures.join("\n"));
     }
+}
+
+/// Copies every build's committed SPIR-V into `out`, says so, and returns the origin record.
+/// Panics naming the first missing file.
+fn copy_committed(builds: &[Build], out: &Path, tool: &str, why: &str) -> String {
+    println!("cargo:rerun-if-changed={COMMITTED}");
+    let reason = if why == "not found" {
+        format!("the shader compiler `{tool}` was not found")
+    } else {
+        why.to_owned()
+    };
+    println!(
+        "cargo:warning={reason}: using the committed SPIR-V in {COMMITTED}/ \
+         (install glslang-tools to compile the shaders from glsl/)"
+    );
+    for build in builds {
+        let committed = Path::new(COMMITTED).join(&build.spv);
+        if let Err(e) = std::fs::copy(&committed, out.join(&build.spv)) {
+            panic!(
+                "\n\n{reason}, and the committed SPIR-V `{}` cannot be read ({e}).\n\
+                 Install the shader compiler with:  sudo apt-get install glslang-tools\n\
+                 or point GLSLANG_VALIDATOR at a glslangValidator binary; in a checkout, \
+                 scripts/update-spirv.sh refreshes {COMMITTED}/.\n",
+                committed.display()
+            );
+        }
+    }
+    format!("committed\n{reason}\n")
+}
+
+fn write(path: &Path, bytes: &[u8]) {
+    std::fs::write(path, bytes).unwrap_or_else(|e| panic!("cannot write {}: {e}", path.display()));
 }
 
 fn collect(dir: &Path, out: &mut Vec<PathBuf>) {

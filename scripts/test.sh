@@ -7,3 +7,6 @@ cd "$here"
 cargo test --release --workspace "$@"
 # The host on VMA needs the library's `vk-mem` feature.
 cargo test --release -p ellipsoid-splat --features vk-mem --test vk_mem_host "$@"
+# The library as a dependent gets it: publish dry run, the package's contents, a build
+# without glslangValidator on the committed SPIR-V, the docs as docs.rs builds them.
+bash "$here/scripts/package-check.sh"

@@ -1,6 +1,5 @@
-//! The crate's one error type: every failure names where it happened and why.
-
-use std::path::PathBuf;
+//! The library's error type: every failure names where it happened and why. (The loaders
+//! and the tool have their own, for files.)
 
 use ash::vk;
 
@@ -57,40 +56,12 @@ pub enum Error {
         /// The first message's text.
         first: String,
     },
-    /// A scene file has a bad row, field or header.
-    #[error("{}:{line}:{column}: {reason}", file.display())]
-    Parse {
-        /// The file being read.
-        file: PathBuf,
-        /// 1-based line number (0 when the problem is not tied to a line).
-        line: usize,
-        /// The column name, or a description of the place in the line.
-        column: String,
-        /// Why it is rejected.
-        reason: String,
-    },
     /// An argument or value is outside what the renderer accepts.
     #[error("invalid {what}: {reason}")]
     Invalid {
         /// What was invalid (e.g. `camera.near`, `ellipsoid 12 radii`).
         what: String,
         /// Why.
-        reason: String,
-    },
-    /// Reading or writing a file failed.
-    #[error("{}: {source}", path.display())]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The operating system's error.
-        source: std::io::Error,
-    },
-    /// Encoding an output image failed.
-    #[error("cannot write {}: {reason}", path.display())]
-    Encode {
-        /// The file.
-        path: PathBuf,
-        /// The encoder's message.
         reason: String,
     },
 }

@@ -126,12 +126,6 @@ pub fn icosphere(level: u32) -> Icosphere {
     }
 }
 
-/// The [`Icosphere::sagitta`] of level `level`'s mesh: the largest gap between the unit sphere
-/// and the flat triangles, about 0.205 at level 0 and roughly a quarter of that per level.
-pub fn sagitta(level: u32) -> f64 {
-    icosphere(level).sagitta()
-}
-
 fn normalize(v: [f64; 3]) -> [f64; 3] {
     let n = dot(v, v).sqrt();
     v.map(|x| x / n)
@@ -253,7 +247,7 @@ mod tests {
         // Inradius of the icosahedron with unit circumradius: sqrt((5 + 2 sqrt 5) / 15).
         let level0 = 1.0 - ((5.0 + 2.0 * 5f64.sqrt()) / 15.0).sqrt();
         assert!((level0 - 0.2054).abs() < 1e-4);
-        let s: Vec<f64> = (0..=4).map(sagitta).collect();
+        let s: Vec<f64> = (0..=4).map(|level| icosphere(level).sagitta()).collect();
         assert!(
             (s[0] - level0).abs() < 1e-6,
             "level 0: {} vs {level0}",

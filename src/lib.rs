@@ -1,20 +1,23 @@
 //! `ellipsoid-splat`: very many ellipsoids drawn exactly as ray-cast impostors in one instanced
 //! Vulkan draw.
 //!
-//! [`EllipsoidRenderer`] records into a host's command buffers: the host's device, allocator,
-//! render pass (or dynamic rendering), sample count and projection (see `examples/minimal.rs`
-//! and the README's "Embedding" section). With the default feature `offscreen`,
-//! `OffscreenRenderer` owns its Vulkan device and reads frames back.
+//! [`EllipsoidRenderer`] records into a host's command buffers: the host's device, allocator
+//! (through [`MemoryAllocator`]), render pass (or dynamic rendering), sample count, projection
+//! and viewport, one or several views a frame (see `examples/minimal.rs` and the README's
+//! "Embedding" section). With the default feature `offscreen`, `OffscreenRenderer` owns its
+//! Vulkan device and reads frames back.
 //!
 //! Features:
-//! - `offscreen` (default): `OffscreenRenderer`, `Frame`, `Outputs` and the `gpu` context; no
-//!   extra dependency.
+//! - `gpu-allocator` (default): [`MemoryAllocator`] for `gpu_allocator::vulkan::Allocator`.
+//! - `vk-mem`: [`MemoryAllocator`] for `vk_mem::Allocator` (VMA), for hosts on VMA.
+//! - `offscreen` (default): `OffscreenRenderer`, `Frame`, `Outputs` and its own Vulkan
+//!   `Context`; implies `gpu-allocator`.
 //! - `research`: the benchmark's baselines (`draw::Method`: textbook intersection, box proxy,
 //!   icosphere meshes, flat fill, fixed footprints) and fragment counting. Hosts never need it.
 //!
 //! Diagnostics go through the `log` crate. [`EllipsoidRenderer`] reads no environment
 //! variable; the `offscreen` context reads `ELLIPSOID_SPLAT_DEVICE` (which device, when
-//! `gpu::ContextOptions::device` is `None`) and, in `gpu::ContextOptions::validated`,
+//! `ContextOptions::device` is `None`) and, in `ContextOptions::validated`,
 //! `ELLIPSOID_SPLAT_EXTRA_VALIDATION` (`gpu-assisted` or `best-practices`).
 //!
 //! The design, the numerics of the exact hit and every contract are in `docs/design.md`.
@@ -22,8 +25,7 @@
 //! ```
 //! # #[cfg(feature = "offscreen")]
 //! # fn main() -> ellipsoid_splat::Result<()> {
-//! use ellipsoid_splat::gpu::ContextOptions;
-//! use ellipsoid_splat::{Camera, Ellipsoid, OffscreenRenderer, Outputs, Scene};
+//! use ellipsoid_splat::{Camera, ContextOptions, Ellipsoid, OffscreenRenderer, Outputs, Scene};
 //! use glam::{DQuat, DVec3};
 //!
 //! let glyph = Ellipsoid::new(
@@ -46,39 +48,34 @@
 //! ```
 
 pub mod allocator;
-pub mod barriers;
+mod barriers;
 pub mod bounds;
 pub mod camera;
 mod culling;
-pub mod depth;
+mod depth;
 pub mod draw;
-pub mod ellipsoid;
-pub mod error;
-pub mod features;
+mod ellipsoid;
+mod error;
+mod features;
 mod frame_slots;
 mod gpu_layout;
 mod host_camera;
-// The packing is public for the benchmark's CPU timings only.
-#[cfg(feature = "research")]
-pub mod instances;
-#[cfg(not(feature = "research"))]
 mod instances;
 mod pipeline;
-pub mod renderer;
-pub mod scene;
-pub mod settings;
+mod renderer;
+mod scene;
+mod settings;
+#[cfg(test)]
+mod spirv_mirror;
 mod target;
 
 #[cfg(feature = "offscreen")]
-pub mod frame;
-#[cfg(feature = "offscreen")]
-pub mod gpu;
-#[cfg(not(feature = "offscreen"))]
+mod frame;
 mod gpu;
 #[cfg(feature = "research")]
-pub mod icosphere;
+mod icosphere;
 #[cfg(feature = "offscreen")]
-pub mod offscreen;
+mod offscreen;
 
 pub use allocator::MemoryAllocator;
 pub use camera::{Camera, Intrinsics, Projection};
@@ -97,4 +94,25 @@ pub use target::{HostDevice, Pass, RendererOptions, Target, ID_FORMAT, NORMAL_FO
 #[cfg(feature = "offscreen")]
 pub use frame::{Frame, NO_INSTANCE};
 #[cfg(feature = "offscreen")]
-pub use offscreen::{OffscreenRenderer, Outputs};
+pub use gpu::{Context, ContextOptions, DeviceInfo, QueryResults};
+#[cfg(feature = "offscreen")]
+pub use offscreen::{FrameTiming, OffscreenRenderer, Outputs};
+
+/// What the workspace's other crates (loaders, reference, tool), the tests and the
+/// benchmarks use of the library's insides. Not part of the host API: anything here may
+/// change in any release.
+#[doc(hidden)]
+pub mod internals {
+    /// The renderer's barriers as data (`tests/barriers.rs` checks them).
+    pub mod barriers {
+        pub use crate::barriers::*;
+    }
+    pub use crate::ellipsoid::{shape_color, symmetric_eigen};
+    #[cfg(feature = "offscreen")]
+    pub use crate::gpu::validation;
+    #[cfg(feature = "research")]
+    pub use crate::icosphere::icosphere;
+    #[cfg(feature = "research")]
+    pub use crate::instances::pack_instances;
+    pub use crate::renderer::{MAX_SETUP_ONCE_INSTANCES, SETUP_ONCE_MAX_AREA_PX};
+}

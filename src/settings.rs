@@ -70,8 +70,8 @@ pub struct Settings {
     /// only where a splatted and a drawn glyph lie at exactly the same depth does the
     /// splatted one show rather than the lower instance). On by default for the shipped
     /// impostor with the automatic footprint, but it runs only where the host enabled
-    /// [`crate::features::compute_splat_features`] (and says so in
-    /// [`crate::RendererOptions::compute_splat_features`]), on single-sample targets with
+    /// [`crate::DeviceFeatures::COMPUTE_SPLAT`] (and says so in
+    /// [`crate::HostDevice::enabled_features`]), on single-sample targets with
     /// float32 depth, for glyphs of at most `SPLAT_MAX_MEAN_AREA_PX` on average (in the size
     /// sample), for at most `MAX_SPLAT_CHUNKS` chunks and for at least
     /// `compute_splat_min_glyphs` glyphs.

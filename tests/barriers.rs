@@ -8,7 +8,7 @@
 //! frames in one command buffer under synchronization validation.
 
 use ash::vk::{AccessFlags as A, PipelineStageFlags as S};
-use ellipsoid_splat::barriers::{self, Barrier};
+use ellipsoid_splat::internals::barriers::{self, Barrier};
 
 /// An access by a command or shader stage.
 #[derive(Clone, Copy, Debug)]

@@ -290,3 +290,97 @@ fn views_that_overlap_or_leave_the_attachments_are_refused() {
     assert!(err.to_string().contains("no camera"), "{err}");
     finish_validated(renderer);
 }
+
+// README: stereo_taa_cameras
+/// The two cameras of frame `frame` of a stereo headset with temporal antialiasing: each eye's
+/// view and Vulkan projection (asymmetric frusta, as OpenXR gives them) jittered by the frame's
+/// Halton (2, 3) offset, the left eye drawn in the left half of the attachment, the right eye
+/// in the right half.
+fn stereo_taa_cameras(
+    frame: u32,
+    eyes: [(DMat4, DMat4); 2],
+    eye_width: u32,
+    height: u32,
+) -> ellipsoid_splat::Result<[Camera; 2]> {
+    let halton = |mut k: u32, base: u32| {
+        let (mut f, mut x) = (1.0, 0.0);
+        while k > 0 {
+            f /= base as f64;
+            x += f * (k % base) as f64;
+            k /= base;
+        }
+        x
+    };
+    let (dx, dy) = (
+        halton(frame % 8 + 1, 2) - 0.5,
+        halton(frame % 8 + 1, 3) - 0.5,
+    );
+    // Pixel (i, j) samples the unjittered image at (i + 0.5 + dx, j + 0.5 + dy): the picture
+    // moves by (-dx, -dy) pixels, 2 / size NDC units each.
+    let (w, h) = (eye_width as f64, height as f64);
+    let jitter = DMat4::from_translation(DVec3::new(-2.0 * dx / w, -2.0 * dy / h, 0.0));
+    let camera = |k: u32| {
+        let (view, projection) = eyes[k as usize];
+        let viewport = HostViewport {
+            x: k * eye_width,
+            y: 0,
+            width: eye_width,
+            height: height as i32,
+        };
+        Camera::from_view_projection_viewport(view, jitter * projection, viewport)
+    };
+    Ok([camera(0)?, camera(1)?])
+}
+// README: end
+
+/// The README's stereo-and-TAA cameras: each eye's jittered camera samples the unjittered
+/// one's image at the Halton offset, and two frames of the pair drawn as two views of one
+/// attachment are exact in both eyes.
+#[test]
+fn the_readme_stereo_taa_frames_are_exact() {
+    let scene = random_cloud(2000, 5, 5.0, 0.6);
+    let centre = base();
+    let right = centre.basis().right;
+    let y_down = DMat4::from_scale(DVec3::new(1.0, -1.0, 1.0));
+    let eyes = [(-1.0, (-0.62, 0.5)), (1.0, (-0.5, 0.62))].map(|(side, (l, r))| {
+        let offset = side * 0.3 * right;
+        let view = DMat4::look_at_rh(centre.eye + offset, centre.target + offset, DVec3::Y);
+        (view, y_down * y_up_frustum(l, r, -0.42, 0.42, 2.0))
+    });
+    let mut renderer = validated_renderer();
+    renderer.upload(&scene).unwrap();
+    for frame in 0..2 {
+        let cameras = stereo_taa_cameras(frame, eyes, W, H).unwrap();
+        let (dx, dy) = (halton(frame + 1, 2) - 0.5, halton(frame + 1, 3) - 0.5);
+        for (k, camera) in cameras.iter().enumerate() {
+            let (view, projection) = eyes[k];
+            let viewport = HostViewport {
+                x: k as u32 * W,
+                y: 0,
+                width: W,
+                height: H as i32,
+            };
+            let still = Camera::from_view_projection_viewport(view, projection, viewport).unwrap();
+            for pixel in [DVec2::new(0.5, 0.5), DVec2::new(117.5, 42.5)] {
+                let jittered = camera.ray_at_pixel(pixel);
+                let sampled = still.ray_at_pixel(pixel + DVec2::new(dx, dy));
+                let gap = (jittered.direction.normalize() - sampled.direction.normalize()).length();
+                assert!(gap < 1e-9, "eye {k}, frame {frame}: {gap}");
+                assert!((jittered.origin - sampled.origin).length() < 1e-9);
+            }
+        }
+        let (pair, _) = renderer
+            .render_views(2 * W, H, &cameras, Outputs::ALL)
+            .unwrap();
+        for camera in cameras {
+            let [x, y] = camera.viewport_origin;
+            let view = pair.crop(x, y, W, H).unwrap();
+            let alone = Camera {
+                viewport_origin: [0, 0],
+                ..camera
+            };
+            assert_exact(&format!("stereo TAA frame {frame}"), &view, &alone, &scene);
+        }
+    }
+    finish_validated(renderer);
+}

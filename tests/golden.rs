@@ -14,9 +14,9 @@ use std::path::PathBuf;
 use ellipsoid_splat::draw::DrawConfig;
 #[cfg(feature = "research")]
 use ellipsoid_splat::draw::Method;
-use ellipsoid_splat::offscreen::OffscreenRenderer;
 use ellipsoid_splat::Culling;
 use ellipsoid_splat::InstanceFormat;
+use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::{
     Camera, DepthConvention, Ellipsoid, Frame, Outputs, Projection, Scene, Settings, NO_INSTANCE,
 };

@@ -2,7 +2,7 @@
 //! reach the log every other test checks.
 
 use ash::vk;
-use ellipsoid_splat::gpu::{Context, ContextOptions};
+use ellipsoid_splat::{Context, ContextOptions};
 
 #[test]
 fn invalid_usage_is_reported() {

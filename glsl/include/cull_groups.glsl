@@ -4,7 +4,7 @@
 // culling's CLASSIFY step, or by the compute splat for the glyphs it leaves to the draw.
 // Needs the IndirectDraw block (for `total`) declared first.
 const uint CULL_GROUP = 256u;
-layout(std430, set = 0, binding = 4) buffer Groups {
+layout(std430, set = 0, binding = 4) buffer CullGroups {
     uint groups[];
 };
 

@@ -19,7 +19,7 @@ const uint FOOTPRINT_SCREEN = 2u;
 const uint FLAG_OFFSET_ORIGIN = 4u;
 
 #if defined(CULL_PASS) || defined(SETUP_ONCE_VERTEX)
-layout(std430, set = 0, binding = 7) RECORD_ACCESS buffer Footprints {
+layout(std430, set = 0, binding = 7) RECORD_ACCESS buffer FootprintRecords {
     FootprintRecord footprints[];
 };
 #endif

@@ -17,3 +17,5 @@ pub(crate) use buffer::GpuBuffer;
 pub use context::{Context, ContextOptions, DeviceInfo};
 #[cfg(feature = "offscreen")]
 pub(crate) use image::GpuImage;
+#[cfg(feature = "offscreen")]
+pub use queries::QueryResults;

@@ -65,7 +65,8 @@ use crate::settings::Settings;
 use crate::target::DeviceCaps;
 use crate::target::{HostDevice, RendererOptions, Target};
 
-use buffers::{Binding, SceneBuffers};
+pub(crate) use buffers::Binding;
+use buffers::SceneBuffers;
 use chunks::Chunking;
 pub use draw_reason::DrawReason;
 use pipelines::Pipelines;

@@ -202,7 +202,7 @@ impl EllipsoidRenderer {
             let pass = (self.pipelines.splat(device, list)?, DispatchSize::Indirect);
             let key_tiles = (
                 self.cull_pipeline(device, plan, CullStep::KeyTiles, CullSelect::All, off)?,
-                grid(culling::tiles_count(w, h).div_ceil(256)),
+                grid(culling::tiles_count(w, h).div_ceil(culling::GROUP_SIZE as u32)),
             );
             let rest = plan.rest_culling;
             dispatches.extend(self.list_steps(device, plan, CullSelect::Shown, off)?);

@@ -6,7 +6,7 @@
 
 use glam::DVec3;
 
-use ellipsoid_splat::ellipsoid::{shape_color, Ellipsoid};
+use ellipsoid_splat::{internals::shape_color, Ellipsoid};
 
 use crate::anisotropy::fractional_anisotropy;
 

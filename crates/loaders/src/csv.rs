@@ -11,7 +11,7 @@
 //!   `txx,txy,txz,tyy,tyz,tzz`, the upper triangle of the symmetric positive-definite `T` of
 //!   `E = {c + T p : |p| = 1}`;
 //! - optionally `r,g,b`, all three, each in [0, 1]: the display (sRGB) colour; without them
-//!   glyphs are coloured by shape ([`ellipsoid_splat::ellipsoid::shape_color`]).
+//!   glyphs are coloured by shape ([`ellipsoid_splat::internals::shape_color`]).
 //!
 //! Every rejection is an [`Error::Parse`] naming file, physical line, column and reason
 //! (`scene.csv:7:rx: non-positive radius: -0.5 ...`), so a user can go straight to the bad
@@ -22,9 +22,9 @@ use std::path::Path;
 use glam::{DMat3, DQuat, DVec3};
 
 use crate::load::{line_at, parse_error, read_file, LoadOptions, Loaded};
-use ellipsoid_splat::ellipsoid::Ellipsoid;
-use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::scene::Scene;
+use crate::{Error, Result};
+use ellipsoid_splat::Ellipsoid;
+use ellipsoid_splat::Scene;
 
 /// Every column the format knows; the groups below are indices into it.
 const COLUMNS: [&str; 19] = [
@@ -409,7 +409,7 @@ impl Header {
         // Anything `Ellipsoid` still rejects (a near-zero quaternion, an indefinite or
         // overflowing tensor) is reported against the columns that caused it.
         built.map_err(|e| match e {
-            Error::Invalid { what, reason } => {
+            ellipsoid_splat::Error::Invalid { what, reason } => {
                 let group: &[usize] = match what.as_str() {
                     "ellipsoid radii" => &RADII,
                     "ellipsoid colour" => &COLOR,
@@ -418,7 +418,7 @@ impl Header {
                 };
                 err(&names(group), format!("{what} {reason}"))
             }
-            other => other,
+            other => Error::from(other),
         })
     }
 }

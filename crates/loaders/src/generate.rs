@@ -6,8 +6,8 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use glam::{DQuat, DVec3, EulerRot};
 
-use ellipsoid_splat::ellipsoid::Ellipsoid;
-use ellipsoid_splat::scene::Scene;
+use ellipsoid_splat::Ellipsoid;
+use ellipsoid_splat::Scene;
 
 /// Smallest share of the spherical Westin measure anywhere in the field, so that even the
 /// purest cigars and pancakes keep a visible thickness.

@@ -30,6 +30,7 @@
 pub mod anisotropy;
 pub mod color_mode;
 pub mod csv;
+mod error;
 pub mod generate;
 pub mod load;
 pub mod nifti;
@@ -40,6 +41,7 @@ pub mod progress;
 pub use self::anisotropy::fractional_anisotropy;
 pub use self::color_mode::{principal_color, principal_direction, ColorMode, UNIFORM_GREY};
 pub use self::csv::{load_csv, parse_csv};
+pub use self::error::{Error, Result};
 pub use self::generate::{lattice, packed_block, random_cloud, tensor_field};
 pub use self::load::{load, LoadOptions, Loaded, Origins, TensorOrder};
 pub use self::nifti::{load_nifti, parse_nifti};

@@ -5,8 +5,8 @@
 
 use std::path::{Path, PathBuf};
 
-use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::scene::Scene;
+use crate::{Error, Result};
+use ellipsoid_splat::Scene;
 
 /// The order of the six components of a symmetric tensor stored per voxel.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -41,7 +41,7 @@
 //! largest eigenvalue of any kept voxel becomes [`LoadOptions::glyph_scale`] times the smallest
 //! voxel edge (the shortest column of `A`): with the default 0.5 the largest glyph is exactly
 //! one voxel across, so glyphs do not overlap. Glyphs are coloured by shape
-//! ([`ellipsoid_splat::ellipsoid::shape_color`]). The notes of [`Loaded`] give the factor in
+//! ([`ellipsoid_splat::internals::shape_color`]). The notes of [`Loaded`] give the factor in
 //! effect and how many voxels were kept, background, below the FA threshold, masked and skipped.
 //!
 //! # Hostile input
@@ -60,9 +60,9 @@ use nifti::{Endianness, InMemNiftiVolume, IntoNdArray, NiftiHeader, NiftiType};
 
 use crate::anisotropy::fractional_anisotropy;
 use crate::load::{read_file, LoadOptions, Loaded, TensorOrder};
-use ellipsoid_splat::ellipsoid::{symmetric_eigen, Ellipsoid};
-use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::scene::Scene;
+use crate::{Error, Result};
+use ellipsoid_splat::Scene;
+use ellipsoid_splat::{internals::symmetric_eigen, Ellipsoid};
 
 /// The most voxel data (in bytes, as stored) a volume may declare: 1 GiB. Headers declaring more
 /// are refused before anything is allocated.

@@ -79,9 +79,9 @@ use std::path::Path;
 use glam::{DMat3, DQuat, DVec3};
 
 use crate::load::{line_at, parse_error, read_file, LoadOptions, Loaded};
-use ellipsoid_splat::ellipsoid::{symmetric_eigen, Ellipsoid};
-use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::scene::Scene;
+use crate::{Error, Result};
+use ellipsoid_splat::Scene;
+use ellipsoid_splat::{internals::symmetric_eigen, Ellipsoid};
 
 /// The ellipsoid scale `c` of 50 % probability ellipsoids: `c^2 = 2.365_973_884_375_338` is the
 /// median of the chi-square distribution with 3 degrees of freedom, so that an atom is inside

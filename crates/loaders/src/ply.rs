@@ -50,9 +50,9 @@ use ply_rs_bw::ply::{DefaultElement, Encoding, PropertyType, ScalarType};
 
 use crate::load::{io_error, parse_error, LoadOptions, Loaded};
 use crate::progress::Progress;
-use ellipsoid_splat::ellipsoid::Ellipsoid;
-use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::scene::Scene;
+use crate::{Error, Result};
+use ellipsoid_splat::Ellipsoid;
+use ellipsoid_splat::Scene;
 
 /// `1 / (2 sqrt(pi))`, the degree-0 real spherical harmonic: colour = `0.5 + SH_C0 * f_dc`.
 pub const SH_C0: f64 = 0.282_094_791_773_878_14;
@@ -788,7 +788,7 @@ fn splat(
     let center = DVec3::new(v[0], v[1], v[2]);
     let ellipsoid = Ellipsoid::new(center, DVec3::from_array(radii), rotation, Some(color))
         .map_err(|e| match e {
-            Error::Invalid { what, reason } => {
+            ellipsoid_splat::Error::Invalid { what, reason } => {
                 let column = match what.as_str() {
                     "ellipsoid radii" => "scale_0..2",
                     "ellipsoid rotation" => "rot_0..3",

@@ -5,7 +5,7 @@ mod support;
 
 use std::path::Path;
 
-use ellipsoid_splat::ellipsoid::shape_color;
+use ellipsoid_splat::internals::shape_color;
 use ellipsoid_splat::{Ellipsoid, Scene};
 use ellipsoid_splat_loaders::{load_csv, parse_csv};
 use glam::{DMat3, DQuat, DVec3};

@@ -7,8 +7,9 @@ mod support;
 use std::path::Path;
 use std::time::Instant;
 
-use ellipsoid_splat::{Ellipsoid, Error};
+use ellipsoid_splat::Ellipsoid;
 use ellipsoid_splat_loaders::nifti::{load_nifti, parse_nifti};
+use ellipsoid_splat_loaders::Error;
 use ellipsoid_splat_loaders::{LoadOptions, Loaded, Origins, TensorOrder};
 use glam::{DMat3, DVec3};
 use support::{
@@ -250,7 +251,7 @@ fn parse(bytes: &[u8], options: &LoadOptions) -> Loaded {
 /// Expects a parse error naming `file` and `column` (never a line: `line` is 0) whose reason
 /// contains every word.
 fn assert_parse_err(
-    result: ellipsoid_splat::Result<Loaded>,
+    result: ellipsoid_splat_loaders::Result<Loaded>,
     file: &Path,
     column: &str,
     words: &[&str],

@@ -6,10 +6,11 @@ mod support;
 
 use std::path::Path;
 
-use ellipsoid_splat::{Ellipsoid, Error};
+use ellipsoid_splat::Ellipsoid;
 use ellipsoid_splat_loaders::pdb::{
     element_color, load_structure, parse_structure, PROBABILITY_50_SCALE,
 };
+use ellipsoid_splat_loaders::Error;
 use ellipsoid_splat_loaders::{LoadOptions, Loaded};
 use glam::{DMat3, DVec3};
 use support::{

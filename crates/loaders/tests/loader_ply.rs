@@ -7,8 +7,8 @@ mod support;
 use std::path::Path;
 use std::time::Instant;
 
-use ellipsoid_splat::Error;
 use ellipsoid_splat_loaders::ply::{load_ply, parse_ply, SH_C0, SPLAT_PROPERTIES};
+use ellipsoid_splat_loaders::Error;
 use ellipsoid_splat_loaders::{load, LoadOptions, Loaded};
 use glam::{DQuat, DVec3};
 use support::{

@@ -6,8 +6,8 @@ use std::fmt;
 use glam::DVec3;
 
 use crate::reference::ReferenceFrame;
-use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::frame::{Frame, NO_INSTANCE};
+use ellipsoid_splat::{Error, Result};
+use ellipsoid_splat::{Frame, NO_INSTANCE};
 
 /// How far a GPU frame is from the reference.
 ///

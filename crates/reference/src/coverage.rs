@@ -14,9 +14,9 @@
 use std::fmt;
 
 use ellipsoid_splat::camera::Camera;
-use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::frame::{Frame, NO_INSTANCE};
 use ellipsoid_splat::Scene;
+use ellipsoid_splat::{Error, Result};
+use ellipsoid_splat::{Frame, NO_INSTANCE};
 
 use crate::reference::{render_reference, ReferenceFrame};
 

@@ -21,10 +21,10 @@ use std::thread;
 use glam::{DMat3, DVec2, DVec3};
 
 use ellipsoid_splat::camera::{Basis, Camera, Ray};
-use ellipsoid_splat::ellipsoid::Ellipsoid;
-use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::frame::NO_INSTANCE;
-use ellipsoid_splat::scene::Scene;
+use ellipsoid_splat::Ellipsoid;
+use ellipsoid_splat::Scene;
+use ellipsoid_splat::NO_INSTANCE;
+use ellipsoid_splat::{Error, Result};
 
 /// Distance in pixels of the four extra samples around each pixel centre that detect
 /// discontinuities (see [`ReferenceFrame::ambiguous`]).
@@ -115,7 +115,7 @@ impl ReferenceFrame {
 
 /// Intersects one ray with one ellipsoid under the near-plane rules of `docs/design.md` §3.3.
 ///
-/// The ray must follow the camera contract (as `Camera::ray` and `Camera::ray_at_ndc` build
+/// The ray must follow the camera contract (as `Camera::ray` and `Camera::ray_at_pixel` build
 /// them): perspective rays leave the eye with forward component 1, orthographic rays leave the
 /// eye plane along `forward`, so in both cases the ray parameter is the view depth.
 /// `forward` is the camera's unit view direction; a cap's normal is `-forward`.

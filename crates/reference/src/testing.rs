@@ -4,7 +4,7 @@
 
 use crate::compare::{compare, Bounds, ErrorStats};
 use crate::reference::render_reference;
-use ellipsoid_splat::gpu::ContextOptions;
+use ellipsoid_splat::ContextOptions;
 use ellipsoid_splat::{Camera, Frame, OffscreenRenderer, Outputs, Scene};
 
 /// Prints the library's log on stderr, for runs that want each validation message as it

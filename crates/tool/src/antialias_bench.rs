@@ -23,17 +23,17 @@ use std::path::Path;
 
 use ash::vk;
 
-use ellipsoid_splat::error::Result;
-use ellipsoid_splat::gpu::ContextOptions;
-use ellipsoid_splat::offscreen::OffscreenRenderer;
+use crate::error::Result;
+use ellipsoid_splat::ContextOptions;
+use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::{Outputs, Settings};
 
 use crate::antialias_stress::AntialiasMode;
 use crate::bench::{frustum_cloud, median, tensor_field_scene, BenchScene, RoundOrder};
+use crate::error::Error;
 use crate::report::{format_table, scatter_chart, write_csv, Axis, Series};
 use crate::supersample::{box_filter, supersampled_camera};
 use ellipsoid_splat::camera::Camera;
-use ellipsoid_splat::error::Error;
 use ellipsoid_splat::Material;
 use ellipsoid_splat_reference::coverage::{compare_coverage, coverage_from, SamplePattern};
 use ellipsoid_splat_reference::{render_reference, Bounds};
@@ -158,7 +158,7 @@ fn measure_errors(
             .iter()
             .find(|(k, _)| *k == pattern.grid())
             .ok_or_else(|| Error::invalid("antialiasing bench", "no reference on that grid"))?;
-        coverage_from(reference, &small, pattern)
+        coverage_from(reference, &small, pattern).map_err(Error::from)
     };
     let area = coverage(SamplePattern::Grid(4))?;
     let unlit = {

@@ -8,10 +8,10 @@
 use ash::vk;
 use glam::{DQuat, DVec3};
 
+use crate::error::Result;
 use ellipsoid_splat::camera::Camera;
 use ellipsoid_splat::draw::DrawConfig;
-use ellipsoid_splat::error::Result;
-use ellipsoid_splat::offscreen::OffscreenRenderer;
+use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::{Ellipsoid, Material, Outputs, Scene, Settings};
 use ellipsoid_splat_reference::coverage::{
     compare_coverage, reference_coverage, CoverageStats, SamplePattern,

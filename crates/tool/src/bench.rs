@@ -11,15 +11,15 @@ use std::path::Path;
 use glam::DVec3;
 
 use crate::antialias_bench::AntialiasTiming;
+use crate::error::{Error, Result};
 use crate::report::{
     bar_chart, fmt_sci, format_table, line_chart, markdown_table, scatter_chart, write_csv, Axis,
     Series,
 };
 use ellipsoid_splat::camera::{Camera, Projection};
 use ellipsoid_splat::draw::{Geometry, Method};
-use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::offscreen::OffscreenRenderer;
 use ellipsoid_splat::FramePlan;
+use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::{Outputs, Scene, Settings};
 use ellipsoid_splat_loaders::{lattice, random_cloud, tensor_field, Progress};
 use ellipsoid_splat_reference::render_reference;
@@ -309,7 +309,7 @@ pub fn run(
             }
             // One method failing here skips that method on this scene, not the bench.
             let planned = use_method(renderer, m, &mut settings, &bench.scene, None)
-                .and_then(|_| renderer.plan(&bench.camera));
+                .and_then(|_| renderer.plan(&bench.camera).map_err(Error::from));
             let plan = match planned {
                 Ok(plan) => plan,
                 Err(e) => {

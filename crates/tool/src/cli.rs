@@ -7,9 +7,9 @@ use std::path::{Path, PathBuf};
 use clap::{Args, Parser, Subcommand};
 use glam::{DVec2, DVec3};
 
+use crate::error::{Error, Result};
 use ellipsoid_splat::camera::{Camera, Intrinsics, Projection};
-use ellipsoid_splat::ellipsoid::Ellipsoid;
-use ellipsoid_splat::error::{Error, Result};
+use ellipsoid_splat::Ellipsoid;
 use ellipsoid_splat::InstanceFormat;
 use ellipsoid_splat::{Scene, NO_INSTANCE};
 use ellipsoid_splat_loaders as scene;
@@ -923,7 +923,7 @@ impl SceneSpec {
                 let extent = (*n as f64).cbrt() * 2.0;
                 Ok(generated(scene::random_cloud(*n, 1, extent, 1.0)))
             }
-            SceneSpec::File(path) => scene::load(path, options),
+            SceneSpec::File(path) => Ok(scene::load(path, options)?),
         }
     }
 }
@@ -1010,18 +1010,18 @@ pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
         }
     };
     camera.validate().map_err(|e| match e {
-        Error::Invalid { what, reason } if what.starts_with("camera ") => {
+        ellipsoid_splat::Error::Invalid { what, reason } if what.starts_with("camera ") => {
             let flag = match what.as_str() {
                 "camera intrinsics" | "camera principal point" if args.intrinsics.is_some() => {
                     "--intrinsics"
                 }
                 "camera principal point" | "camera jitter" => "--jitter",
                 "camera viewport" => "--viewport",
-                _ => return Error::Invalid { what, reason },
+                _ => return Error::invalid(what, reason),
             };
             Error::invalid(flag, reason)
         }
-        other => other,
+        other => Error::from(other),
     })?;
     Ok(camera)
 }

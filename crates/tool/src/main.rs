@@ -7,9 +7,9 @@ use clap::Parser;
 
 use ellipsoid_splat::draw::Intersection;
 use ellipsoid_splat::draw::Method;
-use ellipsoid_splat::gpu::{Context, ContextOptions};
+use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::{draw::DrawConfig, Settings};
-use ellipsoid_splat::{OffscreenRenderer, Result};
+use ellipsoid_splat::{Context, ContextOptions};
 use ellipsoid_splat_loaders::Progress;
 use ellipsoid_splat_tool::antialias_bench;
 use ellipsoid_splat_tool::antialias_stress::{
@@ -19,6 +19,7 @@ use ellipsoid_splat_tool::bench;
 use ellipsoid_splat_tool::cli::{
     self, BenchArgs, Cli, Command, DeviceArgs, RenderArgs, StressArgs,
 };
+use ellipsoid_splat_tool::error::{Error, Result};
 use ellipsoid_splat_tool::output::{self, Image};
 use ellipsoid_splat_tool::skip;
 use ellipsoid_splat_tool::stress::{run_point, sweep_points, write_report, Extent, StressResult};
@@ -44,13 +45,11 @@ fn main() -> ExitCode {
 }
 
 fn context_options(args: &DeviceArgs) -> ContextOptions {
-    {
-        let mut context = ContextOptions::default();
-        context.validation = args.validation;
-        context.synchronization_validation = args.validation;
-        context.device = args.device.clone();
-        context
-    }
+    let mut context = ContextOptions::default();
+    context.validation = args.validation;
+    context.synchronization_validation = args.validation;
+    context.device = args.device.clone();
+    context
 }
 
 fn render(args: &RenderArgs) -> Result<()> {
@@ -88,7 +87,7 @@ fn render(args: &RenderArgs) -> Result<()> {
             .filter(|&n| offered.contains(ash::vk::SampleCountFlags::from_raw(n)))
             .map(|n| n.to_string())
             .collect();
-        return Err(ellipsoid_splat::Error::invalid(
+        return Err(Error::invalid(
             "--samples",
             format!(
                 "{} samples per pixel: this device offers {}",
@@ -239,14 +238,11 @@ fn bench(args: &BenchArgs) -> ExitCode {
 
 fn run_bench(args: &BenchArgs) -> Result<bool> {
     if args.frames == 0 {
-        return Err(ellipsoid_splat::Error::invalid(
-            "--frames",
-            "must be at least 1",
-        ));
+        return Err(Error::invalid("--frames", "must be at least 1"));
     }
     if args.skip || args.antialias {
         if !args.methods.is_empty() || !args.scenes.is_empty() {
-            return Err(ellipsoid_splat::Error::invalid(
+            return Err(Error::invalid(
                 if args.methods.is_empty() {
                     "--scenes"
                 } else {
@@ -280,7 +276,7 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
                     .copied()
                     .find(|m| m.name() == *name)
                     .ok_or_else(|| {
-                        ellipsoid_splat::Error::invalid(
+                        Error::invalid(
                             "--methods",
                             format!(
                                 "unknown method '{name}'; known: {}",
@@ -309,7 +305,7 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
                 names.push(name);
             }
         }
-        return Err(ellipsoid_splat::Error::invalid(
+        return Err(Error::invalid(
             "--scenes",
             format!(
                 "'{}' matches no scene; the scenes are {}",
@@ -455,5 +451,5 @@ fn info(args: &DeviceArgs) -> Result<()> {
             "off"
         }
     );
-    context.check_validation()
+    Ok(context.check_validation()?)
 }

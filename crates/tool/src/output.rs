@@ -11,8 +11,8 @@ use exr::prelude::{
     SmallVec, WritableImage,
 };
 
-use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::frame::Frame;
+use crate::error::{Error, Result};
+use ellipsoid_splat::Frame;
 use ellipsoid_splat::Outputs;
 
 fn encode_error(path: &Path, reason: impl ToString) -> Error {

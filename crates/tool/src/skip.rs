@@ -7,12 +7,12 @@ use std::path::Path;
 use glam::DVec3;
 
 use crate::bench::{frustum_cloud, median, HEIGHT, WIDTH};
+use crate::error::{Error, Result};
 use crate::report::{bar_chart, format_table, write_csv, Axis};
 use ellipsoid_splat::camera::Camera;
 use ellipsoid_splat::draw::{DrawConfig, Method};
-use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::frame::Frame;
-use ellipsoid_splat::offscreen::OffscreenRenderer;
+use ellipsoid_splat::Frame;
+use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::Scene;
 use ellipsoid_splat::{Outputs, Settings};
 use ellipsoid_splat_loaders::{packed_block, random_cloud, Progress};
@@ -125,11 +125,9 @@ impl Feature {
     /// returns the outputs timed frames draw.
     fn apply(self, renderer: &mut OffscreenRenderer, on: bool) -> Outputs {
         // The draw's features are measured on the draw: the splat would take their frames.
-        let mut settings = {
-            let mut settings = Settings::default();
-            settings.compute_splat = false;
-            settings
-        };
+        let mut settings = Settings::default();
+        settings.compute_splat = false;
+
         let mut timed = Outputs::COLOR_DEPTH;
         match self {
             Feature::FrustumCulling => settings.culling.frustum = on,
@@ -261,9 +259,8 @@ fn scenes(quick: bool) -> Vec<SkipScene> {
 /// The scene sorted front to back by each ellipsoid's nearest view depth.
 fn front_to_back(scene: &Scene, camera: &Camera) -> Scene {
     let mut sorted = scene.clone();
-    let nearest = |e: &ellipsoid_splat::ellipsoid::Ellipsoid| {
-        camera.view_depth(e.center) - e.bounding_radius()
-    };
+    let nearest =
+        |e: &ellipsoid_splat::Ellipsoid| camera.view_depth(e.center) - e.bounding_radius();
     sorted
         .ellipsoids
         .sort_by(|a, b| nearest(a).total_cmp(&nearest(b)));

@@ -4,11 +4,11 @@
 
 use glam::{DQuat, DVec3, EulerRot};
 
+use crate::error::Result;
 use ellipsoid_splat::camera::{Camera, Projection};
 use ellipsoid_splat::draw::{DrawConfig, Intersection};
-use ellipsoid_splat::ellipsoid::Ellipsoid;
-use ellipsoid_splat::error::Result;
-use ellipsoid_splat::offscreen::OffscreenRenderer;
+use ellipsoid_splat::Ellipsoid;
+use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::{Outputs, Scene};
 use ellipsoid_splat_loaders::random_cloud;
 use ellipsoid_splat_reference::render_reference;
@@ -509,7 +509,7 @@ pub fn write_report(
 ) -> Result<String> {
     use crate::report::{fmt_sci, format_table, line_chart, write_csv, Axis, Series, Threshold};
 
-    std::fs::create_dir_all(dir).map_err(|source| ellipsoid_splat::Error::Io {
+    std::fs::create_dir_all(dir).map_err(|source| crate::error::Error::Io {
         path: dir.to_path_buf(),
         source,
     })?;

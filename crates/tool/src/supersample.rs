@@ -8,9 +8,9 @@
 //! offset `(K / 2, K / 2)` (integer division), at `(K / 2 + 0.5) / K` of the pixel -- its
 //! centre for odd K, half a sample right of and below it for even K.
 
+use crate::error::{Error, Result};
 use ellipsoid_splat::camera::{Camera, Intrinsics, Projection};
-use ellipsoid_splat::error::{Error, Result};
-use ellipsoid_splat::frame::Frame;
+use ellipsoid_splat::Frame;
 use ellipsoid_splat_reference::coverage::srgb_to_linear;
 
 /// The largest K: 64 samples per pixel.

@@ -99,7 +99,7 @@ impl Target {
 /// `parse_csv` has no options and the row parser behind `load_csv_with` is private, so the
 /// `skip_invalid` path is reached through a file: one per process and thread, in the temporary
 /// directory, removed afterwards. (Any bytes: the UTF-8 check is part of `load_csv_with`.)
-fn csv_skip_invalid(data: &[u8], options: &LoadOptions) -> ellipsoid_splat::Result<usize> {
+fn csv_skip_invalid(data: &[u8], options: &LoadOptions) -> ellipsoid_splat_loaders::Result<usize> {
     thread_local! {
         static PATH: PathBuf = std::env::temp_dir().join(format!(
             "ellipsoid-splat-fuzz-{}-{:?}.csv",

@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use ellipsoid_splat::Error;
+use ellipsoid_splat_loaders::Error;
 use ellipsoid_splat_loaders::LoadOptions;
 use glam::{DMat3, DVec3};
 

@@ -10,7 +10,7 @@
 //! ```no_run
 //! use std::path::Path;
 //! use ellipsoid_splat_tool::report::{line_chart, Axis, Series, Threshold};
-//! # fn main() -> ellipsoid_splat::Result<()> {
+//! # fn main() -> ellipsoid_splat_tool::error::Result<()> {
 //! let errors = Series::new("f32", vec![(1e-6, 2e-7), (1.0, 1.3e-7), (1e6, 4e-7)]);
 //! line_chart(
 //!     Path::new("stress.png"),

@@ -22,7 +22,7 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use ellipsoid_splat::{Error, Result};
+use crate::error::{Error, Result};
 
 use super::table::fmt_sci_digits;
 

@@ -8,7 +8,7 @@
 
 use std::path::Path;
 
-use ellipsoid_splat::{Error, Result};
+use crate::error::{Error, Result};
 
 /// Compact scientific notation with up to three significant digits: `4.5e-7`, `1.23e5`, `-2e0`.
 ///

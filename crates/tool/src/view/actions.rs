@@ -6,7 +6,7 @@ use std::time::Instant;
 use winit::dpi::PhysicalSize;
 use winit::event_loop::ActiveEventLoop;
 
-use ellipsoid_splat::Result;
+use crate::error::Result;
 
 use super::script::{Action, Button};
 use super::viewer::Viewer;

@@ -84,7 +84,7 @@ impl ViewCamera {
     /// The renderer's camera for a `width` x `height` image. The near plane follows
     /// `render`'s default: half the distance to the bounding sphere, or 1e-3 of its radius
     /// from inside.
-    pub fn camera(&self, width: u32, height: u32) -> ellipsoid_splat::Result<Camera> {
+    pub fn camera(&self, width: u32, height: u32) -> crate::error::Result<Camera> {
         let (center, radius) = self.bounds;
         let near = self.near.unwrap_or_else(|| {
             let gap = (center - self.eye).length() - radius;
@@ -100,7 +100,7 @@ impl ViewCamera {
                 fov_y_deg: self.fov_y_deg,
             },
         };
-        Camera::new(
+        Ok(Camera::new(
             self.eye,
             self.target,
             self.up,
@@ -108,12 +108,12 @@ impl ViewCamera {
             near,
             width,
             height,
-        )
+        )?)
     }
 
     /// The `render` flags that draw exactly this camera at `width` x `height`. Numbers are
     /// printed so they read back to the same float64 (Rust's shortest round-trip form).
-    pub fn render_flags(&self, width: u32, height: u32) -> ellipsoid_splat::Result<String> {
+    pub fn render_flags(&self, width: u32, height: u32) -> crate::error::Result<String> {
         let camera = self.camera(width, height)?;
         let v = |v: DVec3| format!("{:?},{:?},{:?}", v.x, v.y, v.z);
         let projection = match self.ortho_height {

@@ -11,8 +11,11 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::window::Window;
 
-use ellipsoid_splat::gpu::validation::{self, MessageLog};
-use ellipsoid_splat::{DeviceFeatures, Error, HostDevice, Result};
+use crate::error::{Error, Result};
+use ellipsoid_splat::internals::validation::{self, MessageLog};
+// The viewer's own Vulkan plumbing fails as the renderer's does.
+use ellipsoid_splat::Error as VulkanError;
+use ellipsoid_splat::{DeviceFeatures, HostDevice};
 
 use super::VkCall;
 
@@ -55,7 +58,8 @@ impl Gpu {
     /// `--device`), `validation` turns the layer on.
     pub fn new(window: &Window, device: Option<&str>, validation: bool) -> Result<Self> {
         // SAFETY: loads the system's Vulkan loader; the entry lives in `Gpu`.
-        let entry = unsafe { ash::Entry::load() }.map_err(|e| Error::Loader(e.to_string()))?;
+        let entry =
+            unsafe { ash::Entry::load() }.map_err(|e| VulkanError::Loader(e.to_string()))?;
         let display = window
             .display_handle()
             .map_err(|e| Error::invalid("window", format!("no display handle: {e}")))?
@@ -76,11 +80,12 @@ impl Gpu {
                 .iter()
                 .any(|l| l.layer_name_as_c_str() == Ok(VALIDATION_LAYER));
             if !found {
-                return Err(Error::NoDevice(
+                return Err(VulkanError::NoDevice(
                     "--validation needs VK_LAYER_KHRONOS_validation (on Debian: apt-get install \
                      vulkan-validationlayers)"
                         .into(),
-                ));
+                )
+                .into());
             }
             layers.push(VALIDATION_LAYER.as_ptr());
             extensions.push(ash::ext::debug_utils::NAME.as_ptr());
@@ -172,10 +177,11 @@ impl Gpu {
                     surface_loader.destroy_surface(surface, None);
                 }
                 destroy_instance(messenger);
-                return Err(Error::Allocation {
+                return Err(VulkanError::Allocation {
                     what: "allocator".into(),
                     reason: e.to_string(),
-                });
+                }
+                .into());
             }
         };
         // SAFETY: the device was created with one queue in `queue_family`.
@@ -307,14 +313,14 @@ fn choose_device(
         .next()
         .map(|(_, physical, family, name)| (physical, family, name))
         .ok_or_else(|| {
-            Error::NoDevice(match wanted {
+            Error::from(VulkanError::NoDevice(match wanted {
                 Some(w) => format!(
                     "no Vulkan 1.3 device matching '{w}' can draw and present to this window"
                 ),
                 None => "no Vulkan 1.3 device can draw and present to this window (on Debian: \
                          apt-get install mesa-vulkan-drivers for lavapipe)"
                     .into(),
-            })
+            }))
         })
 }
 
@@ -333,10 +339,7 @@ fn create_device(
     needed.maintenance4 = true;
     let missing = needed.missing_from(supported);
     if !missing.is_empty() {
-        return Err(Error::NoDevice(format!(
-            "device lacks {}",
-            missing.join(", ")
-        )));
+        return Err(VulkanError::NoDevice(format!("device lacks {}", missing.join(", "))).into());
     }
     let features = if supported.contains(DeviceFeatures::COMPUTE_SPLAT) {
         needed.union(DeviceFeatures::COMPUTE_SPLAT)

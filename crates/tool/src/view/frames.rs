@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use ash::vk;
 
-use ellipsoid_splat::Result;
+use crate::error::Result;
 
 use super::VkCall;
 

@@ -44,7 +44,8 @@ use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
-use ellipsoid_splat::{Ellipsoid, Error, Result, Scene, Settings};
+use crate::error::{Error, Result};
+use ellipsoid_splat::{Ellipsoid, Scene, Settings};
 use ellipsoid_splat_loaders::ColorMode;
 
 use crate::cli::{self, SceneSpec, ViewArgs};
@@ -176,7 +177,7 @@ struct App {
     viewer: Option<Viewer>,
     window: Option<Window>,
     error: Option<Error>,
-    log: Option<ellipsoid_splat::gpu::validation::MessageLog>,
+    log: Option<ellipsoid_splat::internals::validation::MessageLog>,
     input: Input,
     /// Turns of the render loop so far (drawn or skipped).
     tick: u64,
@@ -344,7 +345,7 @@ impl App {
         let messages = self
             .log
             .as_ref()
-            .map(ellipsoid_splat::gpu::validation::failures)
+            .map(ellipsoid_splat::internals::validation::failures)
             .unwrap_or_default();
         for m in &messages {
             eprintln!("validation: {m}");
@@ -352,10 +353,10 @@ impl App {
         println!("validation messages: {}", messages.len());
         match messages.first() {
             None => Ok(()),
-            Some(first) => Err(Error::Validation {
+            Some(first) => Err(Error::Renderer(ellipsoid_splat::Error::Validation {
                 count: messages.len(),
                 first: first.to_string(),
-            }),
+            })),
         }
     }
 

@@ -22,7 +22,7 @@
 
 use std::path::{Path, PathBuf};
 
-use ellipsoid_splat::{Error, Result};
+use crate::error::{Error, Result};
 
 /// The most frames one scripted drag may take (each is an event in memory).
 const MAX_DRAG_FRAMES: u64 = 1_000_000;

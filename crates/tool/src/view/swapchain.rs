@@ -3,7 +3,7 @@
 
 use ash::vk;
 
-use ellipsoid_splat::Result;
+use crate::error::Result;
 
 use super::device::Gpu;
 use super::VkCall;
@@ -64,7 +64,8 @@ pub fn choose_format(gpu: &Gpu) -> Result<vk::SurfaceFormatKHR> {
         (None, None) => Err(ellipsoid_splat::Error::NoDevice(format!(
             "the window's surface offers no 8-bit RGBA or BGRA format (it offers {:?})",
             formats.iter().map(|f| f.format).collect::<Vec<_>>()
-        ))),
+        ))
+        .into()),
     }
 }
 

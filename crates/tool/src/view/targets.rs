@@ -7,7 +7,9 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
 use gpu_allocator::MemoryLocation;
 
-use ellipsoid_splat::{Error, Result, ID_FORMAT, NORMAL_FORMAT};
+use crate::error::{Error, Result};
+use ellipsoid_splat::Error as VulkanError;
+use ellipsoid_splat::{ID_FORMAT, NORMAL_FORMAT};
 
 use super::VkCall;
 
@@ -61,9 +63,11 @@ impl OwnedImage {
         };
         let made = allocator
             .allocate(&desc)
-            .map_err(|e| Error::Allocation {
-                what: "viewer image".into(),
-                reason: e.to_string(),
+            .map_err(|e| {
+                Error::from(VulkanError::Allocation {
+                    what: "viewer image".into(),
+                    reason: e.to_string(),
+                })
             })
             .and_then(|memory| {
                 // SAFETY: memory allocated for this image's requirements.
@@ -146,9 +150,11 @@ impl ReadbackBuffer {
         };
         let made = allocator
             .allocate(&desc)
-            .map_err(|e| Error::Allocation {
-                what: "viewer readback".into(),
-                reason: e.to_string(),
+            .map_err(|e| {
+                Error::from(VulkanError::Allocation {
+                    what: "viewer readback".into(),
+                    reason: e.to_string(),
+                })
             })
             .and_then(|memory| {
                 // SAFETY: memory allocated for this buffer's requirements.

@@ -14,8 +14,8 @@ use ash::vk;
 use winit::window::Window;
 
 use ellipsoid_splat::{
-    Camera, Ellipsoid, EllipsoidRenderer, Error, Pass, RendererOptions, Result, Scene, Settings,
-    Target, ID_FORMAT, NORMAL_FORMAT,
+    Camera, Ellipsoid, EllipsoidRenderer, Pass, RendererOptions, Scene, Settings, Target,
+    ID_FORMAT, NORMAL_FORMAT,
 };
 
 use super::device::Gpu;
@@ -24,6 +24,7 @@ use super::subset::Sample;
 use super::swapchain::{self, Swapchain};
 use super::targets::{ReadbackBuffer, Targets, DEPTH_FORMAT};
 use super::VkCall;
+use crate::error::{Error, Result};
 
 /// The background, the same linear colour `render` clears to, so pictures compare.
 const BACKGROUND: [f32; 4] = [0.045, 0.05, 0.065, 1.0];
@@ -193,7 +194,7 @@ impl Viewer {
             // SAFETY: `cmd` is recording outside a pass; the submission is waited for.
             unsafe {
                 renderer.begin_frame(device, allocator, 0)?;
-                renderer.upload(device, allocator, cmd, scene)
+                Ok(renderer.upload(device, allocator, cmd, scene)?)
             }
         });
         if let Err(e) = uploaded {
@@ -467,7 +468,7 @@ impl Viewer {
     }
 
     /// The store of validation messages (it outlives the viewer, to hold those of teardown).
-    pub fn message_log(&self) -> ellipsoid_splat::gpu::validation::MessageLog {
+    pub fn message_log(&self) -> ellipsoid_splat::internals::validation::MessageLog {
         self.gpu.message_log()
     }
 

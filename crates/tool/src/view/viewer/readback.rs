@@ -5,7 +5,7 @@ use std::path::Path;
 
 use ash::vk;
 
-use ellipsoid_splat::{Error, Result};
+use crate::error::{Error, Result};
 
 use super::{to_host, Drawn, Probe, Viewer, NO_INSTANCE};
 use crate::view::targets::ReadbackBuffer;

@@ -4,7 +4,8 @@
 
 use ash::vk;
 
-use ellipsoid_splat::{Camera, Ellipsoid, Result};
+use crate::error::Result;
+use ellipsoid_splat::{Camera, Ellipsoid};
 
 use super::{to_host, Viewer, BACKGROUND, NO_INSTANCE};
 use crate::view::targets::ReadbackBuffer;

@@ -1,0 +1,54 @@
+//! The loaders' error: which file, line and field is bad and why, what could not be read, or
+//! what the renderer's types refused.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong loading or generating a scene.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A scene file has a bad row, field or header.
+    #[error("{}:{line}:{column}: {reason}", file.display())]
+    Parse {
+        /// The file being read.
+        file: PathBuf,
+        /// 1-based line number (0 when the problem is not tied to a line).
+        line: usize,
+        /// The column name, or a description of the place in the line.
+        column: String,
+        /// Why it is rejected.
+        reason: String,
+    },
+    /// Reading a file failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// An option or value is outside what the loaders accept.
+    #[error("invalid {what}: {reason}")]
+    Invalid {
+        /// What was invalid (e.g. `--sigma`, `tensor field side`).
+        what: String,
+        /// Why.
+        reason: String,
+    },
+    /// The renderer's types refused a value (an ellipsoid, a scene).
+    #[error(transparent)]
+    Renderer(#[from] ellipsoid_splat::Error),
+}
+
+/// Shorthand for `Result<T, ellipsoid_splat_loaders::Error>`.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl Error {
+    /// An invalid `what`, because `reason`.
+    pub fn invalid(what: impl Into<String>, reason: impl Into<String>) -> Self {
+        Error::Invalid {
+            what: what.into(),
+            reason: reason.into(),
+        }
+    }
+}

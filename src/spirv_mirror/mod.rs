@@ -1,0 +1,462 @@
+//! The CPU-GPU mirror (design §7) checked on the compiled shaders: every SPIR-V module
+//! `build.rs` made for this feature set (`spirv-files.txt` in `OUT_DIR`) is read and compared
+//! with the Rust side -- the shared structs member by member (names, order, offsets, sizes,
+//! array strides), the specialization constants by name (id, width, default), the descriptor
+//! bindings (number, stage, block name) and the compute workgroup sizes. A drift on either
+//! side fails a test here rather than a frame.
+
+mod reader;
+mod rust_layouts;
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
+use std::sync::OnceLock;
+
+use ash::vk;
+
+use crate::culling::{GROUP_SIZE, SPLAT_GROUP_SIZE};
+use crate::gpu_layout::SpecConstants;
+use crate::renderer::Binding;
+use reader::{Constant, Module, Type};
+use rust_layouts::{shared_layouts, spec_constant_fields, Layout};
+
+/// The builds of this feature set, one a line (written by `build.rs`).
+const BUILT: &str = include_str!(concat!(env!("OUT_DIR"), "/spirv-files.txt"));
+
+/// The GLSL side of every shared layout.
+const GPU_LAYOUT_GLSL: &str = include_str!("../../glsl/include/gpu_layout.glsl");
+
+/// Buffer blocks that read a binding under a name other than its `Binding` variant's: another
+/// view of the same buffer.
+const OTHER_VIEWS: [(Binding, &str); 3] = [
+    // The same records in the compact format.
+    (Binding::Instances, "CompactInstances"),
+    // The draw's read-only view; the pre-pass writes it as `Visible`.
+    (Binding::Visible, "VisibleInstances"),
+    // The 64-bit keys as 32-bit words.
+    (Binding::Visibility, "VisibilityWords"),
+];
+
+/// Each compute shader and the workgroup size the Rust side sizes its dispatches by.
+fn dispatch_group_sizes() -> [(&'static str, [u64; 3]); 2] {
+    [
+        ("cull.comp.spv", [GROUP_SIZE, 1, 1]),
+        ("splat.comp.spv", [SPLAT_GROUP_SIZE as u64, 1, 1]),
+    ]
+}
+
+/// Every module this feature set built, by file name.
+fn modules() -> &'static BTreeMap<&'static str, Module> {
+    static MODULES: OnceLock<BTreeMap<&'static str, Module>> = OnceLock::new();
+    MODULES.get_or_init(|| {
+        let out = Path::new(env!("OUT_DIR"));
+        let modules: BTreeMap<_, _> = BUILT
+            .lines()
+            .map(|name| {
+                let bytes = std::fs::read(out.join(name))
+                    .unwrap_or_else(|e| panic!("{name}: build.rs listed it but: {e}"));
+                let module = Module::parse(&bytes).unwrap_or_else(|e| panic!("{name}: {e}"));
+                (name, module)
+            })
+            .collect();
+        assert!(modules.len() >= 10, "only {} modules listed", modules.len());
+        modules
+    })
+}
+
+/// The shader stage of a module's entry point.
+fn stage(name: &str, module: &Module) -> vk::ShaderStageFlags {
+    match module.models.as_slice() {
+        [reader::VERTEX] => vk::ShaderStageFlags::VERTEX,
+        [reader::FRAGMENT] => vk::ShaderStageFlags::FRAGMENT,
+        [reader::GL_COMPUTE] => vk::ShaderStageFlags::COMPUTE,
+        models => {
+            panic!("{name}: expected one vertex, fragment or compute entry point, found {models:?}")
+        }
+    }
+}
+
+/// Mismatches found, each with the shaders it was found in (most hold in every build).
+#[derive(Default)]
+struct Findings(BTreeMap<String, Vec<&'static str>>);
+
+impl Findings {
+    /// A mismatch in shader `file`.
+    fn add(&mut self, file: &'static str, mismatch: String) {
+        self.0.entry(mismatch).or_default().push(file);
+    }
+
+    /// A mismatch of the whole set of shaders.
+    fn add_overall(&mut self, mismatch: String) {
+        self.0.entry(mismatch).or_default();
+    }
+
+    /// Fails with every mismatch found, one a line.
+    fn assert_none(self, what: &str) {
+        let lines: Vec<String> = self
+            .0
+            .into_iter()
+            .map(|(mismatch, files)| match files.as_slice() {
+                [] => mismatch,
+                [one] => format!("{one}: {mismatch}"),
+                [first, rest @ ..] => {
+                    format!("{first} and {} more: {mismatch}", rest.len())
+                }
+            })
+            .collect();
+        assert!(
+            lines.is_empty(),
+            "{what}: the shaders and the Rust side disagree:\n  {}",
+            lines.join("\n  ")
+        );
+    }
+}
+
+/// Compares one explicitly laid-out SPIR-V struct with its Rust type.
+fn compare_struct(module: &Module, id: u32, rust: &Layout) -> Vec<String> {
+    let mut mismatches = Vec::new();
+    let members = module.members(id).unwrap_or_default();
+    if members.len() != rust.fields.len() {
+        mismatches.push(format!(
+            "{} has {} members, the Rust type {} fields",
+            rust.name,
+            members.len(),
+            rust.fields.len()
+        ));
+    }
+    for (index, (&ty, field)) in members.iter().zip(&rust.fields).enumerate() {
+        let index = index as u32;
+        let name = module
+            .member_names
+            .get(&(id, index))
+            .map_or("", String::as_str);
+        let offset = module.member_decoration(id, index, reader::OFFSET);
+        let size = module.size_of(ty);
+        if name != field.name
+            || offset != Some(field.offset as u32)
+            || size != Some(field.size as u32)
+        {
+            mismatches.push(format!(
+                "{} member {index}: `{name}` at {offset:?} of {size:?} bytes in SPIR-V, \
+                 `{}` at {} of {} bytes in Rust",
+                rust.name, field.name, field.offset, field.size
+            ));
+        }
+    }
+    if module.size_of(id) != Some(rust.size as u32) {
+        mismatches.push(format!(
+            "{} takes {:?} bytes in SPIR-V, {} in Rust",
+            rust.name,
+            module.size_of(id),
+            rust.size
+        ));
+    }
+    // Arrays of it step by the Rust size.
+    for (&array, ty) in &module.types {
+        let element = match ty {
+            Type::Array { element, .. } | Type::RuntimeArray { element } => *element,
+            _ => continue,
+        };
+        let stride = module.decoration(array, reader::ARRAY_STRIDE);
+        if element == id && stride != Some(rust.size as u32) {
+            mismatches.push(format!(
+                "arrays of {} step by {stride:?} bytes in SPIR-V, {} in Rust",
+                rust.name, rust.size
+            ));
+        }
+    }
+    mismatches
+}
+
+#[test]
+fn shared_structs_match_their_rust_types_member_by_member() {
+    let layouts = shared_layouts();
+    let mut findings = Findings::default();
+    let mut seen = BTreeSet::new();
+    for (file, module) in modules() {
+        for (&id, ty) in &module.types {
+            let Type::Struct { members } = ty else {
+                continue;
+            };
+            let Some(rust) = layouts.iter().find(|l| l.name == module.name(id)) else {
+                continue;
+            };
+            // glslang also emits an undecorated copy for function-local values.
+            let laid_out = (0..members.len() as u32)
+                .all(|m| module.member_decoration(id, m, reader::OFFSET).is_some());
+            if !laid_out {
+                continue;
+            }
+            seen.insert(rust.name);
+            for mismatch in compare_struct(module, id, rust) {
+                findings.add(file, mismatch);
+            }
+        }
+    }
+    for (file, module) in modules() {
+        for variable in &module.variables {
+            let Some(Type::Pointer { pointee, .. }) = module.types.get(&variable.pointer) else {
+                continue;
+            };
+            let block = module.name(*pointee);
+            if variable.storage == reader::PUSH_CONSTANT && block != "PushConstants" {
+                findings.add(file, format!("push constants `{block}`, not PushConstants"));
+            }
+        }
+    }
+    for layout in &layouts {
+        if !seen.contains(layout.name) {
+            findings.add_overall(format!("no shader declares {} with a layout", layout.name));
+        }
+    }
+    findings.assert_none("shared structs");
+}
+
+/// The names of the structs and blocks `gpu_layout.glsl` declares.
+fn glsl_layout_names() -> Vec<&'static str> {
+    GPU_LAYOUT_GLSL
+        .lines()
+        .filter_map(|line| {
+            let line = line.trim_start();
+            let declared = match line.strip_prefix("struct ") {
+                Some(rest) => rest,
+                None if line.starts_with("layout(") && !line.contains("constant_id") => {
+                    let (_, rest) = line
+                        .split_once(" uniform ")
+                        .or(line.split_once(" buffer "))?;
+                    rest
+                }
+                None => return None,
+            };
+            declared
+                .split(|c: char| !c.is_alphanumeric() && c != '_')
+                .next()
+        })
+        .collect()
+}
+
+#[test]
+fn every_struct_of_gpu_layout_glsl_has_a_rust_mirror() {
+    let names = glsl_layout_names();
+    let layouts = shared_layouts();
+    for expected in [
+        "PushConstants",
+        "Instance",
+        "CompactInstance",
+        "IndirectDraw",
+    ] {
+        assert!(
+            names.contains(&expected),
+            "{expected} not found in {names:?}"
+        );
+    }
+    let unmirrored: Vec<_> = names
+        .iter()
+        .filter(|name| !layouts.iter().any(|l| l.name == **name))
+        .collect();
+    assert!(
+        unmirrored.is_empty(),
+        "gpu_layout.glsl declares {unmirrored:?} without a Rust type in the mirror's table \
+         (src/spirv_mirror/rust_layouts.rs)"
+    );
+}
+
+/// Compares one specialization constant with the Rust field of the same name.
+fn compare_spec_constant(module: &Module, id: u32, constant: &Constant) -> Option<String> {
+    let name = module.name(id);
+    let spec_id = module.decoration(id, reader::SPEC_ID)?;
+    let fields = spec_constant_fields();
+    let Some(field) = fields.fields.iter().find(|f| f.name.to_uppercase() == name) else {
+        return Some(format!(
+            "{name} (SpecId {spec_id}) has no SpecConstants field"
+        ));
+    };
+    let entries = SpecConstants::map_entries();
+    let Some(entry) = entries.iter().find(|e| e.offset as usize == field.offset) else {
+        return Some(format!("SpecConstants::{} has no map entry", field.name));
+    };
+    let defaults = SpecConstants::default();
+    let bytes = bytemuck::bytes_of(&defaults);
+    let default = u32::from_ne_bytes(bytes[field.offset..field.offset + 4].try_into().ok()?);
+    let width = module.size_of(constant.ty);
+    if entry.constant_id != spec_id
+        || width != Some(entry.size as u32)
+        || field.size != entry.size
+        || default != constant.value
+    {
+        return Some(format!(
+            "{name}: SpecId {spec_id}, {width:?} bytes, default {} in SPIR-V; constant_id {}, \
+             {} bytes (field {}), default {default} in Rust",
+            constant.value, entry.constant_id, entry.size, field.size
+        ));
+    }
+    None
+}
+
+#[test]
+fn specialization_constants_match_by_name_id_width_and_default() {
+    let mut findings = Findings::default();
+    let mut seen = BTreeSet::new();
+    for (file, module) in modules() {
+        for (&id, constant) in &module.constants {
+            if !constant.spec || module.decoration(id, reader::SPEC_ID).is_none() {
+                continue;
+            }
+            seen.insert(module.name(id).to_owned());
+            if let Some(mismatch) = compare_spec_constant(module, id, constant) {
+                findings.add(file, mismatch);
+            }
+        }
+    }
+    // Every Rust constant is one some shader reads.
+    for field in &spec_constant_fields().fields {
+        if !seen.contains(&field.name.to_uppercase()) {
+            findings.add_overall(format!("no shader declares {}", field.name.to_uppercase()));
+        }
+    }
+    findings.assert_none("specialization constants");
+}
+
+#[test]
+fn spec_constant_ids_cover_every_field_once() {
+    let fields = spec_constant_fields();
+    let entries = SpecConstants::map_entries();
+    assert_eq!(
+        entries.len(),
+        fields.fields.len(),
+        "one map entry per field"
+    );
+    let offsets: BTreeSet<_> = entries.iter().map(|e| e.offset as usize).collect();
+    let ids: BTreeSet<_> = entries.iter().map(|e| e.constant_id).collect();
+    assert_eq!(offsets.len(), entries.len(), "two entries share a field");
+    assert_eq!(ids.len(), entries.len(), "two entries share a constant_id");
+    for field in &fields.fields {
+        assert!(
+            offsets.contains(&field.offset),
+            "{} has no entry",
+            field.name
+        );
+    }
+}
+
+#[test]
+fn descriptor_bindings_match_the_binding_table() {
+    let mut findings = Findings::default();
+    let mut seen = BTreeSet::new();
+    for (file, module) in modules() {
+        let stage = stage(file, module);
+        for variable in &module.variables {
+            let Some(number) = module.decoration(variable.id, reader::BINDING) else {
+                continue;
+            };
+            let set = module.decoration(variable.id, reader::DESCRIPTOR_SET);
+            let block = match module.types.get(&variable.pointer) {
+                Some(Type::Pointer { pointee, .. }) => module.name(*pointee),
+                _ => "",
+            };
+            if set != Some(0) {
+                findings.add(
+                    file,
+                    format!("{block} (binding {number}) is in set {set:?}"),
+                );
+            }
+            if variable.storage != reader::STORAGE_BUFFER {
+                let class = variable.storage;
+                findings.add(
+                    file,
+                    format!("{block} (binding {number}) has storage class {class}, not a buffer"),
+                );
+            }
+            let Some(binding) = Binding::ALL.into_iter().find(|b| *b as u32 == number) else {
+                findings.add(
+                    file,
+                    format!("{block} uses binding {number}, not in Binding"),
+                );
+                continue;
+            };
+            let named = format!("{binding:?}") == block || OTHER_VIEWS.contains(&(binding, block));
+            if !named {
+                findings.add(
+                    file,
+                    format!("binding {number} is the block {block}, Binding::{binding:?} in Rust"),
+                );
+            }
+            if !module.accessed.contains(&variable.id) {
+                continue; // declared by a shared include, never touched by this stage
+            }
+            seen.insert(number);
+            if !binding.stages().contains(stage) {
+                let stages = binding.stages();
+                findings.add(
+                    file,
+                    format!("Binding::{binding:?}'s stages {stages:?} leave out {stage:?}"),
+                );
+            }
+        }
+    }
+    for binding in Binding::ALL {
+        if !seen.contains(&(binding as u32)) {
+            findings.add_overall(format!("no shader uses Binding::{binding:?}"));
+        }
+    }
+    findings.assert_none("descriptor bindings");
+}
+
+#[test]
+fn binding_table_numbers_each_binding_once_in_order() {
+    for (index, binding) in Binding::ALL.into_iter().enumerate() {
+        assert_eq!(
+            binding as usize, index,
+            "Binding::ALL out of order at {binding:?}"
+        );
+    }
+}
+
+/// A compute module's workgroup size, from `LocalSize` or `LocalSizeId` (whose ids name
+/// constants or specialization constants).
+fn workgroup_size(module: &Module) -> Option<[u64; 3]> {
+    let mode = module
+        .execution_modes
+        .iter()
+        .find(|m| matches!(m.mode, reader::LOCAL_SIZE | reader::LOCAL_SIZE_ID))?;
+    let mut size = [0; 3];
+    for (axis, &operand) in size.iter_mut().zip(mode.operands.iter()) {
+        *axis = if mode.ids {
+            module.constants.get(&operand)?.value as u64
+        } else {
+            operand as u64
+        };
+    }
+    (mode.operands.len() == 3).then_some(size)
+}
+
+#[test]
+fn compute_workgroup_sizes_match_the_dispatch_constants() {
+    let expected = dispatch_group_sizes();
+    let mut findings = Findings::default();
+    let mut checked = 0;
+    for (file, module) in modules() {
+        if stage(file, module) != vk::ShaderStageFlags::COMPUTE {
+            continue;
+        }
+        let Some((_, rust)) = expected.iter().find(|(name, _)| name == file) else {
+            findings.add(file, "no dispatch constant in the mirror's table".into());
+            continue;
+        };
+        checked += 1;
+        let spirv = workgroup_size(module);
+        if spirv != Some(*rust) {
+            findings.add(
+                file,
+                format!("workgroup {spirv:?} in SPIR-V, {rust:?} in Rust"),
+            );
+        }
+    }
+    if checked != expected.len() {
+        let listed = expected.len();
+        findings.add_overall(format!(
+            "{checked} of the {listed} listed compute shaders built"
+        ));
+    }
+    findings.assert_none("workgroup sizes");
+}
