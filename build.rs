@@ -51,6 +51,10 @@ fn main() {
     };
     let files: String = builds.iter().map(|b| format!("{}\n", b.spv)).collect();
     write(&out.join("spirv-files.txt"), files.as_bytes());
+    write(
+        &out.join("spirv-sources.txt"),
+        sources_hash(&glsl).as_bytes(),
+    );
     write(&out.join("spirv-origin.txt"), origin.as_bytes());
 }
 
@@ -160,6 +164,25 @@ fn copy_committed(builds: &[Build], out: &Path, tool: &str, why: &str) -> String
     } else {
         why.to_owned()
     };
+    // The committed SPIR-V is only good for the sources it was made from: shaders edited
+    // since would silently run stale.
+    let recorded =
+        std::fs::read_to_string(Path::new(COMMITTED).join("SOURCES")).unwrap_or_default();
+    let current = sources_hash(Path::new("glsl"));
+    if recorded.trim() != current.trim() {
+        panic!(
+            "\n\n{reason}, and the committed SPIR-V in {COMMITTED}/ was made from other shader \
+             sources than glsl/ holds now (sources {}, recorded {}).\n\
+             Install the shader compiler with:  sudo apt-get install glslang-tools\n\
+             (then scripts/update-spirv.sh refreshes {COMMITTED}/).\n",
+            current.trim(),
+            if recorded.is_empty() {
+                "none"
+            } else {
+                recorded.trim()
+            }
+        );
+    }
     println!(
         "cargo:warning={reason}: using the committed SPIR-V in {COMMITTED}/ \
          (install glslang-tools to compile the shaders from glsl/)"
@@ -177,6 +200,35 @@ fn copy_committed(builds: &[Build], out: &Path, tool: &str, why: &str) -> String
         }
     }
     format!("committed\n{reason}\n")
+}
+
+/// A 64-bit FNV-1a hash of every file under `glsl` (relative path and contents, in path
+/// order), as 16 hex digits and a newline: what `spirv/SOURCES` records of the sources the
+/// committed SPIR-V was made from.
+fn sources_hash(glsl: &Path) -> String {
+    let mut files = Vec::new();
+    collect(glsl, &mut files);
+    files.sort();
+    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut feed = |bytes: &[u8]| {
+        for &b in bytes {
+            hash = (hash ^ b as u64).wrapping_mul(0x0100_0000_01b3);
+        }
+    };
+    for file in files {
+        let relative = file.strip_prefix(glsl).unwrap_or(&file);
+        let name: Vec<String> = relative
+            .components()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned())
+            .collect();
+        feed(name.join("/").as_bytes());
+        feed(&[0]);
+        let contents =
+            std::fs::read(&file).unwrap_or_else(|e| panic!("cannot read {}: {e}", file.display()));
+        feed(&contents);
+        feed(&[0]);
+    }
+    format!("{hash:016x}\n")
 }
 
 fn write(path: &Path, bytes: &[u8]) {

@@ -33,4 +33,5 @@ while read -r file; do
   cp "$out_dir/$file" "spirv/$file"
 done <"$out_dir/spirv-files.txt"
 sed -n 2p "$out_dir/spirv-origin.txt" >spirv/COMPILER
+cp "$out_dir/spirv-sources.txt" spirv/SOURCES
 echo "update-spirv: $(wc -l <"$out_dir/spirv-files.txt") files from $(cat spirv/COMPILER)"

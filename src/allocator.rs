@@ -10,6 +10,7 @@
 #[cfg(feature = "gpu-allocator")]
 mod gpu_allocator;
 #[cfg(feature = "gpu-allocator")]
+#[cfg(feature = "offscreen")]
 pub(crate) use self::gpu_allocator::allocation_error as gpu_allocation_error;
 #[cfg(feature = "vk-mem")]
 mod vk_mem;
@@ -21,7 +22,8 @@ use ash::vk;
 
 use crate::error::Result;
 
-/// What a buffer's memory is used for.
+/// What a buffer's memory is used for. Deliberately exhaustive: an allocator must place every
+/// use, so a new one would be a breaking change anyway.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MemoryUse {
     /// Read and written by the GPU only (instances, culling and set-up buffers): device-local
@@ -43,7 +45,7 @@ impl MemoryUse {
 }
 
 /// One buffer's memory, as the host's allocator gave it: the allocator's own record of the
-/// allocation (handed back to [`MemoryAllocator::free_buffer_memory`]), its size, and for
+/// allocation (handed back to [`MemoryAllocator::destroy_buffer`]), its size, and for
 /// host-visible uses where it is mapped.
 pub struct BufferMemory {
     allocation: Box<dyn Any + Send + Sync>,
@@ -114,26 +116,38 @@ impl BufferMemory {
     }
 }
 
-/// The host's GPU memory allocator. The renderer creates its buffers itself and asks the
-/// allocator only for their memory; every call passes the same device and allocator.
+/// The host's GPU memory allocator. The renderer asks it for every buffer it needs, with
+/// memory bound (as `vmaCreateBuffer` makes them), and gives each back to it; every call
+/// passes the same device and allocator.
 ///
 /// # Safety
-/// `allocate_buffer_memory` binds to `buffer` memory that meets the buffer's requirements
-/// (`vkGetBufferMemoryRequirements`) and `usage`: for [`MemoryUse::Upload`] and
-/// [`MemoryUse::Readback`] host-visible and host-coherent memory, mapped for as long as it
-/// lives, with its mapping in the returned [`BufferMemory`]. The renderer relies on this for
-/// memory safety.
+/// `create_buffer` returns a buffer made from `info` on `device` with memory bound that meets
+/// the buffer's requirements and `usage`: for [`MemoryUse::Upload`] and [`MemoryUse::Readback`]
+/// host-visible and host-coherent memory, mapped for as long as it lives, with its mapping in
+/// the returned [`BufferMemory`]. The renderer relies on this for memory safety.
 pub unsafe trait MemoryAllocator {
-    /// Allocates memory for `buffer` (created from `device`, not yet bound) for `usage`,
-    /// under the name `name`, and binds it.
-    fn allocate_buffer_memory(
+    /// Creates a buffer from `info` on `device` and binds memory for `usage` to it, under the
+    /// name `name`.
+    ///
+    /// # Safety
+    /// `device` is the allocator's device and `info` a valid create info.
+    unsafe fn create_buffer(
+        &mut self,
+        device: &ash::Device,
+        info: &vk::BufferCreateInfo<'_>,
+        name: &str,
+        usage: MemoryUse,
+    ) -> Result<(vk::Buffer, BufferMemory)>;
+
+    /// Destroys a buffer `create_buffer` made and frees its memory.
+    ///
+    /// # Safety
+    /// `buffer` and `memory` came together from `create_buffer` of this allocator with
+    /// `device`, and no pending GPU work uses them.
+    unsafe fn destroy_buffer(
         &mut self,
         device: &ash::Device,
         buffer: vk::Buffer,
-        name: &str,
-        usage: MemoryUse,
-    ) -> Result<BufferMemory>;
-
-    /// Frees memory `allocate_buffer_memory` gave; its buffer is already destroyed.
-    fn free_buffer_memory(&mut self, memory: BufferMemory) -> Result<()>;
+        memory: BufferMemory,
+    ) -> Result<()>;
 }

@@ -17,9 +17,11 @@ use glam::{DMat3, DVec2, DVec3};
 use crate::camera::Camera;
 use crate::ellipsoid::Ellipsoid;
 
-/// Screen-space bounds in pixel coordinates: x to the right and y down from the image's
-/// top-left corner, pixel `(i, j)` covering `[i, i+1] x [j, j+1]` (its centre at `+0.5`). Not
-/// clipped to the image: a host clips to its own viewport or tiles.
+/// Screen-space bounds in the camera's pixel coordinates: x to the right and y down from the
+/// camera image's top-left corner, pixel `(i, j)` covering `[i, i+1] x [j, j+1]` (its centre
+/// at `+0.5`), intrinsics and jitter applied. Not moved by `Camera::viewport_origin` (add it
+/// for attachment pixels) and not clipped to the image: a host clips to its own viewport or
+/// tiles.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScreenBounds {
     /// `[x0, y0, x1, y1]`, the tight axis-aligned rectangle of the projected silhouette.

@@ -16,9 +16,16 @@ use crate::depth::{DepthConvention, DepthMap};
 use crate::error::{Error, Result};
 
 /// The most a camera's principal point (with its jitter) may lie from its image's centre, in
-/// half image widths and heights: beyond it float32 keeps the screen position of a pixel to
-/// less than a thousandth of a pixel on a 16384-pixel image (§4.9).
+/// half image widths and heights: the shaders' NDC of a pixel is the image's NDC plus this
+/// shift, and must stay well inside float32's range of exact small integers.
 pub const MAX_PRINCIPAL_SHIFT: f64 = 64.0;
+
+/// The most a camera's principal point (with its jitter) may lie from its image's centre, in
+/// pixels: the shaders add the shift to each pixel's NDC in float32, which adds at most
+/// `p 2^-23` pixels of rounding at a shift of `p` pixels to the `(W/2) 2^-23` (at most 2^-10)
+/// a centred camera has, so 8192 pixels keep every pixel's position within 2^-9 of a pixel,
+/// on any image size (§4.9).
+pub const MAX_PRINCIPAL_SHIFT_PX: f64 = 8192.0;
 
 /// The pinhole intrinsics of a camera, in pixels, as OpenCV writes them: focal lengths
 /// `fx, fy` (pixels per unit of screen-plane slope in perspective; pixels per world unit in
@@ -99,6 +106,7 @@ impl Intrinsics {
 
 /// How the view volume is shaped.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Projection {
     /// Pinhole camera with the vertical field of view in degrees, in (0, 180), its principal
     /// point at the image's centre and square pixels.
@@ -320,7 +328,35 @@ impl Camera {
                 format!("not finite: {}", self.jitter),
             ));
         }
+        let (scale_x, scale_y) = self.ndc_scale();
+        // The push constants hold the scales in float32: they must be normal numbers there.
+        for (axis, scale) in [("x", scale_x), ("y", scale_y)] {
+            if !(scale as f32).is_normal() {
+                let k = self.intrinsics();
+                return Err(Error::invalid(
+                    "camera intrinsics",
+                    format!(
+                        "the {axis} focal length ({} by {}) gives a screen scale of {scale:e},                          beyond float32's normal range",
+                        k.fx, k.fy
+                    ),
+                ));
+            }
+        }
         let (shift_x, shift_y) = self.ndc_shift();
+        let shift_px =
+            (0.5 * shift_x.abs() * self.width as f64).max(0.5 * shift_y.abs() * self.height as f64);
+        if shift_px > MAX_PRINCIPAL_SHIFT_PX {
+            let k = self.intrinsics();
+            return Err(Error::invalid(
+                "camera principal point",
+                format!(
+                    "({}, {}) with jitter ({}, {}) lies {shift_px:.0} pixels from the centre of \
+                     the {}x{} image, more than {MAX_PRINCIPAL_SHIFT_PX} (float32 would round \
+                     pixel positions)",
+                    k.cx, k.cy, self.jitter.x, self.jitter.y, self.width, self.height
+                ),
+            ));
+        }
         if shift_x.abs().max(shift_y.abs()) > MAX_PRINCIPAL_SHIFT {
             let k = self.intrinsics();
             return Err(Error::invalid(
@@ -517,6 +553,39 @@ mod tests {
             2,
         )
         .unwrap()
+    }
+
+    /// A principal point far off a large image is refused (float32 would round its pixels),
+    /// the same offset on a small image within its half-image bound is not; focal lengths
+    /// outside float32's range are refused.
+    #[test]
+    fn principal_points_and_focal_lengths_stay_in_float32s_reach() {
+        let at = |cx: f64, width: u32, fx: f64| {
+            Camera::new(
+                DVec3::new(0.0, 0.0, 5.0),
+                DVec3::ZERO,
+                DVec3::Y,
+                Projection::PerspectiveIntrinsics(Intrinsics {
+                    fx,
+                    fy: 1000.0,
+                    cx,
+                    cy: 8.0,
+                }),
+                0.1,
+                width,
+                16,
+            )
+        };
+        assert!(at(8192.0 + 8000.0, 16384, 1000.0).is_ok());
+        let far = at(8192.0 + 8200.0, 16384, 1000.0).unwrap_err().to_string();
+        assert!(far.contains("8200 pixels") && far.contains("8192"), "{far}");
+        assert!(at(100.0 + 6000.0, 200, 1000.0).is_ok());
+        let beyond = at(100.0 + 6500.0, 200, 1000.0).unwrap_err().to_string();
+        assert!(beyond.contains("half images"), "{beyond}");
+        for fx in [1e-300, 1e300] {
+            let error = at(8.0, 16, fx).unwrap_err().to_string();
+            assert!(error.contains("float32"), "{fx}: {error}");
+        }
     }
 
     #[test]

@@ -23,6 +23,7 @@ use crate::scene::Scene;
 
 /// How instances are stored on the GPU.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum InstanceFormat {
     /// 48 bytes, float32 throughout (exact to float32).
     #[default]

@@ -55,6 +55,7 @@ impl<'a> HostDevice<'a> {
 
 /// The kind of pass the ellipsoids are drawn in.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum Pass {
     /// Dynamic rendering (`vkCmdBeginRendering`) with these attachments: `color_formats` in
     /// attachment order, and `depth_format`.

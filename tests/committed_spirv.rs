@@ -7,6 +7,20 @@ use std::path::{Path, PathBuf};
 const BUILT: &str = include_str!(concat!(env!("OUT_DIR"), "/spirv-files.txt"));
 /// `compiled` and the compiler's version, or `committed` and why (written by `build.rs`).
 const ORIGIN: &str = include_str!(concat!(env!("OUT_DIR"), "/spirv-origin.txt"));
+/// The hash of the sources in `glsl/` now (written by `build.rs`).
+const SOURCES: &str = include_str!(concat!(env!("OUT_DIR"), "/spirv-sources.txt"));
+
+/// `spirv/SOURCES` records the sources `spirv/` was made from: they are today's (on any
+/// machine, with or without the compiler).
+#[test]
+fn the_committed_spirv_was_made_from_todays_sources() {
+    let recorded = std::fs::read_to_string(committed_dir().join("SOURCES")).expect("spirv/SOURCES");
+    assert_eq!(
+        recorded.trim(),
+        SOURCES.trim(),
+        "glsl/ changed since spirv/ was made: run scripts/update-spirv.sh and commit spirv/"
+    );
+}
 
 fn committed_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("spirv")

@@ -294,7 +294,7 @@ vec4 corner_position(Setup s, int vertex_index) {
         vec2 q = (1.0 + 1e-4) * s.rr * dir;
         vec3 p = s.fx * q.x + s.fy * q.y - s.fz * s.u;
         vec3 x = s.c + vec3(dot(s.a_r, p), dot(s.a_u, p), dot(s.a_f, p));
-        corner = x.z > 1e-6 * s.c.z ? x.xy / x.z : dir.x * s.axis1 + dir.y * s.axis2;
+        corner = x.z > 1e-6 * s.c.z ? x.xy / x.z : s.centre + dir.x * s.axis1 + dir.y * s.axis2;
     }
 
     if (s.culled || any(isnan(corner))) {

@@ -31,60 +31,79 @@ pub(crate) fn allocation_error(what: &str, error: gpu_allocator::AllocationError
     }
 }
 
-// SAFETY: memory comes from `allocate` with the buffer's own requirements and is bound to it;
-// `CpuToGpu` and `GpuToCpu` memory is host-visible, host-coherent and persistently mapped
-// by `gpu-allocator` (its `mapped_ptr` covers the allocation).
+// SAFETY: each buffer is made from the caller's create info and gets memory from `allocate`
+// with the buffer's own requirements, bound to it; `CpuToGpu` and `GpuToCpu` memory is
+// host-visible, host-coherent and persistently mapped by `gpu-allocator` (its `mapped_ptr`
+// covers the allocation).
 unsafe impl MemoryAllocator for Allocator {
-    fn allocate_buffer_memory(
+    unsafe fn create_buffer(
         &mut self,
         device: &ash::Device,
-        buffer: vk::Buffer,
+        info: &vk::BufferCreateInfo<'_>,
         name: &str,
         usage: MemoryUse,
-    ) -> Result<BufferMemory> {
-        // SAFETY: the caller made `buffer` from `device`.
+    ) -> Result<(vk::Buffer, BufferMemory)> {
+        // SAFETY: the caller's device and create info; the buffer is destroyed on every
+        // failure below, or later by `destroy_buffer`.
+        let buffer = unsafe { device.create_buffer(info, None) }
+            .map_err(|result| Error::vulkan("vkCreateBuffer", result))?;
+        let destroy = |device: &ash::Device| {
+            // SAFETY: the buffer is unused: nothing was recorded with it.
+            unsafe { device.destroy_buffer(buffer, None) }
+        };
+        // SAFETY: `buffer` was just made from `device`.
         let requirements = unsafe { device.get_buffer_memory_requirements(buffer) };
-        let allocation = self
-            .allocate(&AllocationCreateDesc {
-                name,
-                requirements,
-                location: location(usage),
-                linear: true,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            })
-            .map_err(|e| allocation_error(name, e))?;
+        let allocation = match self.allocate(&AllocationCreateDesc {
+            name,
+            requirements,
+            location: location(usage),
+            linear: true,
+            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+        }) {
+            Ok(allocation) => allocation,
+            Err(e) => {
+                destroy(device);
+                return Err(allocation_error(name, e));
+            }
+        };
         // SAFETY: memory and offset come from an allocation made for these requirements.
         let bound =
             unsafe { device.bind_buffer_memory(buffer, allocation.memory(), allocation.offset()) };
-        if let Err(result) = bound {
-            if let Err(e) = self.free(allocation) {
-                log::error!("freeing {name}: {e}");
-            }
-            return Err(Error::vulkan("vkBindBufferMemory", result));
-        }
         let mapped = allocation.mapped_ptr().map(|p| p.cast::<u8>());
-        if usage.mapped() && mapped.is_none() {
-            if let Err(e) = self.free(allocation) {
-                log::error!("freeing {name}: {e}");
-            }
-            return Err(Error::Allocation {
+        let failure = match bound {
+            Err(result) => Some(Error::vulkan("vkBindBufferMemory", result)),
+            Ok(()) if usage.mapped() && mapped.is_none() => Some(Error::Allocation {
                 what: name.to_string(),
                 reason: "host-visible memory came back unmapped".into(),
-            });
+            }),
+            Ok(()) => None,
+        };
+        if let Some(failure) = failure {
+            destroy(device);
+            if let Err(e) = self.free(allocation) {
+                log::error!("freeing {name}: {e}");
+            }
+            return Err(failure);
         }
         let size = allocation.size();
         // SAFETY: gpu-allocator maps host-visible memory for the allocation's lifetime, and
         // its `CpuToGpu` and `GpuToCpu` memory types are host-coherent.
-        Ok(unsafe { BufferMemory::new(allocation, size, mapped) })
+        Ok((buffer, unsafe {
+            BufferMemory::new(allocation, size, mapped)
+        }))
     }
 
-    fn free_buffer_memory(&mut self, memory: BufferMemory) -> Result<()> {
+    unsafe fn destroy_buffer(
+        &mut self,
+        device: &ash::Device,
+        buffer: vk::Buffer,
+        memory: BufferMemory,
+    ) -> Result<()> {
         let allocation = memory.into_allocation::<Allocation>().map_err(|_| {
-            Error::invalid(
-                "free_buffer_memory",
-                "the memory came from another allocator",
-            )
+            Error::invalid("destroy_buffer", "the memory came from another allocator")
         })?;
+        // SAFETY: caller contract: this allocator's buffer, unused by pending work.
+        unsafe { device.destroy_buffer(buffer, None) };
         self.free(allocation).map_err(|e| Error::Allocation {
             what: "free".to_string(),
             reason: e.to_string(),

@@ -11,8 +11,8 @@ use vk_mem::{
 use super::{BufferMemory, MemoryAllocator, MemoryUse};
 use crate::error::{Error, Result};
 
-/// VMA's flags and memory properties for `usage`. `vmaAllocateMemoryForBuffer` does not see
-/// the buffer's usage, so VMA's `Auto` usages are refused there: the properties are named.
+/// VMA's flags and memory properties for `usage`, named outright rather than left to VMA's
+/// `Auto` usages, so both allocators place memory by the same rule.
 /// Host-visible memory stays mapped (`MAPPED`) and is coherent, so no flush or invalidate is
 /// ever needed.
 fn create_info(usage: MemoryUse) -> AllocationCreateInfo {
@@ -52,34 +52,27 @@ fn allocation_error(what: &str, result: vk::Result) -> Error {
     }
 }
 
-// SAFETY: `vmaAllocateMemoryForBuffer` allocates for the buffer's own requirements and
-// `vmaBindBufferMemory` binds it; host-visible uses require HOST_VISIBLE | HOST_COHERENT and
-// are created MAPPED, so VMA keeps them mapped for the allocation's lifetime and reports the
-// mapping, which covers the allocation's size.
+// SAFETY: `vmaCreateBuffer` makes the buffer from the caller's create info and binds memory
+// allocated for its requirements; host-visible uses require HOST_VISIBLE | HOST_COHERENT and are
+// created MAPPED, so VMA keeps them mapped for the allocation's lifetime and reports the mapping,
+// which covers the allocation's size.
 unsafe impl MemoryAllocator for Allocator {
-    fn allocate_buffer_memory(
+    unsafe fn create_buffer(
         &mut self,
         _device: &ash::Device,
-        buffer: vk::Buffer,
+        info: &vk::BufferCreateInfo<'_>,
         name: &str,
         usage: MemoryUse,
-    ) -> Result<BufferMemory> {
-        // SAFETY: `buffer` is a valid, unbound buffer of this allocator's device (the
-        // trait's caller contract).
-        let mut allocation =
-            unsafe { self.allocate_memory_for_buffer(buffer, &create_info(usage)) }
+    ) -> Result<(vk::Buffer, BufferMemory)> {
+        // SAFETY: a valid create info for this allocator's device (the caller's contract).
+        let (buffer, mut allocation) =
+            unsafe { Alloc::create_buffer(self, info, &create_info(usage)) }
                 .map_err(|e| allocation_error(name, e))?;
-        // SAFETY: the allocation was made for `buffer`.
-        if let Err(result) = unsafe { self.bind_buffer_memory(&allocation, buffer) } {
-            // SAFETY: the allocation is unused.
-            unsafe { self.free_memory(&mut allocation) };
-            return Err(Error::vulkan("vmaBindBufferMemory", result));
-        }
         let info = self.get_allocation_info(&allocation);
         let mapped = NonNull::new(info.mapped_data.cast::<u8>());
         if usage.mapped() && mapped.is_none() {
-            // SAFETY: the allocation is unused (the buffer's owner destroys the buffer).
-            unsafe { self.free_memory(&mut allocation) };
+            // SAFETY: the buffer is unused.
+            unsafe { Allocator::destroy_buffer(self, buffer, &mut allocation) };
             return Err(Error::Allocation {
                 what: name.to_string(),
                 reason: "VMA: host-visible memory came back unmapped".into(),
@@ -87,18 +80,22 @@ unsafe impl MemoryAllocator for Allocator {
         }
         // SAFETY: created MAPPED and HOST_COHERENT (see `create_info`): mapped for the
         // allocation's lifetime, `info.size` bytes.
-        Ok(unsafe { BufferMemory::new(allocation, info.size, mapped) })
+        Ok((buffer, unsafe {
+            BufferMemory::new(allocation, info.size, mapped)
+        }))
     }
 
-    fn free_buffer_memory(&mut self, memory: BufferMemory) -> Result<()> {
+    unsafe fn destroy_buffer(
+        &mut self,
+        _device: &ash::Device,
+        buffer: vk::Buffer,
+        memory: BufferMemory,
+    ) -> Result<()> {
         let mut allocation = memory.into_allocation::<Allocation>().map_err(|_| {
-            Error::invalid(
-                "free_buffer_memory",
-                "the memory came from another allocator",
-            )
+            Error::invalid("destroy_buffer", "the memory came from another allocator")
         })?;
-        // SAFETY: the allocation came from this allocator and its buffer is destroyed.
-        unsafe { self.free_memory(&mut allocation) };
+        // SAFETY: caller contract: made together by this allocator, unused by pending work.
+        unsafe { Allocator::destroy_buffer(self, buffer, &mut allocation) };
         Ok(())
     }
 }

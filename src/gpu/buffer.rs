@@ -3,7 +3,7 @@
 use ash::vk;
 
 use crate::allocator::{BufferMemory, MemoryAllocator, MemoryUse};
-use crate::error::{Error, Result, VkCall};
+use crate::error::{Error, Result};
 
 /// A `VkBuffer` bound to memory of its own from the host's allocator. Free it with
 /// [`GpuBuffer::destroy`]; dropping it without that leaks and is logged as an error (it
@@ -30,22 +30,15 @@ impl GpuBuffer {
             .size(size)
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
-        // SAFETY: valid create info; the buffer is destroyed by `destroy` or on error below.
-        let buffer = unsafe { device.create_buffer(&info, None) }.call("vkCreateBuffer")?;
-        match allocator.allocate_buffer_memory(device, buffer, name, memory_use) {
-            Ok(memory) => Ok(Self {
-                buffer,
-                memory: Some(memory),
-                size,
-                name,
-            }),
-            Err(e) => {
-                // SAFETY: the buffer is unused (and unbound: the allocator binds only on
-                // success).
-                unsafe { device.destroy_buffer(buffer, None) };
-                Err(e)
-            }
-        }
+        // SAFETY: the renderer's device and a valid create info; the buffer goes back through
+        // `destroy`.
+        let (buffer, memory) = unsafe { allocator.create_buffer(device, &info, name, memory_use) }?;
+        Ok(Self {
+            buffer,
+            memory: Some(memory),
+            size,
+            name,
+        })
     }
 
     /// The handle.
@@ -98,9 +91,9 @@ impl GpuBuffer {
     /// `device` and `allocator` made the buffer, and no pending GPU work uses it.
     pub unsafe fn destroy(mut self, device: &ash::Device, allocator: &mut dyn MemoryAllocator) {
         if let Some(memory) = self.memory.take() {
-            // SAFETY: caller contract; the buffer is owned here.
-            unsafe { device.destroy_buffer(self.buffer, None) };
-            if let Err(e) = allocator.free_buffer_memory(memory) {
+            // SAFETY: caller contract: the allocator made the buffer with this memory, and no
+            // pending work uses it.
+            if let Err(e) = unsafe { allocator.destroy_buffer(device, self.buffer, memory) } {
                 log::error!("freeing {}: {e}", self.name);
             }
         }

@@ -301,6 +301,7 @@ impl OffscreenRenderer {
         camera: &Camera,
         outputs: Outputs,
     ) -> Result<(Frame, FrameTiming)> {
+        camera.validate()?; // Bounds the origin and size, so the sums below cannot overflow.
         let [x, y] = camera.viewport_origin;
         self.render_views(x + camera.width, y + camera.height, &[*camera], outputs)
     }
@@ -330,6 +331,7 @@ impl OffscreenRenderer {
     /// Renders the last uploaded scene into the targets of `outputs` without reading them
     /// back: the frame a benchmark times.
     pub fn render_timed(&mut self, camera: &Camera, outputs: Outputs) -> Result<FrameTiming> {
+        camera.validate()?; // Bounds the origin and size, so the sums below cannot overflow.
         let [x, y] = camera.viewport_origin;
         let extent = vk::Extent2D {
             width: x + camera.width,

@@ -70,9 +70,13 @@ impl EllipsoidRenderer {
 
     /// Records the draw into `cmd`, inside the host's pass. Sets viewport and scissor to the
     /// camera's image: its size at its `viewport_origin`. Records nothing if the scene is
-    /// empty. A frame whose plan has a pre-pass needs `record_prepass` with the same camera
-    /// first, before the pass, and with no upload or update in between (an error otherwise):
-    /// one pre-pass serves one draw, so each view of a frame records its own pre-pass.
+    /// empty. It draws with the plan and target of the first view of the frame whose
+    /// `record_prepass` had an equal camera and has not drawn yet (views with equal cameras
+    /// draw in the order of their pre-passes); without one, with a new plan for the current
+    /// target, which must need no pre-pass. A frame whose plan has a pre-pass needs
+    /// `record_prepass` with the same camera first, before the pass, and with no upload or
+    /// update in between (an error otherwise): one pre-pass serves one draw, so each view of
+    /// a frame records its own pre-pass.
     ///
     /// # Safety
     /// `cmd` is a command buffer of `device` recording inside a pass compatible with the
@@ -115,6 +119,8 @@ impl EllipsoidRenderer {
                 (0, plan)
             }
         };
+        // A plan without a pre-pass reads no view's buffers: view 0's sets do.
+        let view = if plan.prepass { view } else { 0 };
         let (pipeline, resolve) = self.prepare(device, allocator, &plan)?;
         let sets = self.descriptor_sets(device, view)?;
         let (viewport, scissor) = viewport_and_scissor(camera);

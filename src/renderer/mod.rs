@@ -287,7 +287,8 @@ impl EllipsoidRenderer {
         Ok(())
     }
 
-    /// The target the next `record` draws into.
+    /// The target `set_target` made current: the next `record_prepass` (or a `record` without
+    /// one) plans for it.
     pub fn current_target(&self) -> &Target {
         &self.targets[self.target]
     }

@@ -58,6 +58,9 @@ impl EllipsoidRenderer {
         self.frame_stamp = self.frame_stamp.checked_add(1).unwrap_or(1);
         let shown = self.views[view].shown_stamped.map(|(stamp, _)| stamp);
         if !plan.prepass {
+            // Nothing to record, but the draw keeps this plan (and so the target current
+            // now), as a view with a pre-pass does.
+            self.views[view].prepared = Some((*camera, plan));
             return Ok(());
         }
         #[cfg(feature = "research")]

@@ -590,7 +590,7 @@ fn bad_camera_flags_are_named() {
         let error = error_line(&render_args(&args), 2, &what);
         assert_names(&error, &["--intrinsics", conflict], &what);
     }
-    let refused: [(&[&str], &str, &str); 3] = [
+    let refused: [(&[&str], &str, &str); 4] = [
         (
             &["--viewport", "1900,0,64,48"],
             "--viewport",
@@ -599,11 +599,25 @@ fn bad_camera_flags_are_named() {
         (
             &["--scene", "random:10", "--jitter", "1e9,0"],
             "--jitter",
-            "half images from the centre",
+            "pixels from the centre",
         ),
         (
             &["--scene", "random:10", "--intrinsics", "100,100,1e9,5"],
             "--intrinsics",
+            "pixels from the centre",
+        ),
+        (
+            &[
+                "--scene",
+                "random:10",
+                "--width",
+                "64",
+                "--height",
+                "48",
+                "--jitter",
+                "3000,0",
+            ],
+            "--jitter",
             "half images from the centre",
         ),
     ];

@@ -63,12 +63,11 @@ impl ViewCamera {
         let image_height = f64::from(camera.height);
         let (fov_y_deg, ortho_height) = match camera.projection {
             Projection::Perspective { fov_y_deg } => (fov_y_deg, None),
-            Projection::PerspectiveIntrinsics(_) => {
-                (2.0 * (0.5 * image_height / fy).atan().to_degrees(), None)
-            }
             // Switching to perspective later uses `render`'s default field of view.
             Projection::Orthographic { height } => (45.0, Some(height)),
             Projection::OrthographicIntrinsics(_) => (45.0, Some(image_height / fy)),
+            // An intrinsics pinhole (and any later perspective kind): its vertical field.
+            _ => (2.0 * (0.5 * image_height / fy).atan().to_degrees(), None),
         };
         Self {
             eye: camera.eye,

@@ -1,0 +1,772 @@
+/*
+ * ellipsoid-splat: exact ray-cast ellipsoids on the host's Vulkan device -- the C ABI.
+ *
+ * Every function returns an EsStatus (ES_STATUS_SUCCESS = 0); es_last_error() gives the
+ * message of the last failure on the calling thread. A panic never unwinds into the caller.
+ * Option structs begin with struct_size: set it to sizeof the struct. Nothing the host passes
+ * in is destroyed by the library. A renderer is used by one thread at a time. The rules:
+ * docs/design.md section 6.7 of the ellipsoid-splat repository.
+ */
+
+#ifndef ELLIPSOID_SPLAT_H
+#define ELLIPSOID_SPLAT_H
+
+/* Generated from crates/capi/src by cbindgen (crates/capi/tests/header.rs). Do not edit. */
+
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <vulkan/vulkan.h>
+
+/**
+ * The ABI's version: it changes whenever a function, struct or constant changes in a way a
+ * host compiled against the old header would break on. The shared library's soname carries
+ * it (`libellipsoid_splat.so.1`).
+ */
+#define ES_ABI_VERSION 1
+
+/**
+ * `maintenance4` (Vulkan 1.3): every target needs it.
+ */
+#define ES_FEATURE_MAINTENANCE4 1
+
+/**
+ * `dynamicRendering` (Vulkan 1.3): targets drawn with dynamic rendering need it.
+ */
+#define ES_FEATURE_DYNAMIC_RENDERING 2
+
+/**
+ * `sampleRateShading`: multisampled targets need it.
+ */
+#define ES_FEATURE_SAMPLE_RATE_SHADING 4
+
+/**
+ * `shaderInt64`: with the next, lets frames of many small glyphs take the compute splat.
+ */
+#define ES_FEATURE_SHADER_INT64 8
+
+/**
+ * `shaderBufferInt64Atomics` (Vulkan 1.2): with the previous, the compute splat.
+ */
+#define ES_FEATURE_SHADER_BUFFER_INT64_ATOMICS 16
+
+/**
+ * What a call did.
+ */
+typedef enum EsStatus {
+  /**
+   * It succeeded.
+   */
+  ES_STATUS_SUCCESS = 0,
+  /**
+   * An argument was null, out of range or inconsistent (the message names which).
+   */
+  ES_STATUS_ERROR_INVALID_ARGUMENT = 1,
+  /**
+   * The device lacks a feature or format the call needs, or the host did not enable it.
+   */
+  ES_STATUS_ERROR_UNSUPPORTED = 2,
+  /**
+   * A Vulkan call (or the host's allocator callback) failed.
+   */
+  ES_STATUS_ERROR_VULKAN = 3,
+  /**
+   * Device or host memory ran out.
+   */
+  ES_STATUS_ERROR_OUT_OF_MEMORY = 4,
+  /**
+   * The device was lost: destroy the renderer and make a new device.
+   */
+  ES_STATUS_ERROR_DEVICE_LOST = 5,
+  /**
+   * The library panicked (a bug): the renderer refuses every call but its destruction.
+   */
+  ES_STATUS_ERROR_PANIC = 6,
+  /**
+   * Any other failure (the message says what).
+   */
+  ES_STATUS_ERROR_OTHER = 7,
+} EsStatus;
+
+/**
+ * What a buffer's memory is for.
+ */
+typedef enum EsMemoryUse {
+  /**
+   * Read and written by the GPU only: device-local where the device has it.
+   */
+  ES_MEMORY_USE_GPU_ONLY = 0,
+  /**
+   * Written by the CPU, read by the GPU: host-visible, host-coherent, mapped for as long
+   * as the buffer lives.
+   */
+  ES_MEMORY_USE_UPLOAD = 1,
+  /**
+   * Written by the GPU, read by the CPU: host-visible, host-coherent, mapped.
+   */
+  ES_MEMORY_USE_READBACK = 2,
+} EsMemoryUse;
+
+/**
+ * How the view volume is shaped.
+ */
+typedef enum EsProjection {
+  /**
+   * A pinhole with `fov_y_deg`, centred, square pixels.
+   */
+  ES_PROJECTION_PERSPECTIVE = 0,
+  /**
+   * Parallel rays through a centred window `ortho_height` high, square pixels.
+   */
+  ES_PROJECTION_ORTHOGRAPHIC = 1,
+  /**
+   * A pinhole with `intrinsics` (OpenCV's `fx, fy, cx, cy` in pixels).
+   */
+  ES_PROJECTION_PERSPECTIVE_INTRINSICS = 2,
+  /**
+   * Parallel rays with `intrinsics` (`fx`, `fy` in pixels per world unit).
+   */
+  ES_PROJECTION_ORTHOGRAPHIC_INTRINSICS = 3,
+} EsProjection;
+
+/**
+ * A renderer: opaque to the host.
+ */
+typedef struct EsRenderer EsRenderer;
+
+/**
+ * A viewport as the host gives `vkCmdSetViewport` (whole pixels, depth range [0, 1]); a
+ * negative `height` flips it (`y` is then its bottom edge and the projection's y points up).
+ */
+typedef struct EsViewport {
+  /**
+   * Left edge in attachment pixels.
+   */
+  uint32_t x;
+  /**
+   * Top edge, or the bottom edge when `height` is negative.
+   */
+  uint32_t y;
+  /**
+   * Width in pixels.
+   */
+  uint32_t width;
+  /**
+   * Height in pixels; negative for a flipped viewport.
+   */
+  int32_t height;
+} EsViewport;
+
+/**
+ * A camera: the contract of `docs/design.md` §3 field by field. Fill it with
+ * `es_camera_from_matrices` or `es_camera_look_at`, or directly (set `struct_size`).
+ */
+typedef struct EsCamera {
+  /**
+   * `sizeof(EsCamera)`.
+   */
+  uint32_t struct_size;
+  /**
+   * Which of the projection fields apply: an `EsProjection` value.
+   */
+  uint32_t projection;
+  /**
+   * Eye position (perspective centre, or a point of the orthographic view axis).
+   */
+  double eye[3];
+  /**
+   * A point on the view axis in front of the eye.
+   */
+  double target[3];
+  /**
+   * Approximate up direction.
+   */
+  double up[3];
+  /**
+   * `ES_PROJECTION_PERSPECTIVE`: the vertical field of view in degrees, in (0, 180).
+   */
+  double fov_y_deg;
+  /**
+   * `ES_PROJECTION_ORTHOGRAPHIC`: the window's height in world units.
+   */
+  double ortho_height;
+  /**
+   * The `*_INTRINSICS` projections: `fx, fy, cx, cy` in pixels.
+   */
+  double intrinsics[4];
+  /**
+   * View depth of the near plane (> 0).
+   */
+  double near;
+  /**
+   * Image width in pixels (1 ..= 16384).
+   */
+  uint32_t width;
+  /**
+   * Image height in pixels (1 ..= 16384).
+   */
+  uint32_t height;
+  /**
+   * Sub-pixel jitter in pixels (x right, y down): pixel `(i, j)` samples the unjittered
+   * image at `(i + 0.5 + dx, j + 0.5 + dy)`.
+   */
+  double jitter[2];
+  /**
+   * The attachment pixel of the camera's pixel (0, 0).
+   */
+  uint32_t viewport_origin[2];
+  /**
+   * Non-zero: reversed Z (near at 1, compare GREATER); zero: standard (near at 0).
+   */
+  uint32_t depth_reversed;
+  /**
+   * View depth of the far plane; 0 (or infinity) for an infinite far plane.
+   */
+  double depth_far;
+} EsCamera;
+
+/**
+ * The plan of a frame: every decision `es_renderer_record_prepass` and `es_renderer_record`
+ * will take with that camera.
+ */
+typedef struct EsFramePlan {
+  /**
+   * `sizeof(EsFramePlan)`, set by the library.
+   */
+  uint32_t struct_size;
+  /**
+   * Non-zero: the pre-pass runs (to cull, to set glyphs up, or to splat), and the draw
+   * is indirect.
+   */
+  uint32_t prepass;
+  /**
+   * Non-zero: the compute splat draws the small glyphs without the rasterizer.
+   */
+  uint32_t compute_splat;
+  /**
+   * Why the frame keeps the draw: a NUL-terminated sentence, or null where the compute
+   * splat runs (static storage).
+   */
+  const char *drawn_because;
+  /**
+   * The sampled glyphs' mean projected area in pixels; negative where none is on screen.
+   */
+  double mean_area_px;
+  /**
+   * Non-zero for each culling that runs.
+   */
+  uint32_t culling_frustum;
+  /**
+   * As above: pixel centres.
+   */
+  uint32_t culling_pixel_centres;
+  /**
+   * As above: occlusion.
+   */
+  uint32_t culling_occlusion;
+  /**
+   * Non-zero: small glyphs are set up once by the pre-pass.
+   */
+  uint32_t setup_once;
+  /**
+   * Non-zero: the glyphs the view's last still frame showed go first.
+   */
+  uint32_t visible_first;
+  /**
+   * Samples the fragment stage decides per pixel (0 where it shades every sample).
+   */
+  uint32_t coverage_samples;
+  /**
+   * Non-zero: an orthographic camera.
+   */
+  uint32_t orthographic;
+  /**
+   * Non-zero: reversed Z.
+   */
+  uint32_t reversed_z;
+} EsFramePlan;
+
+/**
+ * `vkGetInstanceProcAddr`: the loader's (or the host's) entry point every other Vulkan
+ * function is looked up through.
+ */
+typedef PFN_vkVoidFunction (*EsGetInstanceProcAddr)(VkInstance,
+                                                    const char*);
+
+/**
+ * The host's Vulkan objects (borrowed: never destroyed by the library; they must outlive
+ * the renderer) and the features it enabled on the device.
+ */
+typedef struct EsDeviceInfo {
+  /**
+   * `sizeof(EsDeviceInfo)`.
+   */
+  uint32_t struct_size;
+  /**
+   * The loader's (or the host's) `vkGetInstanceProcAddr`; every other entry point is
+   * loaded through it.
+   */
+  EsGetInstanceProcAddr get_instance_proc_addr;
+  /**
+   * The instance the device was created from.
+   */
+  VkInstance instance;
+  /**
+   * The physical device behind `device`.
+   */
+  VkPhysicalDevice physical_device;
+  /**
+   * The host's device.
+   */
+  VkDevice device;
+  /**
+   * The family of the queue that will run the command buffers the renderer records into:
+   * graphics and compute.
+   */
+  uint32_t queue_family_index;
+  /**
+   * The `ES_FEATURE_*` bits the host enabled on `device` (at least
+   * `es_target_required_features` of every target).
+   */
+  uint32_t enabled_features;
+} EsDeviceInfo;
+
+/**
+ * The pass the renderer draws into.
+ */
+typedef struct EsTargetInfo {
+  /**
+   * `sizeof(EsTargetInfo)`.
+   */
+  uint32_t struct_size;
+  /**
+   * The host's render pass (borrowed), or `VK_NULL_HANDLE` for dynamic rendering.
+   */
+  VkRenderPass render_pass;
+  /**
+   * The subpass the renderer draws in (render pass only).
+   */
+  uint32_t subpass;
+  /**
+   * The subpass's colour attachments (render pass), or the number of `color_formats`
+   * (dynamic rendering); at least 1. The renderer writes attachment 0 (and 1 and 2 with
+   * `aux_outputs`), and masks the others.
+   */
+  uint32_t color_attachment_count;
+  /**
+   * Dynamic rendering: the colour attachments' formats, `color_attachment_count` of them
+   * (ignored for a render pass).
+   */
+  const VkFormat *color_formats;
+  /**
+   * The depth attachment's format (the renderer writes exact depth).
+   */
+  VkFormat depth_format;
+  /**
+   * Samples per pixel: 1, 2, 4 or 8.
+   */
+  uint32_t samples;
+  /**
+   * Non-zero: attachment 1 takes world normals (`R32G32B32A32_SFLOAT`) and attachment 2
+   * instance indices (`R32_UINT`).
+   */
+  uint32_t aux_outputs;
+} EsTargetInfo;
+
+/**
+ * A buffer the host's allocator made: the buffer, the allocator's handle of its memory (a
+ * `VmaAllocation`, or anything the host needs to free it), the mapping of host-visible
+ * memory, and the memory's size in bytes.
+ */
+typedef struct EsBuffer {
+  /**
+   * The buffer, with memory bound.
+   */
+  VkBuffer buffer;
+  /**
+   * The host's handle of the buffer's memory, handed back to `destroy_buffer`.
+   */
+  void *allocation;
+  /**
+   * The first mapped byte, for `ES_MEMORY_USE_UPLOAD` and `ES_MEMORY_USE_READBACK`
+   * (required there); may be null for `ES_MEMORY_USE_GPU_ONLY`.
+   */
+  void *mapped;
+  /**
+   * The memory's size in bytes (at least the buffer's size).
+   */
+  uint64_t size;
+} EsBuffer;
+
+/**
+ * Creates a buffer from `info` with memory for `usage` bound to it (`vmaCreateBuffer` with
+ * the usage's memory properties; `name` is for the host's debugging and memory budget), and
+ * fills `out`. Returns `VK_SUCCESS` or the failure's `VkResult`.
+ */
+typedef VkResult (*EsCreateBufferFn)(void *user_data,
+                                     const VkBufferCreateInfo *info,
+                                     enum EsMemoryUse usage,
+                                     const char *name,
+                                     struct EsBuffer *out);
+
+/**
+ * Destroys a buffer `create_buffer` made, and frees its memory (`vmaDestroyBuffer`). The GPU
+ * no longer uses it.
+ */
+typedef void (*EsDestroyBufferFn)(void *user_data,
+                                  const struct EsBuffer *buffer);
+
+/**
+ * The host's allocator: both callbacks, or neither (the library then allocates with its own
+ * allocator). They are called on the thread calling into the renderer.
+ */
+typedef struct EsAllocatorCallbacks {
+  /**
+   * `sizeof(EsAllocatorCallbacks)`.
+   */
+  uint32_t struct_size;
+  /**
+   * Passed to both callbacks as their first argument.
+   */
+  void *user_data;
+  /**
+   * Creates a buffer with its memory.
+   */
+  EsCreateBufferFn create_buffer;
+  /**
+   * Destroys a buffer and frees its memory.
+   */
+  EsDestroyBufferFn destroy_buffer;
+} EsAllocatorCallbacks;
+
+/**
+ * The shading: Blinn-Phong weights and highlight colour.
+ */
+typedef struct EsMaterial {
+  /**
+   * Ambient weight.
+   */
+  float ambient;
+  /**
+   * Diffuse weight.
+   */
+  float diffuse;
+  /**
+   * Specular weight.
+   */
+  float specular;
+  /**
+   * Phong exponent.
+   */
+  float shininess;
+  /**
+   * Colour of highlights (linear RGB).
+   */
+  float specular_color[3];
+} EsMaterial;
+
+/**
+ * What a host may tune. Start from `es_settings_default`; every field but the material only
+ * skips work and leaves the picture the same.
+ */
+typedef struct EsSettings {
+  /**
+   * `sizeof(EsSettings)`.
+   */
+  uint32_t struct_size;
+  /**
+   * The shading.
+   */
+  struct EsMaterial material;
+  /**
+   * Non-zero: cull glyphs wholly outside the view.
+   */
+  uint32_t culling_frustum;
+  /**
+   * Non-zero: cull glyphs that cover no pixel centre.
+   */
+  uint32_t culling_pixel_centres;
+  /**
+   * Non-zero: cull glyphs hidden behind nearer ones (needs a `D32_SFLOAT` depth
+   * attachment).
+   */
+  uint32_t culling_occlusion;
+  /**
+   * Non-zero: frames of many small glyphs skip the rasterizer where the device allows.
+   */
+  uint32_t compute_splat;
+  /**
+   * Non-zero: multisampled targets shade every sample (exact depth per sample) instead of
+   * once per pixel with exact per-sample coverage.
+   */
+  uint32_t per_sample_shading;
+} EsSettings;
+
+/**
+ * What a renderer is made from.
+ */
+typedef struct EsRendererCreateInfo {
+  /**
+   * `sizeof(EsRendererCreateInfo)`.
+   */
+  uint32_t struct_size;
+  /**
+   * The host's device (borrowed).
+   */
+  const struct EsDeviceInfo *device;
+  /**
+   * The pass the ellipsoids are drawn into first (`es_renderer_set_target` adds more).
+   */
+  const struct EsTargetInfo *target;
+  /**
+   * The host's allocator callbacks, or null for the library's own allocator.
+   */
+  const struct EsAllocatorCallbacks *allocator;
+  /**
+   * The settings, or null for `es_settings_default`'s.
+   */
+  const struct EsSettings *settings;
+  /**
+   * How many frames the host records before waiting for the oldest (1 ..= 16).
+   */
+  uint32_t frames_in_flight;
+  /**
+   * The host's pipeline cache for every pipeline the renderer builds (borrowed), or
+   * `VK_NULL_HANDLE`.
+   */
+  VkPipelineCache pipeline_cache;
+} EsRendererCreateInfo;
+
+/**
+ * One ellipsoid.
+ */
+typedef struct EsGlyph {
+  /**
+   * Centre in world coordinates.
+   */
+  double center[3];
+  /**
+   * Semi-axes along the local x, y, z axes (finite, > 0).
+   */
+  double radii[3];
+  /**
+   * The rotation of the local axes into world axes, a quaternion `(w, x, y, z)` (normalised
+   * by the library; not zero).
+   */
+  double rotation[4];
+  /**
+   * Display (sRGB) colour, each channel in [0, 1].
+   */
+  float color[3];
+} EsGlyph;
+
+#ifdef __cplusplus
+extern "C" {
+#endif // __cplusplus
+
+/**
+ * The ABI version of the library loaded, to compare with `ES_ABI_VERSION` of the header the
+ * host was compiled with. Any thread.
+ */
+uint32_t es_abi_version(void);
+
+/**
+ * The camera the host's `view` and `projection` matrices (column-major `float[16]`, world to
+ * Vulkan clip space) describe when drawn with `viewport`: any perspective or orthographic
+ * frustum -- jittered, off-centre, asymmetric, non-square pixels -- in reversed or standard
+ * Z with a finite or infinite far plane, and y-up projections with a flipped viewport.
+ * Skewed, oblique and mirroring matrices are refused (the message says why). Any thread.
+ *
+ * # Safety
+ * `view` and `projection` point at 16 floats each; `out_camera` at a writable `EsCamera`.
+ */
+enum EsStatus es_camera_from_matrices(const float *view,
+                                      const float *projection,
+                                      struct EsViewport viewport,
+                                      struct EsCamera *out_camera);
+
+/**
+ * A perspective camera at `eye` looking at `target` with `up` roughly up, `fov_y_deg`
+ * degrees of vertical field of view, the near plane at `near` and a `width x height` image
+ * (reversed Z, infinite far plane). Any thread.
+ *
+ * # Safety
+ * `eye`, `target` and `up` point at 3 doubles each; `out_camera` at a writable `EsCamera`.
+ */
+enum EsStatus es_camera_look_at(const double *eye,
+                                const double *target,
+                                const double *up,
+                                double fov_y_deg,
+                                double near,
+                                uint32_t width,
+                                uint32_t height,
+                                struct EsCamera *out_camera);
+
+/**
+ * The plan the next `es_renderer_record_prepass` with `camera` would make (the views'
+ * history is the renderer's: call it before recording). Thread: the renderer's.
+ *
+ * # Safety
+ * `renderer` is a live renderer; `camera` points at a valid `EsCamera`; `out_plan` at a
+ * writable `EsFramePlan`.
+ */
+enum EsStatus es_renderer_plan(struct EsRenderer *renderer,
+                               const struct EsCamera *camera,
+                               struct EsFramePlan *out_plan);
+
+/**
+ * Makes a renderer on the host's device and writes its handle to `out_renderer` (null on
+ * failure). It checks the queue family, the enabled features, the target's formats and
+ * sample count, and names what is missing. Any thread.
+ *
+ * # Safety
+ * `info` and what it points at are valid; the handles belong together, the device has the
+ * features `enabled_features` names enabled, and they, the render pass and the pipeline
+ * cache outlive the renderer; the allocator callbacks (if any) allocate from that device.
+ * `out_renderer` points at a writable pointer.
+ */
+enum EsStatus es_renderer_create(const struct EsRendererCreateInfo *info,
+                                 struct EsRenderer **out_renderer);
+
+/**
+ * Destroys `renderer` and everything it made (a null `renderer` is fine). The GPU must be
+ * done with every command buffer the renderer recorded into. Nothing of the host's is
+ * destroyed. Thread: the renderer's.
+ *
+ * # Safety
+ * A non-null `renderer` came from `es_renderer_create` and is not used again.
+ */
+enum EsStatus es_renderer_destroy(struct EsRenderer *renderer);
+
+/**
+ * Makes `target` the pass the next frames are drawn into (its pipelines are built on first
+ * use and kept). Thread: the renderer's.
+ *
+ * # Safety
+ * `renderer` is live; `target` points at a valid `EsTargetInfo` whose render pass (if any)
+ * outlives the renderer.
+ */
+enum EsStatus es_renderer_set_target(struct EsRenderer *renderer,
+                                     const struct EsTargetInfo *target);
+
+/**
+ * Replaces the settings (the material costs nothing; other changes build their pipelines
+ * on first use). Thread: the renderer's.
+ *
+ * # Safety
+ * `renderer` is live; `settings` points at a valid `EsSettings`.
+ */
+enum EsStatus es_renderer_set_settings(struct EsRenderer *renderer,
+                                       const struct EsSettings *settings);
+
+/**
+ * Starts frame slot `slot` (in `0..frames_in_flight`), once the host has waited for that
+ * slot's fence: frees what was replaced while earlier frames could still read it. Call it
+ * first in every frame. Thread: the renderer's.
+ *
+ * # Safety
+ * `renderer` is live; every command buffer recorded with it since `slot` last began has
+ * finished executing.
+ */
+enum EsStatus es_renderer_begin_frame(struct EsRenderer *renderer,
+                                      uint32_t slot);
+
+/**
+ * Records the upload of a whole scene of `count` glyphs into `command_buffer` (outside any
+ * pass): a staged copy between barriers. Thread: the renderer's.
+ *
+ * # Safety
+ * `renderer` is live; `glyphs` points at `count` glyphs (read during the call only);
+ * `command_buffer` is recording outside any pass, for the renderer's queue family, and is
+ * submitted before (or is) the command buffer that draws this scene.
+ */
+enum EsStatus es_renderer_upload(struct EsRenderer *renderer,
+                                 VkCommandBuffer command_buffer,
+                                 const struct EsGlyph *glyphs,
+                                 size_t count);
+
+/**
+ * Records the replacement of glyphs `first .. first + count` of the uploaded scene (outside
+ * any pass). Thread: the renderer's.
+ *
+ * # Safety
+ * As for `es_renderer_upload`.
+ */
+enum EsStatus es_renderer_update(struct EsRenderer *renderer,
+                                 VkCommandBuffer command_buffer,
+                                 uint32_t first,
+                                 const struct EsGlyph *glyphs,
+                                 size_t count);
+
+/**
+ * Records the pre-pass of one view with `camera` into `command_buffer`, outside any pass.
+ * The first call of a frame is view 0, the next view 1 (up to 64); each view's draw
+ * (`es_renderer_record` with the same camera) follows in the host's pass. Thread: the
+ * renderer's.
+ *
+ * # Safety
+ * `renderer` is live; `camera` points at a valid `EsCamera`; `command_buffer` is recording
+ * outside any pass, for the renderer's queue family, and is submitted before the frame slot
+ * that is current begins again.
+ */
+enum EsStatus es_renderer_record_prepass(struct EsRenderer *renderer,
+                                         VkCommandBuffer command_buffer,
+                                         const struct EsCamera *camera);
+
+/**
+ * Records the draw of the view whose pre-pass had `camera` into `command_buffer`, inside
+ * the host's pass (render pass subpass or dynamic rendering matching the target of that
+ * pre-pass). It binds its own pipeline, descriptor set and push constants and sets viewport
+ * and scissor to the camera's rectangle: the host rebinds its own state afterwards.
+ * Thread: the renderer's.
+ *
+ * # Safety
+ * `renderer` is live; `camera` points at a valid `EsCamera`; `command_buffer` is recording
+ * inside a pass compatible with the view's target whose attachments hold the camera's
+ * rectangle.
+ */
+enum EsStatus es_renderer_record(struct EsRenderer *renderer,
+                                 VkCommandBuffer command_buffer,
+                                 const struct EsCamera *camera);
+
+/**
+ * Writes the bytes of GPU memory the renderer's buffers take (as its allocator gave them)
+ * to `out_bytes`. Thread: the renderer's.
+ *
+ * # Safety
+ * `renderer` is live; `out_bytes` points at a writable `uint64_t`.
+ */
+enum EsStatus es_renderer_gpu_memory_bytes(struct EsRenderer *renderer,
+                                           uint64_t *out_bytes);
+
+/**
+ * Fills `out_settings` with the shipped renderer's settings. Any thread.
+ *
+ * # Safety
+ * `out_settings` points at a writable `EsSettings`.
+ */
+enum EsStatus es_settings_default(struct EsSettings *out_settings);
+
+/**
+ * The message of the last call on this thread that did not return `ES_STATUS_SUCCESS` (an
+ * empty string if none has failed). The pointer stays valid until the next failing call on
+ * this thread; copy the text to keep it. Any thread.
+ */
+const char *es_last_error(void);
+
+/**
+ * The `ES_FEATURE_*` bits a device must have enabled for `target`. Any thread.
+ *
+ * # Safety
+ * `target` points at a valid `EsTargetInfo`; `out_features` at a writable `uint32_t`.
+ */
+enum EsStatus es_target_required_features(const struct EsTargetInfo *target,
+                                          uint32_t *out_features);
+
+#ifdef __cplusplus
+}  // extern "C"
+#endif  // __cplusplus
+
+#endif  /* ELLIPSOID_SPLAT_H */

@@ -1,0 +1,39 @@
+//! Glyphs from arrays of plain structs.
+
+use ellipsoid_splat::Ellipsoid;
+use glam::{DQuat, DVec3};
+
+use crate::status::Failure;
+
+/// One ellipsoid.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct EsGlyph {
+    /// Centre in world coordinates.
+    pub center: [f64; 3],
+    /// Semi-axes along the local x, y, z axes (finite, > 0).
+    pub radii: [f64; 3],
+    /// The rotation of the local axes into world axes, a quaternion `(w, x, y, z)` (normalised
+    /// by the library; not zero).
+    pub rotation: [f64; 4],
+    /// Display (sRGB) colour, each channel in [0, 1].
+    pub color: [f32; 3],
+}
+
+/// The library's ellipsoids of `glyphs` (errors name the glyph's index, from `first`). One
+/// allocation of the exact size: collecting into a `Result` would grow the vector by doubling.
+pub(crate) fn ellipsoids(glyphs: &[EsGlyph], first: usize) -> Result<Vec<Ellipsoid>, Failure> {
+    let mut out = Vec::with_capacity(glyphs.len());
+    for (k, g) in glyphs.iter().enumerate() {
+        let [w, x, y, z] = g.rotation;
+        let ellipsoid = Ellipsoid::new(
+            DVec3::from_array(g.center),
+            DVec3::from_array(g.radii),
+            DQuat::from_xyzw(x, y, z, w),
+            Some(g.color),
+        )
+        .map_err(|e| Failure::invalid(&format!("glyph {}", first + k), e))?;
+        out.push(ellipsoid);
+    }
+    Ok(out)
+}

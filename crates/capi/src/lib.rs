@@ -1,0 +1,61 @@
+//! The C ABI of `ellipsoid-splat`: the library `ellipsoid_splat` (`libellipsoid_splat.so.1`,
+//! `libellipsoid_splat.a`, as `scripts/install-capi.sh` installs this crate's
+//! `libellipsoid_splat_capi`) and its header `include/ellipsoid_splat.h`, generated from these
+//! sources by cbindgen and committed.
+//!
+//! It is a thin layer over the Rust API, following the same embedding steps: a renderer made
+//! from the host's raw Vulkan handles and `vkGetInstanceProcAddr`, a target (a render pass and
+//! subpass, or dynamic rendering formats), frame slots, glyphs uploaded from arrays of plain
+//! structs, per view a pre-pass outside the pass and a draw inside it, cameras from
+//! column-major matrices and a viewport or from a look-at, settings, the frame plan, and memory
+//! from the host's callbacks (or the library's own allocator).
+//!
+//! The rules (`docs/design.md` §6.7): every function returns an [`EsStatus`]; after a failure
+//! [`es_last_error`] gives the message on the calling thread. No panic unwinds into the
+//! host: it becomes `ES_STATUS_ERROR_PANIC`, and the renderer it happened in refuses every
+//! call but `es_renderer_destroy`. Option structs begin with `struct_size` (set it to
+//! `sizeof` the struct), so later versions can add fields at the end. Handles are opaque;
+//! nothing the host passes in is ever destroyed by the library.
+
+mod allocator;
+mod camera;
+mod device;
+mod glyphs;
+mod plan;
+mod renderer;
+mod settings;
+mod status;
+mod target;
+
+pub use allocator::{
+    EsAllocatorCallbacks, EsBuffer, EsCreateBufferFn, EsDestroyBufferFn, EsMemoryUse,
+};
+pub use camera::{es_camera_from_matrices, es_camera_look_at, EsCamera, EsProjection, EsViewport};
+pub use device::{
+    EsDeviceInfo, EsGetInstanceProcAddr, ES_FEATURE_DYNAMIC_RENDERING, ES_FEATURE_MAINTENANCE4,
+    ES_FEATURE_SAMPLE_RATE_SHADING, ES_FEATURE_SHADER_BUFFER_INT64_ATOMICS,
+    ES_FEATURE_SHADER_INT64,
+};
+pub use glyphs::EsGlyph;
+pub use plan::{es_renderer_plan, EsFramePlan};
+pub use renderer::{
+    es_renderer_begin_frame, es_renderer_create, es_renderer_destroy, es_renderer_gpu_memory_bytes,
+    es_renderer_record, es_renderer_record_prepass, es_renderer_set_settings,
+    es_renderer_set_target, es_renderer_update, es_renderer_upload, EsRenderer,
+    EsRendererCreateInfo,
+};
+pub use settings::{es_settings_default, EsMaterial, EsSettings};
+pub use status::{es_last_error, EsStatus};
+pub use target::{es_target_required_features, EsTargetInfo};
+
+/// The ABI's version: it changes whenever a function, struct or constant changes in a way a
+/// host compiled against the old header would break on. The shared library's soname carries
+/// it (`libellipsoid_splat.so.1`).
+pub const ES_ABI_VERSION: u32 = 1;
+
+/// The ABI version of the library loaded, to compare with `ES_ABI_VERSION` of the header the
+/// host was compiled with. Any thread.
+#[no_mangle]
+pub extern "C" fn es_abi_version() -> u32 {
+    ES_ABI_VERSION
+}
