@@ -9,15 +9,19 @@
 #   scripts/install-capi.sh --prebuilt DIR PREFIX  takes them from DIR (a cargo target/release)
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
-cd "$here"
 [ -x "$HOME/.cargo/bin/cargo" ] && export PATH="$HOME/.cargo/bin:$PATH"
 
+# Paths are taken relative to where the script is called from.
 built=""
 if [ "${1:-}" = "--prebuilt" ]; then
   built="${2:?--prebuilt needs the directory holding libellipsoid_splat_capi.so and .a}"
+  built="$(cd "$built" && pwd)"
   shift 2
 fi
 prefix="${1:?usage: scripts/install-capi.sh [--prebuilt DIR] PREFIX}"
+mkdir -p "$prefix"
+prefix="$(cd "$prefix" && pwd)"
+cd "$here"
 if [ -z "$built" ]; then
   cargo build --release -p ellipsoid-splat-capi
   built="${CARGO_TARGET_DIR:-$here/target}/release"
@@ -29,12 +33,11 @@ done
 abi="$(sed -n 's/^pub const ES_ABI_VERSION: u32 = \([0-9]*\);$/\1/p' crates/capi/src/lib.rs)"
 version="$(sed -n 's/^version = "\(.*\)"$/\1/p' Cargo.toml | head -n 1)"
 [ -n "$abi" ] && [ -n "$version" ] || { echo "install-capi: no ABI or package version" >&2; exit 1; }
-mkdir -p "$prefix"
-prefix="$(cd "$prefix" && pwd)"
 lib="$prefix/lib"
 mkdir -p "$prefix/include" "$lib/pkgconfig" "$lib/cmake/ellipsoid_splat"
 
 install -m 644 crates/capi/include/ellipsoid_splat.h "$prefix/include/ellipsoid_splat.h"
+rm -f "$lib"/libellipsoid_splat.so.*.*.* # an earlier version's
 install -m 755 "$built/libellipsoid_splat_capi.so" "$lib/libellipsoid_splat.so.$version"
 ln -sf "libellipsoid_splat.so.$version" "$lib/libellipsoid_splat.so.$abi"
 ln -sf "libellipsoid_splat.so.$abi" "$lib/libellipsoid_splat.so"
@@ -42,15 +45,16 @@ install -m 644 "$built/libellipsoid_splat_capi.a" "$lib/libellipsoid_splat.a"
 # What Rust's standard library needs from the system when the static library is linked.
 static_libs="-lgcc_s -lutil -lrt -lpthread -lm -ldl -lc"
 
+# Relocatable: the prefix is found from the .pc file's own place.
 cat >"$lib/pkgconfig/ellipsoid_splat.pc" <<PC
-prefix=$prefix
+prefix=\${pcfiledir}/../..
 libdir=\${prefix}/lib
 includedir=\${prefix}/include
 
 Name: ellipsoid_splat
 Description: Exact ray-cast ellipsoids drawn into the host's Vulkan frame (C ABI $abi)
 Version: $version
-Requires: vulkan
+Requires.private: vulkan
 Libs: -L\${libdir} -lellipsoid_splat
 Libs.private: $static_libs
 Cflags: -I\${includedir}

@@ -10,3 +10,5 @@ cargo test --release -p ellipsoid-splat --features vk-mem --test vk_mem_host "$@
 # The library as a dependent gets it: publish dry run, the package's contents, a build
 # without glslangValidator on the committed SPIR-V, the docs as docs.rs builds them.
 bash "$here/scripts/package-check.sh"
+# The Python package (crates/python), built and installed into a virtual environment.
+bash "$here/scripts/test-python.sh"

@@ -99,11 +99,12 @@ unsafe impl MemoryAllocator for Allocator {
         buffer: vk::Buffer,
         memory: BufferMemory,
     ) -> Result<()> {
+        // SAFETY: caller contract: this allocator's buffer, unused by pending work. It goes
+        // first, so even memory of the wrong kind below leaves no buffer behind.
+        unsafe { device.destroy_buffer(buffer, None) };
         let allocation = memory.into_allocation::<Allocation>().map_err(|_| {
             Error::invalid("destroy_buffer", "the memory came from another allocator")
         })?;
-        // SAFETY: caller contract: this allocator's buffer, unused by pending work.
-        unsafe { device.destroy_buffer(buffer, None) };
         self.free(allocation).map_err(|e| Error::Allocation {
             what: "free".to_string(),
             reason: e.to_string(),

@@ -87,15 +87,26 @@ unsafe impl MemoryAllocator for Allocator {
 
     unsafe fn destroy_buffer(
         &mut self,
-        _device: &ash::Device,
+        device: &ash::Device,
         buffer: vk::Buffer,
         memory: BufferMemory,
     ) -> Result<()> {
-        let mut allocation = memory.into_allocation::<Allocation>().map_err(|_| {
-            Error::invalid("destroy_buffer", "the memory came from another allocator")
-        })?;
-        // SAFETY: caller contract: made together by this allocator, unused by pending work.
-        unsafe { Allocator::destroy_buffer(self, buffer, &mut allocation) };
-        Ok(())
+        match memory.into_allocation::<Allocation>() {
+            Ok(mut allocation) => {
+                // SAFETY: caller contract: made together by this allocator, unused by pending
+                // work.
+                unsafe { Allocator::destroy_buffer(self, buffer, &mut allocation) };
+                Ok(())
+            }
+            Err(_) => {
+                // SAFETY: caller contract: unused by pending work; the buffer goes even though
+                // its memory is of another allocator's kind.
+                unsafe { device.destroy_buffer(buffer, None) };
+                Err(Error::invalid(
+                    "destroy_buffer",
+                    "the memory came from another allocator",
+                ))
+            }
+        }
     }
 }

@@ -1,10 +1,11 @@
 /*
  * ellipsoid-splat: exact ray-cast ellipsoids on the host's Vulkan device -- the C ABI.
  *
- * Every function returns an EsStatus (ES_STATUS_SUCCESS = 0); es_last_error() gives the
- * message of the last failure on the calling thread. A panic never unwinds into the caller.
- * Option structs begin with struct_size: set it to sizeof the struct. Nothing the host passes
- * in is destroyed by the library. A renderer is used by one thread at a time. The rules:
+ * Every function but es_abi_version and es_last_error returns an EsStatus (ES_STATUS_SUCCESS =
+ * 0); es_last_error() gives the message of the last failure on the calling thread. A panic
+ * never unwinds into the caller. Option structs begin with struct_size: set it to sizeof the
+ * struct. Nothing the host passes in is destroyed by the library. A renderer is used by one
+ * thread at a time. The rules:
  * docs/design.md section 6.7 of the ellipsoid-splat repository.
  */
 
@@ -420,7 +421,12 @@ typedef void (*EsDestroyBufferFn)(void *user_data,
 
 /**
  * The host's allocator: both callbacks, or neither (the library then allocates with its own
- * allocator). They are called on the thread calling into the renderer.
+ * allocator). They are called on the thread calling into the renderer (two renderers on two
+ * threads may call them at once with the same `user_data`). They must return, not unwind or
+ * `longjmp`, and must not call into the renderer that called them. After a failure the
+ * library ignores `out`: the callback cleans up what it made. A callback that reports
+ * success with a null buffer, no mapping where one is needed, or less memory than asked
+ * for fails the call (`ES_STATUS_ERROR_VULKAN`) and what it made is handed back.
  */
 typedef struct EsAllocatorCallbacks {
   /**
@@ -633,7 +639,8 @@ enum EsStatus es_renderer_create(const struct EsRendererCreateInfo *info,
 /**
  * Destroys `renderer` and everything it made (a null `renderer` is fine). The GPU must be
  * done with every command buffer the renderer recorded into. Nothing of the host's is
- * destroyed. Thread: the renderer's.
+ * destroyed. The handle is gone after the call whatever the status (a failure only reports
+ * what could not be freed). Thread: the renderer's.
  *
  * # Safety
  * A non-null `renderer` came from `es_renderer_create` and is not used again.

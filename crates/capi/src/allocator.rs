@@ -74,7 +74,12 @@ pub type EsDestroyBufferFn =
     Option<unsafe extern "C" fn(user_data: *mut c_void, buffer: *const EsBuffer)>;
 
 /// The host's allocator: both callbacks, or neither (the library then allocates with its own
-/// allocator). They are called on the thread calling into the renderer.
+/// allocator). They are called on the thread calling into the renderer (two renderers on two
+/// threads may call them at once with the same `user_data`). They must return, not unwind or
+/// `longjmp`, and must not call into the renderer that called them. After a failure the
+/// library ignores `out`: the callback cleans up what it made. A callback that reports
+/// success with a null buffer, no mapping where one is needed, or less memory than asked
+/// for fails the call (`ES_STATUS_ERROR_VULKAN`) and what it made is handed back.
 #[repr(C)]
 pub struct EsAllocatorCallbacks {
     /// `sizeof(EsAllocatorCallbacks)`.
@@ -87,8 +92,11 @@ pub struct EsAllocatorCallbacks {
     pub destroy_buffer: EsDestroyBufferFn,
 }
 
-/// The size of the first version of [`EsAllocatorCallbacks`].
-pub(crate) const ALLOCATOR_CALLBACKS_V1: usize = std::mem::size_of::<EsAllocatorCallbacks>();
+/// The size of the first version of [`EsAllocatorCallbacks`] (64-bit targets), frozen.
+pub(crate) const ALLOCATOR_CALLBACKS_V1: usize = 32;
+// Growing the struct is a new version: the library must then read only the prefix a
+// host of an older version allocated (its `struct_size`), not this whole struct.
+const _: () = assert!(std::mem::size_of::<EsAllocatorCallbacks>() == ALLOCATOR_CALLBACKS_V1);
 
 /// The memory a callback gave, as the library keeps it.
 struct HostAllocation(EsBuffer);
@@ -161,8 +169,8 @@ unsafe impl MemoryAllocator for HostCallbacks {
             None
         };
         if let Some(problem) = problem {
-            if out.buffer != VkBuffer::null() {
-                // SAFETY: the host's own buffer, unused.
+            if out.buffer != VkBuffer::null() || !out.allocation.is_null() {
+                // SAFETY: what the host's callback made, unused: handed back.
                 unsafe { (self.destroy)(self.user_data, &out) };
             }
             return Err(Error::Allocation {
@@ -216,29 +224,33 @@ impl RendererMemory {
                     create,
                     destroy,
                 })),
+                (None, None) => Self::own(device),
                 _ => Err(Failure::invalid(
                     "EsAllocatorCallbacks",
-                    "needs both create_buffer and destroy_buffer (or pass no callbacks)",
+                    "needs both create_buffer and destroy_buffer, or neither",
                 )),
             },
-            None => {
-                let allocator = Allocator::new(&AllocatorCreateDesc {
-                    instance: device.instance.clone(),
-                    device: device.device.clone(),
-                    physical_device: device.physical_device,
-                    debug_settings: Default::default(),
-                    buffer_device_address: false,
-                    allocation_sizes: Default::default(),
-                })
-                .map_err(|e| {
-                    Failure::from(Error::Allocation {
-                        what: "the library's allocator".into(),
-                        reason: e.to_string(),
-                    })
-                })?;
-                Ok(RendererMemory::Own(Box::new(allocator)))
-            }
+            None => Self::own(device),
         }
+    }
+
+    /// An allocator of the library's own on the host's device.
+    fn own(device: &LoadedDevice) -> std::result::Result<Self, Failure> {
+        let allocator = Allocator::new(&AllocatorCreateDesc {
+            instance: device.instance.clone(),
+            device: device.device.clone(),
+            physical_device: device.physical_device,
+            debug_settings: Default::default(),
+            buffer_device_address: false,
+            allocation_sizes: Default::default(),
+        })
+        .map_err(|e| {
+            Failure::from(Error::Allocation {
+                what: "the library's allocator".into(),
+                reason: e.to_string(),
+            })
+        })?;
+        Ok(RendererMemory::Own(Box::new(allocator)))
     }
 
     /// The allocator the renderer's calls take.

@@ -74,8 +74,11 @@ pub struct EsCamera {
     pub depth_far: f64,
 }
 
-/// The size of the first version of [`EsCamera`].
-pub(crate) const CAMERA_V1: usize = std::mem::size_of::<EsCamera>();
+/// The size of the first version of [`EsCamera`] (64-bit targets), frozen.
+pub(crate) const CAMERA_V1: usize = 184;
+// Growing the struct is a new version: the library must then read only the prefix a
+// host of an older version allocated (its `struct_size`), not this whole struct.
+const _: () = assert!(std::mem::size_of::<EsCamera>() == CAMERA_V1);
 
 /// The library's camera of `camera`.
 pub(crate) fn camera_from(camera: &EsCamera) -> Result<Camera, Failure> {

@@ -50,8 +50,11 @@ pub struct EsDeviceInfo {
     pub enabled_features: u32,
 }
 
-/// The size of the first version of [`EsDeviceInfo`].
-pub(crate) const DEVICE_INFO_V1: usize = std::mem::size_of::<EsDeviceInfo>();
+/// The size of the first version of [`EsDeviceInfo`] (64-bit targets), frozen.
+pub(crate) const DEVICE_INFO_V1: usize = 48;
+// Growing the struct is a new version: the library must then read only the prefix a
+// host of an older version allocated (its `struct_size`), not this whole struct.
+const _: () = assert!(std::mem::size_of::<EsDeviceInfo>() == DEVICE_INFO_V1);
 
 /// The features of `bits`.
 pub(crate) fn features_from_bits(bits: u32) -> Result<DeviceFeatures, Failure> {

@@ -23,7 +23,11 @@ pub struct EsGlyph {
 /// The library's ellipsoids of `glyphs` (errors name the glyph's index, from `first`). One
 /// allocation of the exact size: collecting into a `Result` would grow the vector by doubling.
 pub(crate) fn ellipsoids(glyphs: &[EsGlyph], first: usize) -> Result<Vec<Ellipsoid>, Failure> {
-    let mut out = Vec::with_capacity(glyphs.len());
+    let mut out = Vec::new();
+    out.try_reserve_exact(glyphs.len()).map_err(|_| Failure {
+        status: crate::status::EsStatus::ErrorOutOfMemory,
+        message: format!("no host memory for {} glyphs", glyphs.len()),
+    })?;
     for (k, g) in glyphs.iter().enumerate() {
         let [w, x, y, z] = g.rotation;
         let ellipsoid = Ellipsoid::new(

@@ -103,8 +103,11 @@ pub struct EsRendererCreateInfo {
     pub pipeline_cache: VkPipelineCache,
 }
 
-/// The size of the first version of [`EsRendererCreateInfo`].
-const CREATE_INFO_V1: usize = std::mem::size_of::<EsRendererCreateInfo>();
+/// The size of the first version of [`EsRendererCreateInfo`] (64-bit targets), frozen.
+const CREATE_INFO_V1: usize = 56;
+// Growing the struct is a new version: the library must then read only the prefix a
+// host of an older version allocated (its `struct_size`), not this whole struct.
+const _: () = assert!(std::mem::size_of::<EsRendererCreateInfo>() == CREATE_INFO_V1);
 
 /// Makes a renderer on the host's device and writes its handle to `out_renderer` (null on
 /// failure). It checks the queue family, the enabled features, the target's formats and
@@ -166,7 +169,8 @@ pub unsafe extern "C" fn es_renderer_create(
 
 /// Destroys `renderer` and everything it made (a null `renderer` is fine). The GPU must be
 /// done with every command buffer the renderer recorded into. Nothing of the host's is
-/// destroyed. Thread: the renderer's.
+/// destroyed. The handle is gone after the call whatever the status (a failure only reports
+/// what could not be freed). Thread: the renderer's.
 ///
 /// # Safety
 /// A non-null `renderer` came from `es_renderer_create` and is not used again.
@@ -259,6 +263,13 @@ pub unsafe extern "C" fn es_renderer_begin_frame(renderer: *mut EsRenderer, slot
 unsafe fn glyph_slice<'a>(glyphs: *const EsGlyph, count: usize) -> Result<&'a [EsGlyph], Failure> {
     if count == 0 {
         return Ok(&[]);
+    }
+    // Instance indices are 32-bit; the bound also keeps the slice's size far below isize::MAX.
+    if count > u32::MAX as usize {
+        return Err(Failure::invalid(
+            "count",
+            format!("{count} glyphs is more than 2^32 - 1"),
+        ));
     }
     if glyphs.is_null() {
         return Err(Failure::invalid(

@@ -43,8 +43,11 @@ pub struct EsSettings {
     pub per_sample_shading: u32,
 }
 
-/// The size of the first version of [`EsSettings`].
-pub(crate) const SETTINGS_V1: usize = std::mem::size_of::<EsSettings>();
+/// The size of the first version of [`EsSettings`] (64-bit targets), frozen.
+pub(crate) const SETTINGS_V1: usize = 52;
+// Growing the struct is a new version: the library must then read only the prefix a
+// host of an older version allocated (its `struct_size`), not this whole struct.
+const _: () = assert!(std::mem::size_of::<EsSettings>() == SETTINGS_V1);
 
 /// The plain struct of `settings`.
 pub(crate) fn settings_to(settings: &Settings) -> EsSettings {

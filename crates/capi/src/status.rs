@@ -38,13 +38,16 @@ thread_local! {
 /// this thread; copy the text to keep it. Any thread.
 #[no_mangle]
 pub extern "C" fn es_last_error() -> *const c_char {
-    LAST_ERROR.with(|message| message.borrow().as_ptr())
+    // During a thread's teardown the thread-local may be gone: an empty message then.
+    LAST_ERROR
+        .try_with(|message| message.borrow().as_ptr())
+        .unwrap_or(c"".as_ptr())
 }
 
 /// Records `message` as this thread's last error.
 fn set_last_error(message: String) {
     let message = CString::new(message.replace('\0', " ")).unwrap_or_default();
-    LAST_ERROR.with(|last| *last.borrow_mut() = message);
+    let _ = LAST_ERROR.try_with(|last| *last.borrow_mut() = message);
 }
 
 /// A failure of a C call: the status it returns and the message it leaves.
@@ -72,7 +75,8 @@ impl From<Error> for Failure {
             Error::Vulkan { .. } | Error::Loader(_) | Error::Validation { .. } => {
                 EsStatus::ErrorVulkan
             }
-            Error::OutOfMemory { .. } | Error::Allocation { .. } => EsStatus::ErrorOutOfMemory,
+            Error::OutOfMemory { .. } => EsStatus::ErrorOutOfMemory,
+            Error::Allocation { .. } => EsStatus::ErrorVulkan,
             Error::DeviceLost { .. } => EsStatus::ErrorDeviceLost,
             _ => EsStatus::ErrorOther,
         };

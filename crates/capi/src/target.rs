@@ -31,8 +31,11 @@ pub struct EsTargetInfo {
     pub aux_outputs: u32,
 }
 
-/// The size of the first version of [`EsTargetInfo`].
-pub(crate) const TARGET_INFO_V1: usize = std::mem::size_of::<EsTargetInfo>();
+/// The size of the first version of [`EsTargetInfo`] (64-bit targets), frozen.
+pub(crate) const TARGET_INFO_V1: usize = 48;
+// Growing the struct is a new version: the library must then read only the prefix a
+// host of an older version allocated (its `struct_size`), not this whole struct.
+const _: () = assert!(std::mem::size_of::<EsTargetInfo>() == TARGET_INFO_V1);
 
 /// The library's target of `info`.
 ///

@@ -179,6 +179,24 @@ fn a_cpp_host_draws_a_mesh_the_ellipsoids_and_imgui_in_one_render_pass() {
     let work = profile.join("capi-host");
     let prefix = work.join("install");
     std::fs::create_dir_all(&work).unwrap();
+    // `cargo test` builds only the Rust library of this crate: build the C libraries too, in
+    // the same profile (cargo releases its lock while tests run).
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let mut build = Command::new(cargo);
+    build
+        .args([
+            "build",
+            "--quiet",
+            "-p",
+            "ellipsoid-splat-capi",
+            "--lib",
+            "--manifest-path",
+        ])
+        .arg(root.join("Cargo.toml"));
+    if profile.file_name().is_some_and(|p| p == "release") {
+        build.arg("--release");
+    }
+    run(&mut build, "cargo build (the C libraries)");
     run(
         Command::new("bash")
             .arg(root.join("scripts/install-capi.sh"))

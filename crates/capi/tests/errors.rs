@@ -1,5 +1,5 @@
 //! Bad input through the C ABI is a status and a message naming what and why -- never a
-//! crash: null pointers, too-small `struct_size`, values out of range, unknown enum values.
+//! crash: null pointers, too-small `struct_size`, values out of range.
 
 use std::ffi::CStr;
 

@@ -1,0 +1,148 @@
+"""The Python package against the Rust API (byte for byte), the pinhole contract, bad input,
+files and pictures. Run by scripts/test.sh with the package installed in a virtual
+environment; ES_RUST_FRAME names the Rust API's frame writer (examples/rust_frame.rs)."""
+
+import os
+import subprocess
+import tempfile
+
+import numpy as np
+import pytest
+
+import ellipsoid_splat as es
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.abspath(os.path.join(HERE, "..", "..", ".."))
+
+
+@pytest.fixture(scope="module")
+def renderer():
+    # Validation on: any message makes the renderer's teardown fail the process.
+    return es.Renderer(validation=True)
+
+
+def random_glyphs(n, seed=3):
+    rng = np.random.default_rng(seed)
+    centers = rng.uniform(-3, 3, (n, 3))
+    radii = rng.uniform(0.1, 0.5, (n, 3))
+    q = rng.normal(size=(n, 4))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    colors = rng.uniform(0, 1, (n, 3))
+    return centers, radii, q, colors
+
+
+def test_frames_equal_the_rust_api_byte_for_byte(renderer, tmp_path):
+    ply = os.path.join(ROOT, "data", "samples", "splats.ply")
+    scene = es.load(ply)
+    assert scene["centers"].shape[1] == 3 and len(scene["centers"]) > 10
+    camera = dict(eye=(4.0, 3.0, 6.0), target=(0.0, 0.0, 0.0), up=(0.0, 1.0, 0.0),
+                  fov_y=40.0, near=0.5, width=200, height=150)
+    frame = renderer.render(scene["centers"], scene["radii"], scene["rotations"],
+                            scene["colors"], **camera)
+    out = str(tmp_path / "rust")
+    args = [os.environ["ES_RUST_FRAME"], ply, out, "4,3,6", "0,0,0", "0,1,0", "40", "0.5",
+            "200", "150"]
+    subprocess.run(args, check=True, capture_output=True)
+    read = lambda ext: open(f"{out}.{ext}", "rb").read()  # noqa: E731
+    assert (frame.id != es.NO_GLYPH).sum() > 1000, "the scene is in view"
+    assert frame.color.tobytes() == read("color")
+    assert frame.depth.astype("<f4").tobytes() == read("depth")
+    assert frame.normal.astype("<f4").tobytes() == read("normal")
+    assert frame.id.astype("<u4").tobytes() == read("id")
+    # Float32 input is the same glyphs.
+    again = renderer.render(scene["centers"].astype(np.float32).astype(np.float64),
+                            scene["radii"], scene["rotations"], scene["colors"], **camera)
+    assert again.id.tobytes() == frame.id.tobytes()
+
+
+def test_the_pinhole_puts_a_glyph_where_k_projects_it(renderer):
+    K = np.array([[500.0, 0, 330.0], [0, 520.0, 215.0], [0, 0, 1]])
+    angle = 0.3
+    R = np.array([[np.cos(angle), 0, -np.sin(angle)], [0, 1, 0], [np.sin(angle), 0, np.cos(angle)]])
+    t = np.array([0.2, -0.1, 6.0])
+    pose = np.eye(4)
+    pose[:3, :3], pose[:3, 3] = R, t
+    world = np.array([[0.4, 0.3, -0.2]])
+    frame = renderer.render(world, np.full((1, 3), 0.05), None, np.array([[1.0, 0.5, 0.2]]),
+                            intrinsics=K, world_to_camera=pose, width=640, height=480)
+    p = R @ world[0] + t
+    u, v = K[0, 0] * p[0] / p[2] + K[0, 2], K[1, 1] * p[1] / p[2] + K[1, 2]
+    covered = np.argwhere(frame.id == 0)
+    assert len(covered) > 50
+    centroid = covered.mean(axis=0) + 0.5  # (row, column) of pixel centres
+    assert abs(centroid[1] - u) < 0.1 and abs(centroid[0] - v) < 0.1, (centroid, u, v)
+    # The depth at the centre's pixel is the front of the sphere along that ray.
+    j, i = int(v), int(u)
+    assert frame.id[j, i] == 0
+    assert abs(frame.depth[j, i] - (p[2] - 0.05)) < 2e-3
+
+
+def test_tensors_draw_what_radii_and_rotations_draw(renderer):
+    centers, radii, q, colors = random_glyphs(30)
+    tensors = np.zeros((30, 3, 3))
+    for k, (r, (w, x, y, z)) in enumerate(zip(radii, q)):
+        rot = np.array([
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ])
+        tensors[k] = rot @ np.diag(r) @ rot.T
+    a = renderer.render(centers, radii, q, colors, width=160, height=120)
+    b = renderer.render(centers, tensors=tensors, colors=colors, width=160, height=120)
+    assert (a.id != es.NO_GLYPH).sum() > 500
+    assert (a.id == b.id).mean() > 0.999
+
+
+def test_bad_input_raises_naming_the_argument(renderer):
+    centers, radii, q, colors = random_glyphs(5)
+    cases = [
+        (dict(centers=centers[:, :2], radii=radii), "centers"),
+        (dict(centers=centers, radii=radii[:4]), "radii"),
+        (dict(centers=centers, radii=-radii), "glyph 0"),
+        (dict(centers=centers, radii=radii, rotations=q[:, :3]), "rotations"),
+        (dict(centers=centers, radii=radii, colors=colors * 2), "colors"),
+        (dict(centers=np.where(centers > 0, np.nan, centers), radii=radii), "centers"),
+        (dict(centers=[["a", "b", "c"]], radii=[[1, 1, 1]]), "centers"),
+        (dict(centers=centers, radii=radii, tensors=np.zeros((5, 3, 3))), "or tensors, not both"),
+        (dict(centers=centers, radii=radii, width=0), "width"),
+        (dict(centers=centers, radii=radii, fov_y=180), "fov_y"),
+        (dict(centers=centers, radii=radii, intrinsics=np.eye(3)), "world_to_camera"),
+        (dict(centers=centers, radii=radii, intrinsics=np.eye(2), world_to_camera=np.eye(4)),
+         "intrinsics"),
+        (dict(centers=centers, radii=radii, intrinsics=np.eye(3) * 100 + [[0, 0, 1], [0, 0, 1], [0, 0, -99]],
+              world_to_camera=np.diag([1.0, 1.0, -1.0, 1.0])), "world_to_camera"),
+        (dict(centers=centers, radii=radii, near=-1.0), "near"),
+    ]
+    for kwargs, name in cases:
+        with pytest.raises(ValueError, match=name):
+            renderer.render(**kwargs)
+    with pytest.raises(es.DeviceError):
+        es.Renderer(device="no such device")
+    assert issubclass(es.DeviceError, RuntimeError)
+    with pytest.raises(OSError):
+        es.load("/nonexistent/scene.csv")
+    with pytest.raises(ValueError, match="color"):
+        es.load(os.path.join(ROOT, "data", "samples", "splats.ply"), color="purple")
+
+
+def test_frames_show_themselves_and_save_as_the_tool_does(renderer, tmp_path):
+    centers, radii, q, colors = random_glyphs(20)
+    frame = renderer.render(centers, radii, q, colors, width=64, height=48)
+    png = frame._repr_png_()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 100
+    frame.save(tmp_path / "c.png")
+    assert open(tmp_path / "c.png", "rb").read() == png
+    frame.save(tmp_path / "d.exr", "depth")
+    frame.save(tmp_path / "n.exr", "normal")
+    frame.save(tmp_path / "i.png", "id")
+    frame.save(tmp_path / "i.exr", "id")
+    for name in ("d.exr", "n.exr", "i.exr"):
+        assert open(tmp_path / name, "rb").read(4) == b"\x76\x2f\x31\x01"  # EXR magic
+    with pytest.raises(ValueError, match="png"):
+        frame.save(tmp_path / "c.jpg")
+    assert frame.depth.dtype == np.float32 and frame.id.dtype == np.uint32
+    assert frame.color.shape == (48, 64, 4) and frame.normal.shape == (48, 64, 3)
+    hit = frame.id != es.NO_GLYPH
+    assert np.isinf(frame.depth[~hit]).all() and np.isfinite(frame.depth[hit]).all()
+    lengths = np.linalg.norm(frame.normal[hit], axis=1)
+    assert np.allclose(lengths, 1.0, atol=1e-4)
