@@ -76,6 +76,9 @@ mod gpu;
 mod icosphere;
 #[cfg(feature = "offscreen")]
 mod offscreen;
+/// Supersampling: a frame drawn K times larger, box-filtered in linear light.
+#[cfg(feature = "offscreen")]
+pub mod supersample;
 
 pub use allocator::MemoryAllocator;
 pub use camera::{Camera, Intrinsics, Projection};

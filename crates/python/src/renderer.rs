@@ -3,6 +3,7 @@
 
 use std::time::Instant;
 
+use ellipsoid_splat::supersample::{box_filter, supersampled_camera};
 use ellipsoid_splat::{Camera, ContextOptions, OffscreenRenderer, Outputs, Scene};
 use glam::DVec3;
 use numpy::ndarray::Array;
@@ -106,7 +107,7 @@ impl Renderer {
     /// Renders the uploaded glyphs: colour (H, W, 4) uint8 sRGB, depth (H, W) float32 view
     /// depth (+inf where nothing is hit), normal (H, W, 3) float32, id (H, W) uint32
     /// (0xFFFFFFFF where nothing is hit), and the Rust-side milliseconds of the frame.
-    #[pyo3(signature = (eye, target, up, fov_y, intrinsics, world_to_camera, width, height, near))]
+    #[pyo3(signature = (eye, target, up, fov_y, intrinsics, world_to_camera, width, height, near, supersample))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &mut self,
@@ -120,6 +121,7 @@ impl Renderer {
         width: u32,
         height: u32,
         near: Option<f64>,
+        supersample: u32,
     ) -> PyResult<FrameArrays<'py>> {
         let sphere = self
             .sphere
@@ -136,13 +138,17 @@ impl Renderer {
             near,
         };
         let camera: Camera = args.camera(sphere)?;
+        // K x K samples per pixel: the same view K times larger, box-filtered (as the tool's
+        // `--supersample`).
+        let drawn = supersampled_camera(&camera, supersample).map_err(renderer_error)?;
         let detached = Detached(&mut self.renderer);
         let (frame, ms) = py
             .allow_threads(move || {
                 let start = Instant::now();
                 // SAFETY: `self` is borrowed mutably for the call and outlives it.
-                let frame = unsafe { detached.into_mut() }.render_uploaded(&camera, Outputs::ALL);
-                frame.map(|(frame, _)| (frame, start.elapsed().as_secs_f64() * 1e3))
+                let frame = unsafe { detached.into_mut() }.render_uploaded(&drawn, Outputs::ALL);
+                let frame = frame.and_then(|(frame, _)| box_filter(&frame, supersample));
+                frame.map(|frame| (frame, start.elapsed().as_secs_f64() * 1e3))
             })
             .map_err(renderer_error)?;
         let (h, w) = (frame.height as usize, frame.width as usize);

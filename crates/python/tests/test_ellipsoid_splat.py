@@ -112,6 +112,7 @@ def test_bad_input_raises_naming_the_argument(renderer):
         (dict(centers=centers, radii=radii, intrinsics=np.eye(3) * 100 + [[0, 0, 1], [0, 0, 1], [0, 0, -99]],
               world_to_camera=np.diag([1.0, 1.0, -1.0, 1.0])), "world_to_camera"),
         (dict(centers=centers, radii=radii, near=-1.0), "near"),
+        (dict(centers=centers, radii=radii, supersample=9), "supersample"),
     ]
     for kwargs, name in cases:
         with pytest.raises(ValueError, match=name):
@@ -123,6 +124,25 @@ def test_bad_input_raises_naming_the_argument(renderer):
         es.load("/nonexistent/scene.csv")
     with pytest.raises(ValueError, match="color"):
         es.load(os.path.join(ROOT, "data", "samples", "splats.ply"), color="purple")
+
+
+def test_supersampling_averages_the_samples_of_each_pixel(renderer):
+    centers, radii, q, colors = random_glyphs(40)
+    camera = dict(eye=(0.0, 0.0, 9.0), target=(0.0, 0.0, 0.0), near=1.0)
+    one = renderer.render(centers, radii, q, colors, width=80, height=60, **camera)
+    big = renderer.render(centers, radii, q, colors, width=240, height=180, **camera)
+    three = renderer.render(centers, radii, q, colors, width=80, height=60, supersample=3,
+                            **camera)
+    # Each pixel's colour is the linear-light mean of the 3 x 3 samples the large frame
+    # drew there; its id and depth are the centre sample's.
+    linear = np.where(big.color[..., :3] / 255.0 <= 0.04045, big.color[..., :3] / 255.0 / 12.92,
+                      ((big.color[..., :3] / 255.0 + 0.055) / 1.055) ** 2.4)
+    mean = linear.reshape(60, 3, 80, 3, 3).mean(axis=(1, 3))
+    encoded = np.where(mean <= 0.0031308, 12.92 * mean, 1.055 * mean ** (1 / 2.4) - 0.055)
+    assert np.abs(np.round(encoded * 255) - three.color[..., :3]).max() <= 1
+    assert (three.id == big.id[1::3, 1::3]).all()
+    assert (three.id != es.NO_GLYPH).sum() > 300
+    assert (one.id != three.id).sum() < 0.2 * one.id.size
 
 
 def test_frames_show_themselves_and_save_as_the_tool_does(renderer, tmp_path):

@@ -157,15 +157,7 @@ impl fmt::Display for CoverageStats {
     }
 }
 
-/// sRGB-encoded byte to linear light.
-pub fn srgb_to_linear(byte: u8) -> f64 {
-    let c = byte as f64 / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
+pub use ellipsoid_splat::supersample::srgb_to_linear;
 
 /// Compares `resolved` (unlit white glyphs over the background) with the reference's coverage.
 /// The background's light is read from a pixel the reference leaves wholly uncovered.

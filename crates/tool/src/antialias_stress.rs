@@ -18,7 +18,7 @@ use ellipsoid_splat_reference::coverage::{
 };
 
 use crate::report::{format_table, write_csv};
-use crate::supersample::{box_filter, supersampled_camera};
+use ellipsoid_splat::supersample::{box_filter, supersampled_camera};
 
 /// How a point is antialiased.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

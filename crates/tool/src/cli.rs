@@ -596,10 +596,13 @@ impl RenderArgs {
             ));
         }
         let k = self.supersample;
-        if !(1..=crate::supersample::MAX_SUPERSAMPLE).contains(&k) {
+        if !(1..=ellipsoid_splat::supersample::MAX_SUPERSAMPLE).contains(&k) {
             return Err(Error::invalid(
                 "--supersample",
-                format!("{k} is outside 1..={}", crate::supersample::MAX_SUPERSAMPLE),
+                format!(
+                    "{k} is outside 1..={}",
+                    ellipsoid_splat::supersample::MAX_SUPERSAMPLE
+                ),
             ));
         }
         for (flag, value) in [("--width", self.width), ("--height", self.height)] {
@@ -739,7 +742,7 @@ fn parse_samples(text: &str) -> std::result::Result<u32, String> {
     text.trim().parse::<u32>().map_err(|_| {
         format!(
             "'{text}' is not a whole number of samples per side (1 to {})",
-            crate::supersample::MAX_SUPERSAMPLE
+            ellipsoid_splat::supersample::MAX_SUPERSAMPLE
         )
     })
 }

@@ -12,5 +12,4 @@ pub mod output;
 pub mod report;
 pub mod skip;
 pub mod stress;
-pub mod supersample;
 pub mod view;

@@ -7,6 +7,7 @@ use clap::Parser;
 
 use ellipsoid_splat::draw::Intersection;
 use ellipsoid_splat::draw::Method;
+use ellipsoid_splat::supersample;
 use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::{draw::DrawConfig, Settings};
 use ellipsoid_splat::{Context, ContextOptions};
@@ -23,7 +24,6 @@ use ellipsoid_splat_tool::error::{Error, Result};
 use ellipsoid_splat_tool::output::{self, Image};
 use ellipsoid_splat_tool::skip;
 use ellipsoid_splat_tool::stress::{run_point, sweep_points, write_report, Extent, StressResult};
-use ellipsoid_splat_tool::supersample;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();

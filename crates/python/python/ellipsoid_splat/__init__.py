@@ -165,11 +165,13 @@ class Renderer:
                         up: Sequence[float] = (0.0, 1.0, 0.0), fov_y: float = 45.0,
                         intrinsics: Any = None, world_to_camera: Any = None,
                         width: int = 640, height: int = 480,
-                        near: Optional[float] = None) -> Frame:
+                        near: Optional[float] = None, supersample: int = 1) -> Frame:
         """Renders the uploaded glyphs. The camera: ``eye``, ``target``, ``up`` and
         ``fov_y`` degrees (by default framing the glyphs), or ``intrinsics`` K (3, 3, pixels)
         with ``world_to_camera`` (4, 4, OpenCV: x right, y down, z forward); ``near`` by
-        default half the eye's distance to the glyphs' bounding sphere."""
+        default half the eye's distance to the glyphs' bounding sphere; ``supersample`` K
+        (1 to 8) draws K x K samples per pixel and averages the colour in linear light (depth,
+        normal and id come from one sample of each pixel)."""
         for name, value in (("width", width), ("height", height)):
             if not isinstance(value, (int, np.integer)) or not 1 <= value <= 16384:
                 raise ValueError(f"{name} must be an integer in 1..=16384, got {value!r}")
@@ -185,13 +187,17 @@ class Renderer:
             raise ValueError(f"intrinsics has shape {k.shape}, expected (3, 3)")
         if pose is not None and pose.shape != (4, 4):
             raise ValueError(f"world_to_camera has shape {pose.shape}, expected (4, 4)")
+        if not isinstance(supersample, (int, np.integer)) or not 1 <= supersample <= 8:
+            raise ValueError(f"supersample must be an integer in 1..=8, got {supersample!r}")
+        if width * supersample > 16384 or height * supersample > 16384:
+            raise ValueError(f"supersample {supersample} makes the drawn image larger than 16384")
         if near is not None and not (np.isfinite(near) and near > 0):
             raise ValueError(f"near must be a positive number, got {near!r}")
         color, depth, normal, ids, ms = self._native.render(
             None if eye is None else _vector(eye, "eye", 3),
             None if target is None else _vector(target, "target", 3),
             _vector(up, "up", 3), float(fov_y), k, pose, int(width), int(height),
-            None if near is None else float(near))
+            None if near is None else float(near), int(supersample))
         return Frame(color, depth, normal, ids, ms)
 
     def render(self, centers: Any, radii: Any = None, rotations: Any = None,
