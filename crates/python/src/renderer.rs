@@ -99,6 +99,7 @@ impl Renderer {
         // SAFETY: `self` is borrowed mutably for the call and outlives it.
         py.allow_threads(move || unsafe { detached.into_mut() }.upload(&scene))
             .map_err(renderer_error)?;
+        self.check_validation()?;
         self.sphere = Some(sphere);
         self.count = arrays.centers.as_array().nrows();
         Ok((self.count, start.elapsed().as_secs_f64() * 1e3))
@@ -140,17 +141,25 @@ impl Renderer {
         let camera: Camera = args.camera(sphere)?;
         // K x K samples per pixel: the same view K times larger, box-filtered (as the tool's
         // `--supersample`).
-        let drawn = supersampled_camera(&camera, supersample).map_err(renderer_error)?;
+        let drawn = if supersample == 1 {
+            camera
+        } else {
+            supersampled_camera(&camera, supersample).map_err(renderer_error)?
+        };
         let detached = Detached(&mut self.renderer);
         let (frame, ms) = py
             .allow_threads(move || {
                 let start = Instant::now();
                 // SAFETY: `self` is borrowed mutably for the call and outlives it.
                 let frame = unsafe { detached.into_mut() }.render_uploaded(&drawn, Outputs::ALL);
-                let frame = frame.and_then(|(frame, _)| box_filter(&frame, supersample));
+                let frame = frame.and_then(|(frame, _)| match supersample {
+                    1 => Ok(frame),
+                    k => box_filter(&frame, k),
+                });
                 frame.map(|frame| (frame, start.elapsed().as_secs_f64() * 1e3))
             })
             .map_err(renderer_error)?;
+        self.check_validation()?;
         let (h, w) = (frame.height as usize, frame.width as usize);
         let shaped = |e: numpy::ndarray::ShapeError| PyValueError::new_err(e.to_string());
         let color = Array::from_shape_vec((h, w, 4), frame.color.into_iter().flatten().collect())
@@ -172,6 +181,14 @@ impl Renderer {
             id.into_any(),
             ms,
         ))
+    }
+
+    /// With validation on: fails with the layer's first message if it said anything.
+    fn check_validation(&self) -> PyResult<()> {
+        self.renderer
+            .context()
+            .check_validation()
+            .map_err(renderer_error)
     }
 
     /// How many glyphs are uploaded.

@@ -38,7 +38,7 @@ def _matrix(value: Any, name: str, cols: Optional[int], dims: int = 2) -> np.nda
     except Exception as error:  # noqa: BLE001 - NumPy raises many kinds here
         raise ValueError(f"{name}: not an array ({error})") from None
     if array.dtype.kind not in "fiu" or array.dtype.kind == "f" and array.dtype.itemsize < 4:
-        raise ValueError(f"{name} must hold float32 or float64 numbers, not {array.dtype}")
+        raise ValueError(f"{name} must hold numbers (float32, float64 or integers), not {array.dtype}")
     if array.ndim != dims or (cols is not None and array.shape[-1] != cols):
         want = ", ".join(["N"] + [str(c) for c in ([cols] if dims == 2 else [3, 3])])
         raise ValueError(f"{name} has shape {array.shape}, expected ({want})")
@@ -110,13 +110,13 @@ class Frame:
 class Renderer:
     """A Vulkan renderer kept alive between calls.
 
-    ``validation`` turns on the Khronos validation layer (any message fails the call that
-    caused it at teardown); ``device`` picks a device by index or name (default: a real GPU,
-    else lavapipe)."""
+    ``validation`` turns on the Khronos validation layer: any message it reports makes the
+    upload or render that caused it raise ``DeviceError``. ``device`` picks a device by index
+    or name (default: a real GPU, else lavapipe)."""
 
     def __init__(self, validation: bool = False, device: Optional[str | int] = None) -> None:
         self._native = _native.Renderer(validation, None if device is None else str(device))
-        self._given: Optional[tuple] = None
+        self._last: Optional[list] = None
         #: The Rust library's time for the last upload (building and uploading the glyphs), ms.
         self.upload_ms = 0.0
 
@@ -156,8 +156,20 @@ class Renderer:
                 raise ValueError(f"tensors has shape {t.shape}, expected ({n}, 3, 3)")
         if k is not None and ((k < 0).any() or (k > 1).any()):
             raise ValueError("colors must lie in [0, 1]")
-        self._given = None
+        arrays = [c, r, q, k, t]
+
+        def same(a: Optional[np.ndarray], b: Optional[np.ndarray]) -> bool:
+            if a is None or b is None:
+                return a is None and b is None
+            # The first rows decide quickly for new glyphs; then every value.
+            return a.shape == b.shape and np.array_equal(a[:16], b[:16]) and np.array_equal(a, b)
+
+        if self._last is not None and all(same(a, b) for a, b in zip(arrays, self._last)):
+            self.upload_ms = 0.0
+            return n  # the same glyphs are on the GPU already
         count, self.upload_ms = self._native.upload(c, r, q, k, t)
+        # Copies: arrays the caller changes in place afterwards are seen as changed.
+        self._last = [None if a is None else a.copy() for a in arrays]
         return count
 
     def render_uploaded(self, *, eye: Optional[Sequence[float]] = None,
@@ -168,14 +180,18 @@ class Renderer:
                         near: Optional[float] = None, supersample: int = 1) -> Frame:
         """Renders the uploaded glyphs. The camera: ``eye``, ``target``, ``up`` and
         ``fov_y`` degrees (by default framing the glyphs), or ``intrinsics`` K (3, 3, pixels)
-        with ``world_to_camera`` (4, 4, OpenCV: x right, y down, z forward); ``near`` by
+        with ``world_to_camera`` (4, 4, OpenCV axes: x right, y down, z forward) -- pixel
+        (i, j)'s centre is at (i + 0.5, j + 0.5), as in COLMAP and gsplat (for a K calibrated
+        with OpenCV's integer pixel centres, add 0.5 to cx and cy); ``near`` by
         default half the eye's distance to the glyphs' bounding sphere; ``supersample`` K
         (1 to 8) draws K x K samples per pixel and averages the colour in linear light (depth,
         normal and id come from one sample of each pixel)."""
         for name, value in (("width", width), ("height", height)):
-            if not isinstance(value, (int, np.integer)) or not 1 <= value <= 16384:
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
+                    or not 1 <= value <= 16384:
                 raise ValueError(f"{name} must be an integer in 1..=16384, got {value!r}")
-        if not isinstance(fov_y, (int, float, np.floating)) or not 0 < fov_y < 180:
+        if isinstance(fov_y, bool) or not isinstance(fov_y, (int, float, np.integer, np.floating)) \
+                or not 0 < fov_y < 180:
             raise ValueError(f"fov_y must be in (0, 180) degrees, got {fov_y!r}")
         if (intrinsics is None) != (world_to_camera is None):
             raise ValueError("intrinsics and world_to_camera go together")
@@ -187,11 +203,13 @@ class Renderer:
             raise ValueError(f"intrinsics has shape {k.shape}, expected (3, 3)")
         if pose is not None and pose.shape != (4, 4):
             raise ValueError(f"world_to_camera has shape {pose.shape}, expected (4, 4)")
-        if not isinstance(supersample, (int, np.integer)) or not 1 <= supersample <= 8:
+        if isinstance(supersample, bool) or not isinstance(supersample, (int, np.integer)) \
+                or not 1 <= supersample <= 8:
             raise ValueError(f"supersample must be an integer in 1..=8, got {supersample!r}")
         if width * supersample > 16384 or height * supersample > 16384:
             raise ValueError(f"supersample {supersample} makes the drawn image larger than 16384")
-        if near is not None and not (np.isfinite(near) and near > 0):
+        if near is not None and (isinstance(near, bool) or not isinstance(
+                near, (int, float, np.integer, np.floating)) or not (np.isfinite(near) and near > 0)):
             raise ValueError(f"near must be a positive number, got {near!r}")
         color, depth, normal, ids, ms = self._native.render(
             None if eye is None else _vector(eye, "eye", 3),
@@ -202,13 +220,10 @@ class Renderer:
 
     def render(self, centers: Any, radii: Any = None, rotations: Any = None,
                colors: Any = None, *, tensors: Any = None, **camera: Any) -> Frame:
-        """Uploads the glyphs, unless these very array objects were the last upload's, and
-        renders them; the camera arguments are ``render_uploaded``'s. (Arrays changed in place
-        since their upload must be uploaded again with ``upload``.)"""
-        given = (centers, radii, rotations, colors, tensors)
-        if self._given is None or any(a is not b for a, b in zip(self._given, given)):
-            self.upload(centers, radii, rotations, colors, tensors=tensors)
-            self._given = given
+        """Uploads the glyphs, unless they equal the last upload's (compared value by value,
+        so arrays changed in place are uploaded again), and renders them; the camera
+        arguments are ``render_uploaded``'s."""
+        self.upload(centers, radii, rotations, colors, tensors=tensors)
         return self.render_uploaded(**camera)
 
 
