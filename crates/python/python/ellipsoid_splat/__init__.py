@@ -117,6 +117,7 @@ class Renderer:
     def __init__(self, validation: bool = False, device: Optional[str | int] = None) -> None:
         self._native = _native.Renderer(validation, None if device is None else str(device))
         self._last: Optional[list] = None
+        self._given: Optional[list] = None
         #: The Rust library's time for the last upload (building and uploading the glyphs), ms.
         self.upload_ms = 0.0
 
@@ -168,8 +169,13 @@ class Renderer:
             self.upload_ms = 0.0
             return n  # the same glyphs are on the GPU already
         count, self.upload_ms = self._native.upload(c, r, q, k, t)
-        # Copies: arrays the caller changes in place afterwards are seen as changed.
-        self._last = [None if a is None else a.copy() for a in arrays]
+        # A caller that passes the same array objects again may change them in place in
+        # between: from then on a copy is kept to compare with. A caller with new arrays each
+        # frame pays for no copy.
+        given = [id(a) for a in (centers, radii, rotations, colors, tensors)]
+        reused = given == self._given
+        self._given = given
+        self._last = [None if a is None else a.copy() for a in arrays] if reused else None
         return count
 
     def render_uploaded(self, *, eye: Optional[Sequence[float]] = None,
