@@ -39,6 +39,9 @@ pub enum Command {
     Bench(BenchArgs),
     /// Print the Vulkan device, driver and features used.
     Info(DeviceArgs),
+    /// Check this device's driver against the float64 reference: the accuracy cases under the
+    /// validation layer, a report per case, exit status 1 on any failure.
+    Conformance(ConformanceArgs),
     /// Open a window on a scene: turn it, zoom, pick glyphs (the same scene, camera and
     /// loading flags as `render`).
     #[command(
@@ -194,6 +197,24 @@ impl From<IntersectionArg> for ellipsoid_splat::draw::Intersection {
             IntersectionArg::Textbook => Self::Textbook,
         }
     }
+}
+
+/// Arguments of `conformance`.
+#[derive(Debug, Clone, Args)]
+pub struct ConformanceArgs {
+    /// Device index or name substring (default: prefer a real GPU, fall back to lavapipe).
+    #[arg(long)]
+    pub device: Option<String>,
+    /// Also write the outcomes as JUnit XML to this file.
+    #[arg(long)]
+    pub junit: Option<PathBuf>,
+    /// Smaller scenes and images (seconds rather than a minute on a CPU driver).
+    #[arg(long)]
+    pub quick: bool,
+    /// Draw every case with this benchmark method instead of the shipped renderer (the
+    /// command's own test breaks it on purpose with `impostor-textbook`).
+    #[arg(long, hide = true)]
+    pub method: Option<String>,
 }
 
 /// Arguments of `stress`.

@@ -7,6 +7,7 @@ pub mod antialias_bench;
 pub mod antialias_stress;
 pub mod bench;
 pub mod cli;
+pub mod conformance;
 pub mod error;
 pub mod output;
 pub mod report;

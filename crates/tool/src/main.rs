@@ -18,7 +18,7 @@ use ellipsoid_splat_tool::antialias_stress::{
 };
 use ellipsoid_splat_tool::bench;
 use ellipsoid_splat_tool::cli::{
-    self, BenchArgs, Cli, Command, DeviceArgs, RenderArgs, StressArgs,
+    self, BenchArgs, Cli, Command, ConformanceArgs, DeviceArgs, RenderArgs, StressArgs,
 };
 use ellipsoid_splat_tool::error::{Error, Result};
 use ellipsoid_splat_tool::output::{self, Image};
@@ -33,6 +33,7 @@ fn main() -> ExitCode {
         Some(Command::Stress(args)) => return stress(&args),
         Some(Command::Bench(args)) => return bench(&args),
         Some(Command::Info(args)) => info(&args),
+        Some(Command::Conformance(args)) => return conformance(&args),
         Some(Command::View(args)) => ellipsoid_splat_tool::view::run(&args),
     };
     match result {
@@ -422,6 +423,44 @@ fn run_skip(args: &BenchArgs) -> Result<bool> {
         args.out.display()
     );
     Ok(features_meeting_both >= 4)
+}
+
+/// `conformance`: exit status 0 when every case passes, 1 when one fails or the run cannot.
+fn conformance(args: &ConformanceArgs) -> ExitCode {
+    let run = || -> Result<bool> {
+        let method = match &args.method {
+            None => None,
+            Some(name) => Some(
+                Method::ALL
+                    .into_iter()
+                    .find(|m| m.name() == *name)
+                    .ok_or_else(|| {
+                        Error::invalid("--method", format!("no method named {name:?}"))
+                    })?,
+            ),
+        };
+        if let Some(path) = &args.junit {
+            output::check_writable("--junit", path)?;
+        }
+        let (summary, left_out, outcomes) =
+            ellipsoid_splat_tool::conformance::run(args.device.clone(), args.quick, method)?;
+        print!(
+            "{}",
+            ellipsoid_splat_tool::conformance::report(&summary, &left_out, &outcomes)
+        );
+        if let Some(path) = &args.junit {
+            ellipsoid_splat_tool::conformance::write_junit(path, &summary, &outcomes)?;
+        }
+        Ok(outcomes.iter().all(|o| o.failure.is_none()))
+    };
+    match run() {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
 }
 
 fn info(args: &DeviceArgs) -> Result<()> {

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# The test suite on a second lavapipe: Mesa 25's, from Debian's bookworm-backports, unpacked
+# into target/drivers/mesa-25 with a private apt state (the system's packages and apt
+# configuration are not touched; the suite is added to the mirror the system's apt uses) and
+# selected with VK_ICD_FILENAMES, its newer libdrm on LD_LIBRARY_PATH.
+#
+#   scripts/test-drivers.sh [cargo test arguments]     e.g. --test cameras
+#
+# Not yet part of scripts/test.sh: on Mesa 25 tests/golden.rs's bit-for-bit hashes of two
+# research baselines differ (issue 25: hashes per driver, the reference elsewhere).
+set -euo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+cd "$here"
+[ -x "$HOME/.cargo/bin/cargo" ] && export PATH="$HOME/.cargo/bin:$PATH"
+
+drivers="$here/target/drivers"
+prefix="$drivers/mesa-25"
+state="$drivers/apt"
+lib="$prefix/usr/lib/x86_64-linux-gnu"
+icd="$prefix/lvp_icd.json"
+
+# The Debian mirror the system's apt already uses (deb822 .sources or one-line lists).
+mirror() {
+  local uri
+  uri="$(sed -n 's/^URIs: *\(http[^ ]*debian\)\/\{0,1\}$/\1/p' /etc/apt/sources.list.d/*.sources 2>/dev/null | head -n 1)"
+  [ -n "$uri" ] || uri="$(sed -n 's/^deb \(\[[^]]*\] \)\{0,1\}\(http[^ ]*debian\)\/\{0,1\} .*/\2/p' \
+    /etc/apt/sources.list /etc/apt/sources.list.d/*.list 2>/dev/null | head -n 1)"
+  echo "${uri:-http://deb.debian.org/debian}"
+}
+
+if [ ! -f "$icd" ]; then
+  mkdir -p "$state/lists/partial" "$state/archives/partial" "$prefix"
+  echo "deb $(mirror) bookworm-backports main" >"$state/sources.list"
+  apt=(-o "Dir::State::Lists=$state/lists" -o "Dir::Etc::SourceList=$state/sources.list"
+    -o Dir::Etc::SourceParts=/dev/null -o "Dir::Cache::Archives=$state/archives"
+    -o Debug::NoLocking=1 -o APT::Architecture=amd64)
+  apt-get "${apt[@]}" update -qq
+  (cd "$state/archives" && apt-get "${apt[@]}" download -qq \
+    mesa-vulkan-drivers/bookworm-backports libdrm2/bookworm-backports \
+    libdrm-amdgpu1/bookworm-backports)
+  for deb in "$state"/archives/*.deb; do dpkg -x "$deb" "$prefix"; done
+  [ -f "$lib/libvulkan_lvp.so" ] || { echo "test-drivers: no libvulkan_lvp.so in $lib" >&2; exit 1; }
+  printf '{ "file_format_version": "1.0.0", "ICD": { "library_path": "%s", "api_version": "1.4.305" } }\n' \
+    "$lib/libvulkan_lvp.so" >"$icd"
+fi
+
+export VK_ICD_FILENAMES="$icd"
+export LD_LIBRARY_PATH="$lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+cargo build --release -q -p ellipsoid-splat-tool
+target/release/ellipsoid-splat info
+cargo test --release --workspace "$@"
