@@ -212,20 +212,26 @@ pub fn check_writable(flag: &str, path: &Path) -> Result<()> {
     if !dir.is_dir() {
         return Err(refuse(format!("'{}' is not a directory", dir.display())));
     }
+    let open_existing = || {
+        OpenOptions::new()
+            .write(true)
+            .open(path)
+            .map(|_| ())
+            .map_err(|e| refuse(e.to_string()))
+    };
     if path.exists() {
-        OpenOptions::new()
-            .write(true)
-            .open(path)
-            .map_err(|e| refuse(e.to_string()))?;
-    } else {
-        OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(path)
-            .map_err(|e| refuse(e.to_string()))?;
-        std::fs::remove_file(path).map_err(|e| refuse(e.to_string()))?;
+        return open_existing();
     }
-    Ok(())
+    match OpenOptions::new().write(true).create_new(true).open(path) {
+        Ok(_) => match std::fs::remove_file(path) {
+            // Another run may have taken the same name meanwhile and removed it.
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(refuse(e.to_string())),
+            _ => Ok(()),
+        },
+        // Another writer created it between the two checks: it is writable if it opens.
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => open_existing(),
+        Err(e) => Err(refuse(e.to_string())),
+    }
 }
 
 /// Creates the directory `dir` named by `flag` (as the reports would) and checks that `file`
