@@ -4,9 +4,11 @@
 //! reference's count at the standard sample positions. The four standard positions of 4x
 //! MSAA lie on the 4 x 4 grid `((s + 0.5) / 4, (t + 0.5) / 4)`, so the reference drawn at four
 //! times the size gives each sample's answer. Both shading rates: once per pixel with the
-//! exact coverage in the sample mask (the default), and once per sample.
+//! exact coverage in the sample mask (the default), and once per sample; and supersampling, each
+//! pixel the exact fraction of its K x K grid.
 
 use ash::vk;
+use ellipsoid_splat::supersample::{box_filter, supersampled_camera};
 use ellipsoid_splat::{Camera, Ellipsoid, Material, Outputs, Scene, Settings, NO_INSTANCE};
 use ellipsoid_splat_reference::coverage::{compare_coverage, reference_coverage, SamplePattern};
 use ellipsoid_splat_reference::reference::render_reference;
@@ -45,11 +47,27 @@ fn scene() -> Scene {
     Scene::new(glyphs)
 }
 
+/// Unlit white: a pixel's light is the covered fraction of its samples over the background.
+fn unlit() -> Settings {
+    let mut settings = Settings::default();
+    settings.material = {
+        let mut material = Material::default();
+        material.ambient = 1.0;
+        material.diffuse = 0.0;
+        material.specular = 0.0;
+        material
+    };
+    settings
+}
+
+fn camera() -> Camera {
+    Camera::look_at(DVec3::new(0.5, 1.0, 16.0), DVec3::ZERO, 45.0, 1.5, 96, 64).unwrap()
+}
+
 #[test]
 fn four_samples_resolve_to_the_exact_covered_fraction_at_both_shading_rates() {
     let scene = scene();
-    let camera =
-        Camera::look_at(DVec3::new(0.5, 1.0, 16.0), DVec3::ZERO, 45.0, 1.5, 96, 64).unwrap();
+    let camera = camera();
     let big = Camera {
         width: camera.width * 4,
         height: camera.height * 4,
@@ -62,14 +80,7 @@ fn four_samples_resolve_to_the_exact_covered_fraction_at_both_shading_rates() {
     renderer.set_samples(vk::SampleCountFlags::TYPE_4).unwrap();
     for per_sample_shading in [false, true] {
         renderer.set_settings({
-            let mut settings = Settings::default();
-            settings.material = {
-                let mut material = Material::default();
-                material.ambient = 1.0;
-                material.diffuse = 0.0;
-                material.specular = 0.0;
-                material
-            };
+            let mut settings = unlit();
             settings.per_sample_shading = per_sample_shading;
             settings
         });
@@ -123,5 +134,27 @@ fn four_samples_resolve_to_the_exact_covered_fraction_at_both_shading_rates() {
             );
         }
     }
+    finish_validated(renderer);
+}
+
+/// `--supersample 4` (`ellipsoid_splat::supersample`) resolves each pixel to the exact fraction
+/// of its 16-sample grid that the float64 reference finds covered.
+#[test]
+fn four_by_four_supersampling_resolves_the_exact_coverage_fraction() {
+    let k = 4;
+    let (scene, camera) = (scene(), camera());
+    let big = supersampled_camera(&camera, k).unwrap();
+    let mut renderer = validated_renderer();
+    renderer.set_settings(unlit());
+    let drawn = renderer.render(&scene, &big, Outputs::ALL).unwrap();
+    let out = box_filter(&drawn, k).unwrap();
+    let coverage = reference_coverage(&scene, &camera, SamplePattern::Grid(k)).unwrap();
+    let stats = compare_coverage(&out, &coverage).unwrap();
+    assert_eq!(stats.wrong, 0, "{stats}");
+    assert!(stats.max_error < 0.25, "{stats}");
+    assert!(
+        stats.partly_covered > 200 && stats.compared > 5_000,
+        "{stats}"
+    );
     finish_validated(renderer);
 }
