@@ -1,17 +1,16 @@
 #!/usr/bin/env bash
-# The test suite on a second lavapipe: Mesa 25's, from Debian's bookworm-backports, unpacked
-# into target/drivers/mesa-25 with a private apt state (the system's packages and apt
-# configuration are not touched; the suite is added to the mirror the system's apt uses) and
-# selected with VK_ICD_FILENAMES, its newer libdrm on LD_LIBRARY_PATH.
+# The tests that draw (scripts/suite.sh) on a second lavapipe: Mesa 25's, from Debian's
+# bookworm-backports, unpacked into target/drivers/mesa-25 with a private apt state (the
+# system's packages and apt configuration are not touched; the suite is added to the mirror the
+# system's apt uses) and selected with VK_ICD_FILENAMES, its newer libdrm on LD_LIBRARY_PATH.
+# CI runs it after scripts/test.sh (Mesa 22.3.6, the system's).
 #
 #   scripts/test-drivers.sh [cargo test arguments]     e.g. --test cameras
-#
-# Not yet part of scripts/test.sh: on Mesa 25 tests/golden.rs's bit-for-bit hashes of two
-# research baselines differ (issue 25: hashes per driver, the reference elsewhere).
+#   scripts/test-drivers.sh --env                       prints the exports, runs nothing
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
+[ "${1:-}" = --env ] || source "$here/scripts/setup.sh"
 cd "$here"
-[ -x "$HOME/.cargo/bin/cargo" ] && export PATH="$HOME/.cargo/bin:$PATH"
 
 drivers="$here/target/drivers"
 prefix="$drivers/mesa-25"
@@ -46,6 +45,8 @@ fi
 
 export VK_ICD_FILENAMES="$icd"
 export LD_LIBRARY_PATH="$lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
-cargo build --release -q -p ellipsoid-splat-tool
-target/release/ellipsoid-splat info
-cargo test --release --workspace "$@"
+if [ "${1:-}" = --env ]; then
+  echo "export VK_ICD_FILENAMES='$VK_ICD_FILENAMES' LD_LIBRARY_PATH='$LD_LIBRARY_PATH'"
+  exit 0
+fi
+bash "$here/scripts/suite.sh" "$@"

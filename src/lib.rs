@@ -117,5 +117,8 @@ pub mod internals {
     pub use crate::icosphere::icosphere;
     #[cfg(feature = "research")]
     pub use crate::instances::pack_instances;
+    /// The offscreen renderer's background (linear RGBA), for checks of its colour output.
+    #[cfg(feature = "offscreen")]
+    pub use crate::offscreen::BACKGROUND;
     pub use crate::renderer::{MAX_SETUP_ONCE_INSTANCES, SETUP_ONCE_MAX_AREA_PX};
 }

@@ -1,6 +1,7 @@
 //! The compute splat draws exactly what the instanced draw draws: on scenes of glyphs of a
-//! few pixels and of tens to hundreds of pixels many layers deep, colour, depth, normal and instance ID are compared
-//! bit for bit with the draw, in perspective and orthographic views, with the near plane
+//! few pixels and of tens to hundreds of pixels many layers deep, colour, depth, normal and
+//! instance ID are compared bit for bit with the draw (on lavapipe; on a driver that rounds
+//! the stages differently, the same IDs and the splat within the reference's bounds), in perspective and orthographic views, with the near plane
 //! cutting glyphs, in standard and reversed depth, with compact instances, and where glyphs
 //! tie exactly in depth (the lower instance must win, as in the draw). Every case is drawn
 //! twice: the first splatted frame of a scene splats every glyph and stamps those it shows,
@@ -12,7 +13,12 @@ use ellipsoid_splat::{
     Projection, Scene, Settings, NO_INSTANCE,
 };
 use ellipsoid_splat_loaders::random_cloud;
-use ellipsoid_splat_reference::testing::{finish_validated, validated_renderer};
+use ellipsoid_splat_reference::compare::{compare, Bounds};
+use ellipsoid_splat_reference::reference::render_reference;
+use ellipsoid_splat_reference::shading::compare_colors;
+use ellipsoid_splat_reference::testing::{
+    compact_format_bounds, depth_convention_bounds, finish_validated, validated_renderer,
+};
 use glam::{DQuat, DVec3};
 
 /// Renders `scene` with and without the compute splat and asserts the frames are identical
@@ -55,7 +61,9 @@ fn assert_splat_matches_draw(
         .0;
     let shown = drawn.id.iter().filter(|&&id| id != NO_INSTANCE).count();
     assert!(shown > 500, "{name}: only {shown} pixels show a glyph");
-    assert_frames_identical(name, &drawn, &splatted);
+    let agreement = agreement(renderer);
+    let seen = (scene, camera, format);
+    assert_frames_agree(agreement, name, &drawn, &splatted, seen);
     // The next frame splats first what this one showed.
     let plan = renderer.plan(camera).expect("plan");
     assert!(plan.visible_first, "{name}: second frame: {plan:?}");
@@ -63,12 +71,42 @@ fn assert_splat_matches_draw(
         .render_uploaded(camera, Outputs::ALL)
         .expect("visible-first splat")
         .0;
-    assert_frames_identical(&format!("{name}, visible first"), &drawn, &second);
+    assert_frames_agree(
+        agreement,
+        &format!("{name}, visible first"),
+        &drawn,
+        &second,
+        seen,
+    );
 }
 
-/// Asserts that `other` equals `drawn` bit for bit in every output, and that `drawn` shows
-/// enough glyph pixels for that to mean something.
-fn assert_frames_identical(name: &str, drawn: &Frame, other: &Frame) {
+/// How closely the splat must reproduce the draw on this driver.
+#[derive(Clone, Copy, PartialEq)]
+enum Agreement {
+    /// Bit for bit: the driver compiles the shared set-up and hit functions to the same
+    /// arithmetic in the vertex, fragment and compute stages (lavapipe: one LLVM back end).
+    Bits,
+    /// The same glyph at every pixel, and the splat's frame within the accuracy bounds of the
+    /// float64 reference: a driver may round the stages' builds differently (NVIDIA's does;
+    /// design §9.5), and a pixel's float32 floor can then exceed any fixed tolerance between
+    /// the two frames.
+    Reference,
+}
+
+fn agreement(renderer: &OffscreenRenderer) -> Agreement {
+    if renderer.context().info().driver.starts_with("llvmpipe") {
+        Agreement::Bits
+    } else {
+        Agreement::Reference
+    }
+}
+
+/// What a frame shows: the scene, the camera and the instance format it was drawn with.
+type Seen<'a> = (&'a Scene, &'a Camera, InstanceFormat);
+
+/// Asserts that `other` agrees with `drawn` (both showing `seen`) as `agreement` asks, and
+/// that `drawn` shows enough glyph pixels for that to mean something.
+fn assert_frames_agree(agreement: Agreement, name: &str, drawn: &Frame, other: &Frame, seen: Seen) {
     let shown = drawn.id.iter().filter(|&&id| id != NO_INSTANCE).count();
     assert!(shown > 300, "{name}: only {shown} pixels show a glyph");
     let differ = |what: &str, count: usize| {
@@ -76,8 +114,29 @@ fn assert_frames_identical(name: &str, drawn: &Frame, other: &Frame) {
     };
     let count = |a: &[u32], b: &[u32]| a.iter().zip(b).filter(|(x, y)| x != y).count();
     let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    let normal_bits = |v: &[[f32; 3]]| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
     differ("ID", count(&drawn.id, &other.id));
+    if agreement == Agreement::Reference {
+        let (scene, camera, format) = seen;
+        let reference = render_reference(scene, camera).expect("reference render");
+        let stats = compare(other, &reference).expect("same size");
+        let bounds = match format {
+            InstanceFormat::Compact => compact_format_bounds(scene, camera),
+            _ => Bounds::STRICT,
+        };
+        let bounds = depth_convention_bounds(bounds, scene, camera);
+        if let Err(broken) = stats.check(&bounds) {
+            panic!("{name}: the splat's frame against the reference: {broken}\n{stats}");
+        }
+        let colors = compare_colors(other, scene, camera, &Settings::default().material)
+            .expect("colour comparison");
+        if let Err(broken) = colors.check() {
+            panic!("{name}: {broken}");
+        }
+        let depths = count(&bits(&drawn.depth), &bits(&other.depth));
+        println!("{name}: {depths} depths differ from the draw's bits; {stats}; {colors}");
+        return;
+    }
+    let normal_bits = |v: &[[f32; 3]]| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
     differ("depth", count(&bits(&drawn.depth), &bits(&other.depth)));
     differ(
         "normal",
@@ -360,7 +419,7 @@ fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
 /// same camera, bit for bit.
 #[test]
 fn visible_first_frames_match_the_draw_at_each_stop_of_an_orbit() {
-    let scene = random_cloud(6_000, 25, 10.0, 0.5);
+    let mut scene = random_cloud(6_000, 25, 10.0, 0.5);
     let splat = {
         let mut settings = Settings::default();
         settings.compute_splat_min_glyphs = 0;
@@ -390,12 +449,11 @@ fn visible_first_frames_match_the_draw_at_each_stop_of_an_orbit() {
         };
         if stop == 3 {
             // A hundred glyphs jump across the scene: a new upload, with no stamps.
-            let mut moved = scene.clone();
-            for e in &mut moved.ellipsoids[1_000..1_100] {
+            for e in &mut scene.ellipsoids[1_000..1_100] {
                 e.center = -e.center;
             }
             for renderer in [&mut splatted, &mut drawn] {
-                renderer.upload(&moved).expect("upload");
+                renderer.upload(&scene).expect("upload");
             }
         }
         let expected = drawn.render_uploaded(&camera, Outputs::ALL).unwrap().0;
@@ -419,7 +477,8 @@ fn visible_first_frames_match_the_draw_at_each_stop_of_an_orbit() {
             assert_eq!(plan.visible_first, first, "stop {stop}, frame {k}");
             let frame = splatted.render_uploaded(&camera, Outputs::ALL).unwrap().0;
             let name = format!("stop {stop}, frame {k}");
-            assert_frames_identical(&name, &expected, &frame);
+            let seen = (&scene, &camera, InstanceFormat::Full);
+            assert_frames_agree(agreement(&splatted), &name, &expected, &frame, seen);
         }
     }
     finish_validated(splatted);
@@ -497,15 +556,10 @@ fn chunked_splat_matches_the_draw(
         shown > 300 && late > 200,
         "{name}: {shown} shown, {late} from later chunks"
     );
+    let agreement = agreement(renderer);
     for (label, frame) in [("six chunks", &chunked), ("one chunk", &whole)] {
-        assert_eq!(frame.id, drawn.id, "{name}, {label}: IDs differ");
-        assert_eq!(frame.color, drawn.color, "{name}, {label}: colours differ");
-        let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-        assert_eq!(
-            bits(&frame.depth),
-            bits(&drawn.depth),
-            "{name}, {label}: depths differ"
-        );
+        let seen = (scene, camera, InstanceFormat::Full);
+        assert_frames_agree(agreement, &format!("{name}, {label}"), &drawn, frame, seen);
     }
 }
 
@@ -570,6 +624,7 @@ fn visibility_buffer_draw_matches_the_draw_bit_for_bit() {
         ("six chunks", &medium, camera, 1_000),
     ];
     let mut renderer = validated_renderer();
+    let agreement = agreement(&renderer);
     for (name, scene, camera, chunk) in cases {
         let render = |renderer: &mut OffscreenRenderer, method: Method| {
             renderer.set_draw_config(method.config());
@@ -592,7 +647,8 @@ fn visibility_buffer_draw_matches_the_draw_bit_for_bit() {
         };
         let drawn = render(&mut renderer, Method::ImpostorDraw);
         let visbuffer = render(&mut renderer, Method::ImpostorVisbuffer);
-        assert_frames_identical(name, &drawn, &visbuffer);
+        let seen = (scene, &camera, InstanceFormat::Full);
+        assert_frames_agree(agreement, name, &drawn, &visbuffer, seen);
     }
     finish_validated(renderer);
 }

@@ -26,7 +26,7 @@ use targets::Targets;
 const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 /// Background colour (linear RGB).
-const BACKGROUND: [f32; 4] = [0.045, 0.05, 0.065, 1.0];
+pub const BACKGROUND: [f32; 4] = [0.045, 0.05, 0.065, 1.0];
 /// How long to wait for one frame before calling the device hung.
 const FRAME_TIMEOUT: Duration = Duration::from_secs(300);
 

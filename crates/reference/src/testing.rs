@@ -116,3 +116,25 @@ pub fn compact_format_bounds(scene: &Scene, camera: &Camera) -> Bounds {
         ..Bounds::STRICT
     }
 }
+
+/// `bounds` widened to what standard Z can hold in perspective: the depth attachment keeps
+/// `z = 1 - n/d` (times `f/(f-n)` with a far plane) to float32's 2^-24 near 1, and the view
+/// depth read back from it errs by `2^-24 d / n` relative -- twice that for the rounding of
+/// `z` itself -- at the farthest surface `d` the scene can show. Reversed Z and orthographic
+/// maps keep float32's relative precision: `bounds` unchanged.
+pub fn depth_convention_bounds(bounds: Bounds, scene: &Scene, camera: &Camera) -> Bounds {
+    if camera.depth.reversed || camera.is_orthographic() {
+        return bounds;
+    }
+    let d_max = scene
+        .ellipsoids
+        .iter()
+        .map(|e| camera.view_depth(e.center) + e.radii.max_element())
+        .fold(camera.near, f64::max);
+    let floor = 2.0 * 2f64.powi(-24) * d_max / camera.near;
+    Bounds {
+        depth_rel_p99: bounds.depth_rel_p99.max(floor),
+        depth_rel_max: bounds.depth_rel_max.max(floor),
+        ..bounds
+    }
+}

@@ -2,7 +2,7 @@
 //! accuracy cases -- perspective and orthographic, both depth conventions, a finite far plane,
 //! near-plane cuts and an eye inside, exact ties, tiny glyphs, the compute path and the draw,
 //! general cameras, 4x MSAA coverage -- each rendered under the validation layer and compared
-//! with the float64 reference against the strict bounds. A report per case, a JUnit file for
+//! with the float64 reference against the strict bounds, colours with the shading model. A report per case, a JUnit file for
 //! CI systems, exit status 1 on any failure.
 
 use std::fmt::Write as _;
@@ -18,6 +18,7 @@ use ellipsoid_splat_loaders::{random_cloud, tensor_field};
 use ellipsoid_splat_reference::compare::{compare, Bounds, ErrorStats};
 use ellipsoid_splat_reference::coverage::{compare_coverage, reference_coverage, SamplePattern};
 use ellipsoid_splat_reference::reference::render_reference;
+use ellipsoid_splat_reference::shading::compare_colors;
 use glam::{DVec2, DVec3};
 
 use crate::error::Result;
@@ -336,9 +337,18 @@ fn check(renderer: &mut OffscreenRenderer, case: &Case) -> Result<(Option<String
             stats.compared_pixels
         ));
     }
+    let colors = compare_colors(
+        &frame,
+        &case.scene,
+        &case.camera,
+        &settings(case.path).material,
+    )?;
+    if let Err(broken) = colors.check() {
+        failure.push(broken);
+    }
     Ok((
         (!failure.is_empty()).then(|| failure.join("; ")),
-        stats.to_string(),
+        format!("{stats}; {colors}"),
     ))
 }
 
