@@ -63,6 +63,8 @@ pub const CSV_HEADER: &[&str] = &[
     "ray_casts",
     "ray_casts_per_visible_pixel",
     "ray_casts_per_covered_centre",
+    "device",
+    "driver",
 ];
 
 /// One scene of the benchmark.
@@ -732,17 +734,26 @@ pub fn check_targets(results: &[BenchResult]) -> Vec<TargetCheck> {
 /// `dir` and returns the printed table and the Markdown table of headline ratios. The
 /// `antialiased` variants of the headline scene join its time-versus-error chart, each at its
 /// error at its own samples (they resolve several per pixel, so the pixel-centre comparison
-/// does not apply).
+/// does not apply). Every row of `results.csv` names the `device` and its `driver`, so that
+/// runs on several drivers can be set side by side.
 pub fn write_report(
     results: &[BenchResult],
     antialiased: &[AntialiasTiming],
+    (device, driver): (&str, &str),
     dir: &Path,
 ) -> Result<(String, String)> {
     std::fs::create_dir_all(dir).map_err(|source| Error::Io {
         path: dir.to_path_buf(),
         source,
     })?;
-    let rows: Vec<Vec<String>> = results.iter().map(BenchResult::csv_row).collect();
+    let rows: Vec<Vec<String>> = results
+        .iter()
+        .map(|r| {
+            let mut row = r.csv_row();
+            row.extend([device.to_string(), driver.to_string()]);
+            row
+        })
+        .collect();
     write_csv(&dir.join("results.csv"), CSV_HEADER, &rows)?;
 
     // Time against error on the headline scene (the tensor field), Pareto front marked.

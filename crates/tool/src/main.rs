@@ -337,6 +337,7 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         &mut skipped,
     )?;
     let device = renderer.context().info().name.clone();
+    let driver = renderer.context().info().driver.clone();
     let four_samples = renderer
         .context()
         .info()
@@ -358,7 +359,8 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         }
         Vec::new()
     };
-    let (table, markdown) = bench::write_report(&results, &antialiased, &args.out)?;
+    let (table, markdown) =
+        bench::write_report(&results, &antialiased, (&device, &driver), &args.out)?;
     println!("{table}");
     if !antialiased.is_empty() {
         println!("antialiased (tensor field; antialias.csv):");
@@ -387,7 +389,7 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         all &= c.holds;
     }
     println!(
-        "{} results in {:.0} s on {device}; wrote {}/results.csv, time_vs_error.png, fill_efficiency.png, scaling.png{}",
+        "{} results in {:.0} s on {device}, driver {driver}; wrote {}/results.csv, time_vs_error.png, fill_efficiency.png, scaling.png{}",
         results.len(),
         started.elapsed().as_secs_f64(),
         args.out.display(),
