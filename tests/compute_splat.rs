@@ -9,15 +9,12 @@
 //! hits do not hide); and a camera stopping along an orbit matches the draw at every frame.
 
 use ellipsoid_splat::{
-    Camera, DepthConvention, Ellipsoid, Frame, InstanceFormat, OffscreenRenderer, Outputs,
-    Projection, Scene, Settings, NO_INSTANCE,
+    Camera, DepthConvention, Ellipsoid, InstanceFormat, OffscreenRenderer, Outputs, Projection,
+    Scene, Settings, NO_INSTANCE,
 };
 use ellipsoid_splat_loaders::random_cloud;
-use ellipsoid_splat_reference::compare::{compare, Bounds};
-use ellipsoid_splat_reference::reference::render_reference;
-use ellipsoid_splat_reference::shading::compare_colors;
 use ellipsoid_splat_reference::testing::{
-    compact_format_bounds, depth_convention_bounds, finish_validated, validated_renderer,
+    assert_frames_agree, finish_validated, validated_renderer, Agreement,
 };
 use glam::{DQuat, DVec3};
 
@@ -61,7 +58,7 @@ fn assert_splat_matches_draw(
         .0;
     let shown = drawn.id.iter().filter(|&&id| id != NO_INSTANCE).count();
     assert!(shown > 500, "{name}: only {shown} pixels show a glyph");
-    let agreement = agreement(renderer);
+    let agreement = Agreement::of(renderer);
     let seen = (scene, camera, format);
     assert_frames_agree(agreement, name, &drawn, &splatted, seen);
     // The next frame splats first what this one showed.
@@ -78,77 +75,6 @@ fn assert_splat_matches_draw(
         &second,
         seen,
     );
-}
-
-/// How closely the splat must reproduce the draw on this driver.
-#[derive(Clone, Copy, PartialEq)]
-enum Agreement {
-    /// Bit for bit: the driver compiles the shared set-up and hit functions to the same
-    /// arithmetic in the vertex, fragment and compute stages (lavapipe: one LLVM back end).
-    Bits,
-    /// The same glyph at every pixel, and the splat's frame within the accuracy bounds of the
-    /// float64 reference: a driver may round the stages' builds differently (NVIDIA's does;
-    /// design §9.5), and a pixel's float32 floor can then exceed any fixed tolerance between
-    /// the two frames.
-    Reference,
-}
-
-fn agreement(renderer: &OffscreenRenderer) -> Agreement {
-    if renderer.context().info().driver.starts_with("llvmpipe") {
-        Agreement::Bits
-    } else {
-        Agreement::Reference
-    }
-}
-
-/// What a frame shows: the scene, the camera and the instance format it was drawn with.
-type Seen<'a> = (&'a Scene, &'a Camera, InstanceFormat);
-
-/// Asserts that `other` agrees with `drawn` (both showing `seen`) as `agreement` asks, and
-/// that `drawn` shows enough glyph pixels for that to mean something.
-fn assert_frames_agree(agreement: Agreement, name: &str, drawn: &Frame, other: &Frame, seen: Seen) {
-    let shown = drawn.id.iter().filter(|&&id| id != NO_INSTANCE).count();
-    assert!(shown > 300, "{name}: only {shown} pixels show a glyph");
-    let differ = |what: &str, count: usize| {
-        assert_eq!(count, 0, "{name}: {count} pixels differ in {what}");
-    };
-    let count = |a: &[u32], b: &[u32]| a.iter().zip(b).filter(|(x, y)| x != y).count();
-    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    differ("ID", count(&drawn.id, &other.id));
-    if agreement == Agreement::Reference {
-        let (scene, camera, format) = seen;
-        let reference = render_reference(scene, camera).expect("reference render");
-        let stats = compare(other, &reference).expect("same size");
-        let bounds = match format {
-            InstanceFormat::Compact => compact_format_bounds(scene, camera),
-            _ => Bounds::STRICT,
-        };
-        let bounds = depth_convention_bounds(bounds, scene, camera);
-        if let Err(broken) = stats.check(&bounds) {
-            panic!("{name}: the splat's frame against the reference: {broken}\n{stats}");
-        }
-        let colors = compare_colors(other, scene, camera, &Settings::default().material)
-            .expect("colour comparison");
-        if let Err(broken) = colors.check() {
-            panic!("{name}: {broken}");
-        }
-        let depths = count(&bits(&drawn.depth), &bits(&other.depth));
-        println!("{name}: {depths} depths differ from the draw's bits; {stats}; {colors}");
-        return;
-    }
-    let normal_bits = |v: &[[f32; 3]]| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
-    differ("depth", count(&bits(&drawn.depth), &bits(&other.depth)));
-    differ(
-        "normal",
-        count(&normal_bits(&drawn.normal), &normal_bits(&other.normal)),
-    );
-    let colors = drawn
-        .color
-        .iter()
-        .zip(&other.color)
-        .filter(|(a, b)| a != b)
-        .count();
-    differ("colour", colors);
 }
 
 /// Asserts that some glyph of `scene` reaches in front of `camera`'s near plane (so the
@@ -478,7 +404,7 @@ fn visible_first_frames_match_the_draw_at_each_stop_of_an_orbit() {
             let frame = splatted.render_uploaded(&camera, Outputs::ALL).unwrap().0;
             let name = format!("stop {stop}, frame {k}");
             let seen = (&scene, &camera, InstanceFormat::Full);
-            assert_frames_agree(agreement(&splatted), &name, &expected, &frame, seen);
+            assert_frames_agree(Agreement::of(&splatted), &name, &expected, &frame, seen);
         }
     }
     finish_validated(splatted);
@@ -556,7 +482,7 @@ fn chunked_splat_matches_the_draw(
         shown > 300 && late > 200,
         "{name}: {shown} shown, {late} from later chunks"
     );
-    let agreement = agreement(renderer);
+    let agreement = Agreement::of(renderer);
     for (label, frame) in [("six chunks", &chunked), ("one chunk", &whole)] {
         let seen = (scene, camera, InstanceFormat::Full);
         assert_frames_agree(agreement, &format!("{name}, {label}"), &drawn, frame, seen);
@@ -624,7 +550,7 @@ fn visibility_buffer_draw_matches_the_draw_bit_for_bit() {
         ("six chunks", &medium, camera, 1_000),
     ];
     let mut renderer = validated_renderer();
-    let agreement = agreement(&renderer);
+    let agreement = Agreement::of(&renderer);
     for (name, scene, camera, chunk) in cases {
         let render = |renderer: &mut OffscreenRenderer, method: Method| {
             renderer.set_draw_config(method.config());

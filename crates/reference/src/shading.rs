@@ -1,5 +1,5 @@
 //! The colour output checked in float64: every covered pixel's colour is the renderer's
-//! shading model (Blinn-Phong, a head-light and a key light fixed to the camera; design §5)
+//! shading model (Blinn-Phong, a head-light and a key light fixed to the camera; design §4.8)
 //! evaluated at the pixel's read-back normal for its glyph's colour, and every empty pixel is
 //! the background. The geometry (coverage, IDs, depth, normals) is checked against the
 //! reference by [`crate::compare`]; this isolates the shading arithmetic and the sRGB store,

@@ -4,8 +4,9 @@
 
 use crate::compare::{compare, Bounds, ErrorStats};
 use crate::reference::render_reference;
-use ellipsoid_splat::ContextOptions;
-use ellipsoid_splat::{Camera, Frame, OffscreenRenderer, Outputs, Scene};
+use crate::shading::compare_colors;
+use ellipsoid_splat::{Camera, Frame, InstanceFormat, OffscreenRenderer, Outputs, Scene};
+use ellipsoid_splat::{ContextOptions, Settings, NO_INSTANCE};
 
 /// Prints the library's log on stderr, for runs that want each validation message as it
 /// arrives (`scripts/validation-modes.sh` sets `ELLIPSOID_SPLAT_PRINT_VALIDATION`).
@@ -137,4 +138,94 @@ pub fn depth_convention_bounds(bounds: Bounds, scene: &Scene, camera: &Camera) -
         depth_rel_max: bounds.depth_rel_max.max(floor),
         ..bounds
     }
+}
+
+/// How closely two frames of one scene, drawn by two paths of the renderer that compute the
+/// same arithmetic (the compute splat and the draw, a shader variant and the general shader),
+/// must agree on the renderer's driver.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Agreement {
+    /// Bit for bit: the driver compiles the same functions to the same arithmetic in every
+    /// stage and variant (lavapipe: one LLVM back end, no contraction).
+    Bits,
+    /// The same glyph wherever the float64 reference is unambiguous, and the second frame
+    /// within the reference's bounds: a driver may round the two builds differently
+    /// (NVIDIA's does; design §9.5), and where a pixel's float32 floor is large no fixed
+    /// tolerance between the two frames would hold.
+    Reference,
+}
+
+impl Agreement {
+    /// `Bits` on lavapipe, `Reference` elsewhere.
+    pub fn of(renderer: &OffscreenRenderer) -> Agreement {
+        if renderer.context().info().driver.starts_with("llvmpipe") {
+            Agreement::Bits
+        } else {
+            Agreement::Reference
+        }
+    }
+}
+
+/// What a frame shows: the scene, the camera, and the instance format it was drawn with (the
+/// compact format has bounds of its own); drawn with the default material.
+pub type Seen<'a> = (&'a Scene, &'a Camera, InstanceFormat);
+
+/// The bounds a frame of `seen` is held to: `Bounds::STRICT`, or the compact format's, widened
+/// where standard Z cannot hold them.
+pub fn bounds_for(seen: Seen) -> Bounds {
+    let (scene, camera, format) = seen;
+    let bounds = match format {
+        InstanceFormat::Compact => compact_format_bounds(scene, camera),
+        _ => Bounds::STRICT,
+    };
+    depth_convention_bounds(bounds, scene, camera)
+}
+
+/// Asserts that `other` agrees with `first` (both showing `seen`) as `agreement` asks, and that
+/// `first` shows enough glyph pixels for that to mean something.
+pub fn assert_frames_agree(
+    agreement: Agreement,
+    name: &str,
+    first: &Frame,
+    other: &Frame,
+    seen: Seen,
+) {
+    let shown = first.id.iter().filter(|&&id| id != NO_INSTANCE).count();
+    assert!(shown > 300, "{name}: only {shown} pixels show a glyph");
+    let differ = |what: &str, count: usize| {
+        assert_eq!(count, 0, "{name}: {count} pixels differ in {what}");
+    };
+    let count = |a: &[u32], b: &[u32]| a.iter().zip(b).filter(|(x, y)| x != y).count();
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    if agreement == Agreement::Reference {
+        let (scene, camera, _) = seen;
+        let reference = render_reference(scene, camera).expect("reference render");
+        let ids = (0..first.len())
+            .filter(|&k| first.id[k] != other.id[k] && !reference.ambiguous[k])
+            .count();
+        differ("ID where the reference is unambiguous", ids);
+        let stats = compare(other, &reference).expect("same size");
+        if let Err(broken) = stats.check(&bounds_for(seen)) {
+            panic!("{name}: against the reference: {broken}\n{stats}");
+        }
+        let colors = compare_colors(other, scene, camera, &Settings::default().material)
+            .expect("colour comparison");
+        if let Err(broken) = colors.check() {
+            panic!("{name}: {broken}");
+        }
+        let depths = count(&bits(&first.depth), &bits(&other.depth));
+        println!("{name}: {depths} depths differ in their bits; {stats}; {colors}");
+        return;
+    }
+    differ("ID", count(&first.id, &other.id));
+    let normal_bits = |v: &[[f32; 3]]| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+    differ("depth", count(&bits(&first.depth), &bits(&other.depth)));
+    differ(
+        "normal",
+        count(&normal_bits(&first.normal), &normal_bits(&other.normal)),
+    );
+    let colors = (first.color.iter().zip(&other.color))
+        .filter(|(a, b)| a != b)
+        .count();
+    differ("colour", colors);
 }
