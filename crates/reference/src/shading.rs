@@ -210,8 +210,9 @@ mod tests {
         let lobe = specular_lobe(half.z, 40.0);
         let red = 0.15 + 0.55 * (0.75 + 0.4) + 0.6 * (0.75 * side + 0.4 * lobe);
         let green = 0.55 * 0.4 + 0.6 * 0.4 * lobe;
+        // The material's weights are float32: equal to about 1e-8.
         assert_eq!(shaded.len(), 1);
-        assert!((shaded[0][0] - red).abs() < 1e-12, "{shaded:?}");
-        assert!((shaded[0][1] - green).abs() < 1e-12, "{shaded:?}");
+        assert!((shaded[0][0] - red).abs() < 1e-6, "{shaded:?}");
+        assert!((shaded[0][1] - green).abs() < 1e-6, "{shaded:?}");
     }
 }
