@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The tests that draw: the workspace's, the host on VMA, the Python package's. They run on the
 # Vulkan driver the environment selects (the system's lavapipe unless VK_ICD_FILENAMES names
-# another: scripts/test-drivers.sh). Cargo arguments, if any, go to both cargo runs.
+# another: scripts/test-drivers.sh). Cargo arguments, if any, go to both cargo runs (the
+# Python tests always run whole).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$here"

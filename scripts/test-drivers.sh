@@ -5,8 +5,13 @@
 # system's apt uses) and selected with VK_ICD_FILENAMES, its newer libdrm on LD_LIBRARY_PATH.
 # CI runs it after scripts/test.sh (Mesa 22.3.6, the system's).
 #
-#   scripts/test-drivers.sh [cargo test arguments]     e.g. --test cameras
-#   scripts/test-drivers.sh --env                       prints the exports, runs nothing
+#   scripts/test-drivers.sh [cargo test arguments]     e.g. --test cameras (suite.sh: the
+#                                                       Python tests run whatever is given)
+#   scripts/test-drivers.sh --env                       fetches the driver if it is missing,
+#                                                       then prints the exports and runs no test
+#
+# The golden hashes recorded for Mesa 25 are for the build below; should backports have moved
+# on, the golden test holds the new build to the float64 reference alone (and says so).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 [ "${1:-}" = --env ] || source "$here/scripts/setup.sh"
@@ -43,6 +48,12 @@ if [ ! -f "$icd" ]; then
     "$lib/libvulkan_lvp.so" >"$icd"
 fi
 
+recorded="25.0.7-2~bpo12+1"
+fetched="$(ls "$state"/archives/mesa-vulkan-drivers_*_amd64.deb 2>/dev/null | head -n 1 |
+  sed -n 's/.*mesa-vulkan-drivers_\(.*\)_amd64\.deb$/\1/p' | sed 's/%3a/:/g; s/%7e/~/g; s/%2b/+/g')"
+if [ "$fetched" != "$recorded" ]; then
+  echo "test-drivers: fetched mesa-vulkan-drivers ${fetched:-(unknown)}, golden hashes are recorded for $recorded" >&2
+fi
 export VK_ICD_FILENAMES="$icd"
 export LD_LIBRARY_PATH="$lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 if [ "${1:-}" = --env ]; then

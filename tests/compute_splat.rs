@@ -1,12 +1,13 @@
 //! The compute splat draws exactly what the instanced draw draws: on scenes of glyphs of a
 //! few pixels and of tens to hundreds of pixels many layers deep, colour, depth, normal and
 //! instance ID are compared bit for bit with the draw (on lavapipe; on a driver that rounds
-//! the stages differently, the same IDs and the splat within the reference's bounds), in perspective and orthographic views, with the near plane
-//! cutting glyphs, in standard and reversed depth, with compact instances, and where glyphs
-//! tie exactly in depth (the lower instance must win, as in the draw). Every case is drawn
-//! twice: the first splatted frame of a scene splats every glyph and stamps those it shows,
-//! the next, with the same camera, is the visible-first splat (those first, then the rest its
-//! hits do not hide); and a camera stopping along an orbit matches the draw at every frame.
+//! the stages differently: the same IDs, both within the reference's bounds), in perspective
+//! and orthographic views, with the near plane cutting glyphs, in standard and reversed
+//! depth, with compact instances, and where glyphs tie exactly in depth (the lower instance
+//! must win, as in the draw). Every case is drawn twice: the first splatted frame of a scene
+//! splats every glyph and stamps those it shows, the next, with the same camera, is the
+//! visible-first splat (those first, then the rest its hits do not hide); and a camera
+//! stopping along an orbit matches the draw at every frame.
 
 use ellipsoid_splat::{
     Camera, DepthConvention, Ellipsoid, InstanceFormat, OffscreenRenderer, Outputs, Projection,
@@ -18,7 +19,7 @@ use ellipsoid_splat_reference::testing::{
 };
 use glam::{DQuat, DVec3};
 
-/// Renders `scene` with and without the compute splat and asserts the frames are identical
+/// Renders `scene` with and without the compute splat and asserts the frames agree
 /// and that the splat really ran.
 fn assert_splat_matches_draw(
     renderer: &mut OffscreenRenderer,
@@ -97,7 +98,7 @@ fn tiny_glyphs() -> (Scene, Camera) {
 }
 
 #[test]
-fn splat_matches_the_draw_bit_for_bit() {
+fn splat_matches_the_draw() {
     let mut renderer = validated_renderer();
     let (scene, camera) = tiny_glyphs();
     let full = InstanceFormat::Full;
@@ -140,9 +141,9 @@ fn splat_matches_the_draw_bit_for_bit() {
 
 /// Glyphs of tens to hundreds of pixels, many layers deep, in an image whose sides are no
 /// multiple of the resolve tile (its last row and column of tiles are partial): the splat,
-/// not set up once, still matches the draw bit for bit.
+/// not set up once, still matches the draw (bit for bit on lavapipe).
 #[test]
-fn medium_glyphs_many_layers_deep_match_the_draw_bit_for_bit() {
+fn medium_glyphs_many_layers_deep_match_the_draw() {
     let mut renderer = validated_renderer();
     let camera = Camera::look_at(
         DVec3::new(3.0, -2.0, 24.0),
@@ -187,7 +188,7 @@ fn medium_glyphs_many_layers_deep_match_the_draw_bit_for_bit() {
 
 /// Tiny glyphs with a few of thousands of pixels among them and two that reach the eye plane:
 /// the splat leaves those to the draw, which depth-tests them against the resolve, and the
-/// frame matches the draw bit for bit.
+/// frame matches the draw (bit for bit on lavapipe).
 #[test]
 fn glyphs_too_large_to_splat_are_drawn_in_the_same_frame() {
     let (scene, camera) = tiny_glyphs();
@@ -319,22 +320,32 @@ fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
         &standard,
         InstanceFormat::Full,
     );
-    // The copies never show: every visible ID is even.
-    renderer.set_settings({
-        let mut settings = Settings::default();
-        settings.compute_splat = true;
-        settings.compute_splat_min_glyphs = 0;
-        settings
-    });
-    let frame = renderer
-        .render(&tied, &camera, Outputs::ALL)
-        .expect("render");
-    let odd = frame
-        .id
-        .iter()
-        .filter(|&&id| id != NO_INSTANCE && id % 2 == 1)
-        .count();
-    assert_eq!(odd, 0, "{odd} pixels show the later copy of a tied pair");
+    // The copies never show, drawn or splatted, in either convention: every visible ID is
+    // even (the reference calls tied pixels ambiguous, so this is the ties' own check).
+    for (label, camera) in [("reversed", &camera), ("standard", &standard)] {
+        for compute_splat in [false, true] {
+            renderer.set_settings({
+                let mut settings = Settings::default();
+                settings.compute_splat = compute_splat;
+                settings.compute_splat_min_glyphs = 0;
+                settings
+            });
+            let frame = renderer
+                .render(&tied, camera, Outputs::ALL)
+                .expect("render");
+            let shown = frame.id.iter().filter(|&&id| id != NO_INSTANCE).count();
+            let odd = frame
+                .id
+                .iter()
+                .filter(|&&id| id != NO_INSTANCE && id % 2 == 1)
+                .count();
+            assert!(shown > 500, "{label}: only {shown} pixels shown");
+            assert_eq!(
+                odd, 0,
+                "{label}, splat {compute_splat}: {odd} pixels show the later copy of a tied pair"
+            );
+        }
+    }
     finish_validated(renderer);
 }
 
@@ -342,7 +353,7 @@ fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
 /// drawn frame, a new scene uploaded and the depth convention changed on the way: at each stop
 /// the frame that arrives splats everything, the next (the camera held still) also stamps
 /// what it shows, and the one after is the visible-first splat; all match the draw of the
-/// same camera, bit for bit.
+/// same camera (bit for bit on lavapipe).
 #[test]
 fn visible_first_frames_match_the_draw_at_each_stop_of_an_orbit() {
     let mut scene = random_cloud(6_000, 25, 10.0, 0.5);
@@ -446,7 +457,7 @@ fn splat_over_several_chunks_matches_the_draw() {
 }
 
 /// Renders `scene` drawn whole, splatted in chunks of 256 and splatted whole, and asserts
-/// the three frames are identical.
+/// the three frames agree.
 fn chunked_splat_matches_the_draw(
     renderer: &mut OffscreenRenderer,
     name: &str,
@@ -490,12 +501,12 @@ fn chunked_splat_matches_the_draw(
 }
 
 /// The benchmark's visibility-buffer draw (`impostor-visbuffer`: every glyph rasterized into
-/// the visibility buffer, then the splat's resolve) draws what the draw draws, bit for bit:
-/// medium glyphs many layers deep in perspective, orthographic and standard depth, a
-/// near-plane cut, exact depth ties, glyphs reaching the eye plane, and six chunks.
+/// the visibility buffer, then the splat's resolve) draws what the draw draws (bit for bit
+/// on lavapipe): medium glyphs many layers deep in perspective, orthographic and standard
+/// depth, a near-plane cut, exact depth ties, glyphs reaching the eye plane, and six chunks.
 #[cfg(feature = "research")]
 #[test]
-fn visibility_buffer_draw_matches_the_draw_bit_for_bit() {
+fn visibility_buffer_draw_matches_the_draw() {
     use ellipsoid_splat::draw::Method;
     let camera = Camera::look_at(
         DVec3::new(3.0, -2.0, 24.0),

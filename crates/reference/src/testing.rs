@@ -118,11 +118,14 @@ pub fn compact_format_bounds(scene: &Scene, camera: &Camera) -> Bounds {
     }
 }
 
-/// `bounds` widened to what standard Z can hold in perspective: the depth attachment keeps
-/// `z = 1 - n/d` (times `f/(f-n)` with a far plane) to float32's 2^-24 near 1, and the view
-/// depth read back from it errs by `2^-24 d / n` relative -- twice that for the rounding of
-/// `z` itself -- at the farthest surface `d` the scene can show. Reversed Z and orthographic
-/// maps keep float32's relative precision: `bounds` unchanged.
+/// `bounds` widened by what standard Z cannot hold in perspective. The shader writes
+/// `z = a + b d + c/d` (`1 - n/d` with an infinite far plane, scaled by `f/(f-n)` with a finite
+/// one); near 1 its last addition rounds to half of float32's 2^-24 and the terms before it err
+/// by as much again, so `z` is good to about `2^-24` absolute, and the view depth read back as
+/// `n / (1 - z)` errs by `2^-24 d / n` relative -- once `d > 17 n`, more than the strict
+/// `1e-6`. That quantisation is added to the bounds, taken at the farthest surface the scene
+/// can show (the far plane's depth at most). Reversed Z and orthographic maps keep float32's
+/// relative precision: `bounds` unchanged.
 pub fn depth_convention_bounds(bounds: Bounds, scene: &Scene, camera: &Camera) -> Bounds {
     if camera.depth.reversed || camera.is_orthographic() {
         return bounds;
@@ -132,10 +135,11 @@ pub fn depth_convention_bounds(bounds: Bounds, scene: &Scene, camera: &Camera) -
         .iter()
         .map(|e| camera.view_depth(e.center) + e.radii.max_element())
         .fold(camera.near, f64::max);
-    let floor = 2.0 * 2f64.powi(-24) * d_max / camera.near;
+    let d_max = camera.depth.far.map_or(d_max, |far| d_max.min(far));
+    let quantisation = 2f64.powi(-24) * d_max / camera.near;
     Bounds {
-        depth_rel_p99: bounds.depth_rel_p99.max(floor),
-        depth_rel_max: bounds.depth_rel_max.max(floor),
+        depth_rel_p99: bounds.depth_rel_p99 + quantisation,
+        depth_rel_max: bounds.depth_rel_max + quantisation,
         ..bounds
     }
 }
@@ -204,17 +208,21 @@ pub fn assert_frames_agree(
             .filter(|&k| first.id[k] != other.id[k] && !reference.ambiguous[k])
             .count();
         differ("ID where the reference is unambiguous", ids);
-        let stats = compare(other, &reference).expect("same size");
-        if let Err(broken) = stats.check(&bounds_for(seen)) {
-            panic!("{name}: against the reference: {broken}\n{stats}");
+        for (which, frame) in [("first", first), ("second", other)] {
+            let stats = compare(frame, &reference).expect("same size");
+            if let Err(broken) = stats.check(&bounds_for(seen)) {
+                panic!("{name}: the {which} frame against the reference: {broken}\n{stats}");
+            }
+            let colors = compare_colors(frame, scene, camera, &Settings::default().material)
+                .expect("colour comparison");
+            if let Err(broken) = colors.check() {
+                panic!("{name}: the {which} frame: {broken}");
+            }
+            if which == "second" {
+                let depths = count(&bits(&first.depth), &bits(&other.depth));
+                println!("{name}: {depths} depths differ in their bits; {stats}; {colors}");
+            }
         }
-        let colors = compare_colors(other, scene, camera, &Settings::default().material)
-            .expect("colour comparison");
-        if let Err(broken) = colors.check() {
-            panic!("{name}: {broken}");
-        }
-        let depths = count(&bits(&first.depth), &bits(&other.depth));
-        println!("{name}: {depths} depths differ in their bits; {stats}; {colors}");
         return;
     }
     differ("ID", count(&first.id, &other.id));
