@@ -52,7 +52,8 @@ recorded="25.0.7-2~bpo12+1"
 fetched="$(ls "$state"/archives/mesa-vulkan-drivers_*_amd64.deb 2>/dev/null | head -n 1 |
   sed -n 's/.*mesa-vulkan-drivers_\(.*\)_amd64\.deb$/\1/p' | sed 's/%3a/:/g; s/%7e/~/g; s/%2b/+/g')"
 if [ "$fetched" != "$recorded" ]; then
-  echo "test-drivers: fetched mesa-vulkan-drivers ${fetched:-(unknown)}, golden hashes are recorded for $recorded" >&2
+  echo "test-drivers: fetched mesa-vulkan-drivers ${fetched:-(unknown)};" \
+    "golden hashes are recorded for $recorded" >&2
 fi
 export VK_ICD_FILENAMES="$icd"
 export LD_LIBRARY_PATH="$lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"

@@ -15,7 +15,7 @@ use ellipsoid_splat::{
 };
 use ellipsoid_splat_loaders::random_cloud;
 use ellipsoid_splat_reference::testing::{
-    assert_frames_agree, finish_validated, validated_renderer, Agreement,
+    assert_frames_agree, finish_validated, validated_renderer, Agreement, Seen,
 };
 use glam::{DQuat, DVec3};
 
@@ -60,7 +60,11 @@ fn assert_splat_matches_draw(
     let shown = drawn.id.iter().filter(|&&id| id != NO_INSTANCE).count();
     assert!(shown > 500, "{name}: only {shown} pixels show a glyph");
     let agreement = Agreement::of(renderer);
-    let seen = (scene, camera, format);
+    let seen = Seen {
+        scene,
+        camera,
+        format,
+    };
     assert_frames_agree(agreement, name, &drawn, &splatted, seen);
     // The next frame splats first what this one showed.
     let plan = renderer.plan(camera).expect("plan");
@@ -414,7 +418,11 @@ fn visible_first_frames_match_the_draw_at_each_stop_of_an_orbit() {
             assert_eq!(plan.visible_first, first, "stop {stop}, frame {k}");
             let frame = splatted.render_uploaded(&camera, Outputs::ALL).unwrap().0;
             let name = format!("stop {stop}, frame {k}");
-            let seen = (&scene, &camera, InstanceFormat::Full);
+            let seen = Seen {
+                scene: &scene,
+                camera: &camera,
+                format: InstanceFormat::Full,
+            };
             assert_frames_agree(Agreement::of(&splatted), &name, &expected, &frame, seen);
         }
     }
@@ -495,7 +503,11 @@ fn chunked_splat_matches_the_draw(
     );
     let agreement = Agreement::of(renderer);
     for (label, frame) in [("six chunks", &chunked), ("one chunk", &whole)] {
-        let seen = (scene, camera, InstanceFormat::Full);
+        let seen = Seen {
+            scene,
+            camera,
+            format: InstanceFormat::Full,
+        };
         assert_frames_agree(agreement, &format!("{name}, {label}"), &drawn, frame, seen);
     }
 }
@@ -584,7 +596,11 @@ fn visibility_buffer_draw_matches_the_draw() {
         };
         let drawn = render(&mut renderer, Method::ImpostorDraw);
         let visbuffer = render(&mut renderer, Method::ImpostorVisbuffer);
-        let seen = (scene, &camera, InstanceFormat::Full);
+        let seen = Seen {
+            scene,
+            camera: &camera,
+            format: InstanceFormat::Full,
+        };
         assert_frames_agree(agreement, name, &drawn, &visbuffer, seen);
     }
     finish_validated(renderer);

@@ -28,7 +28,7 @@ use ellipsoid_splat_loaders::{random_cloud, tensor_field};
 use ellipsoid_splat_reference::compare::compare;
 use ellipsoid_splat_reference::reference::render_reference;
 use ellipsoid_splat_reference::shading::compare_colors;
-use ellipsoid_splat_reference::testing::{bounds_for, finish_validated, validated_renderer};
+use ellipsoid_splat_reference::testing::{bounds_for, finish_validated, validated_renderer, Seen};
 use glam::{DMat3, DQuat, DVec3};
 
 // ---------------------------------------------------------------------------------------------
@@ -632,7 +632,11 @@ fn check_against_reference(case: &Case, frame: &Frame) -> Result<String, String>
     let camera = (case.camera)(camera);
     let reference = render_reference(&scene, &camera).expect("reference render");
     let stats = compare(frame, &reference).expect("same size");
-    let bounds = bounds_for((&scene, &camera, case.settings.format));
+    let bounds = bounds_for(Seen {
+        scene: &scene,
+        camera: &camera,
+        format: case.settings.format,
+    });
     let colors = compare_colors(frame, &scene, &camera, &Settings::default().material)
         .expect("colour comparison");
     let mut problems: Vec<String> = [stats.check(&bounds), colors.check()]

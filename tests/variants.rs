@@ -5,7 +5,7 @@
 use ellipsoid_splat::Outputs;
 use ellipsoid_splat_reference::testing as common;
 
-use common::{assert_frames_agree, finish_validated, validated_renderer, Agreement};
+use common::{assert_frames_agree, finish_validated, validated_renderer, Agreement, Seen};
 use ellipsoid_splat::Scene;
 use ellipsoid_splat::{Camera, Projection};
 use ellipsoid_splat::{InstanceFormat, OffscreenRenderer};
@@ -49,7 +49,11 @@ fn assert_same_frames(
     let (variant, _) = renderer
         .render_uploaded(camera, Outputs::ALL)
         .expect("render");
-    let seen = (scene, camera, InstanceFormat::Full);
+    let seen = Seen {
+        scene,
+        camera,
+        format: InstanceFormat::Full,
+    };
     assert_frames_agree(
         Agreement::of(renderer),
         "variants",

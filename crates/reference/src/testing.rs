@@ -172,12 +172,24 @@ impl Agreement {
 
 /// What a frame shows: the scene, the camera, and the instance format it was drawn with (the
 /// compact format has bounds of its own); drawn with the default material.
-pub type Seen<'a> = (&'a Scene, &'a Camera, InstanceFormat);
+#[derive(Clone, Copy)]
+pub struct Seen<'a> {
+    /// The scene.
+    pub scene: &'a Scene,
+    /// The camera.
+    pub camera: &'a Camera,
+    /// The instance format.
+    pub format: InstanceFormat,
+}
 
 /// The bounds a frame of `seen` is held to: `Bounds::STRICT`, or the compact format's, widened
 /// where standard Z cannot hold them.
 pub fn bounds_for(seen: Seen) -> Bounds {
-    let (scene, camera, format) = seen;
+    let Seen {
+        scene,
+        camera,
+        format,
+    } = seen;
     let bounds = match format {
         InstanceFormat::Compact => compact_format_bounds(scene, camera),
         _ => Bounds::STRICT,
@@ -202,7 +214,7 @@ pub fn assert_frames_agree(
     let count = |a: &[u32], b: &[u32]| a.iter().zip(b).filter(|(x, y)| x != y).count();
     let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     if agreement == Agreement::Reference {
-        let (scene, camera, _) = seen;
+        let Seen { scene, camera, .. } = seen;
         let reference = render_reference(scene, camera).expect("reference render");
         let ids = (0..first.len())
             .filter(|&k| first.id[k] != other.id[k] && !reference.ambiguous[k])

@@ -2,8 +2,8 @@
 //! accuracy cases -- perspective and orthographic, both depth conventions, a finite far plane,
 //! near-plane cuts and an eye inside, exact ties, tiny glyphs, the compute path and the draw,
 //! general cameras, 4x MSAA coverage -- each rendered under the validation layer and compared
-//! with the float64 reference against the strict bounds, colours with the shading model. A report per case, a JUnit file for
-//! CI systems, exit status 1 on any failure.
+//! with the float64 reference against the strict bounds, colours with the shading model. A
+//! report per case, a JUnit file for CI systems, exit status 1 on any failure.
 
 use std::fmt::Write as _;
 use std::path::Path;
