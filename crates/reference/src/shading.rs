@@ -2,7 +2,7 @@
 //! shading model (Blinn-Phong, a head-light and a key light fixed to the camera; design §4.8)
 //! evaluated at the pixel's read-back normal for its glyph's colour, and every empty pixel is
 //! the background. The geometry (coverage, IDs, depth, normals) is checked against the
-//! reference by [`crate::compare`]; this isolates the shading arithmetic and the sRGB store,
+//! reference by [`compare`](mod@crate::compare); this isolates the shading arithmetic and the sRGB store,
 //! so a colour can be held to one level whatever the driver.
 
 use std::fmt;
