@@ -114,10 +114,20 @@ fn four_samples_resolve_to_the_exact_covered_fraction_at_both_shading_rates() {
                     continue;
                 }
                 let expected = reference.id[reference.index(4 * i + 1, 4 * j)];
+                // On failure, each standard sample's glyph in the reference, to tell a sample
+                // numbered otherwise from a sample decided otherwise.
+                let samples = SamplePattern::Standard4
+                    .cells()
+                    .iter()
+                    .map(|&(s, t)| reference.id[reference.index(4 * i + s, 4 * j + t)])
+                    .collect::<Vec<_>>();
                 assert_eq!(
                     frame.id[k] != NO_INSTANCE,
                     expected != NO_INSTANCE,
-                    "pixel ({i},{j}): coverage of sample 0"
+                    "pixel ({i},{j}), per sample {per_sample_shading}: coverage of sample 0; \
+                     the frame's ID {} and colour {:?}, the reference's samples 0-3 {samples:?}",
+                    frame.id[k],
+                    frame.color[k]
                 );
                 other_glyph += (frame.id[k] != expected) as usize;
             }
