@@ -480,6 +480,22 @@ fn info(args: &DeviceArgs) -> Result<()> {
     );
     println!("timestamp period:  {} ns", info.timestamp_period);
     println!("max storage range: {} bytes", info.max_storage_buffer_range);
+    // SAFETY: the physical device belongs to the context's instance, alive for this call.
+    let limits = unsafe {
+        context
+            .instance()
+            .get_physical_device_properties(context.physical_device())
+    }
+    .limits;
+    // Multisampled pictures shaded once per pixel assume the standard positions, in order.
+    println!(
+        "sample locations:  {}",
+        if limits.standard_sample_locations == ash::vk::TRUE {
+            "standard"
+        } else {
+            "the device's own"
+        }
+    );
     println!(
         "features used:     dynamicRendering, pipelineStatisticsQuery={}",
         info.pipeline_statistics
