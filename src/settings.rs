@@ -34,6 +34,20 @@ impl Default for Material {
     }
 }
 
+impl Material {
+    /// Unlit: every pixel shows its glyph's colour as it is (ambient 1, no diffuse or specular
+    /// light). With white glyphs, a resolved multisampled pixel is the covered fraction of its
+    /// samples over the background: what the coverage checks measure.
+    pub fn unlit() -> Self {
+        Self {
+            ambient: 1.0,
+            diffuse: 0.0,
+            specular: 0.0,
+            ..Self::default()
+        }
+    }
+}
+
 /// How the renderer draws: the material and which exact shortcuts it may take. Given at
 /// creation ([`crate::RendererOptions::settings`]) or later through
 /// [`crate::EllipsoidRenderer::set_settings`], which says what each change costs.

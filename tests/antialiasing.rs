@@ -50,13 +50,7 @@ fn scene() -> Scene {
 /// Unlit white: a pixel's light is the covered fraction of its samples over the background.
 fn unlit() -> Settings {
     let mut settings = Settings::default();
-    settings.material = {
-        let mut material = Material::default();
-        material.ambient = 1.0;
-        material.diffuse = 0.0;
-        material.specular = 0.0;
-        material
-    };
+    settings.material = Material::unlit();
     settings
 }
 

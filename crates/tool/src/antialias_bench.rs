@@ -161,13 +161,7 @@ fn measure_errors(
         coverage_from(reference, &small, pattern).map_err(Error::from)
     };
     let area = coverage(SamplePattern::Grid(4))?;
-    let unlit = {
-        let mut material = Material::default();
-        material.ambient = 1.0;
-        material.diffuse = 0.0;
-        material.specular = 0.0;
-        material
-    };
+    let unlit = Material::unlit();
     let white = ellipsoid_splat::Scene::new(
         bench
             .scene

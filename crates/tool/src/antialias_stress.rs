@@ -182,13 +182,7 @@ pub fn run_antialias_point(
     renderer.set_draw_config(DrawConfig::default());
     renderer.set_settings({
         let mut settings = Settings::default();
-        settings.material = {
-            let mut material = Material::default();
-            material.ambient = 1.0;
-            material.diffuse = 0.0;
-            material.specular = 0.0;
-            material
-        };
+        settings.material = Material::unlit();
         settings.per_sample_shading = mode == AntialiasMode::Msaa4PerSample;
         settings
     });

@@ -196,13 +196,7 @@ fn settings(path: Path_) -> Settings {
         Path_::Shipped => {}
         Path_::Draw | Path_::Ties => settings.compute_splat = false,
         Path_::Splat => settings.compute_splat_min_glyphs = 1,
-        Path_::Msaa4 => {
-            let mut material = Material::default();
-            material.ambient = 1.0;
-            material.diffuse = 0.0;
-            material.specular = 0.0;
-            settings.material = material;
-        }
+        Path_::Msaa4 => settings.material = Material::unlit(),
     }
     settings
 }
