@@ -35,7 +35,9 @@ fn main() {
     // The benchmark's baselines (glsl/research/) and the counting builds are compiled only
     // with the `research` feature: hosts never draw them.
     let research = std::env::var_os("CARGO_FEATURE_RESEARCH").is_some();
-    let builds = builds(&glsl, research);
+    // The offscreen renderer's own shaders (glsl/offscreen/) only with `offscreen`.
+    let offscreen = std::env::var_os("CARGO_FEATURE_OFFSCREEN").is_some();
+    let builds = builds(&glsl, research, offscreen);
 
     // docs.rs builds without network or compilers beyond Rust's.
     let origin = if std::env::var_os("DOCS_RS").is_some() {
@@ -59,10 +61,11 @@ fn main() {
 }
 
 /// Every SPIR-V file this feature set needs, in source order.
-fn builds(glsl: &Path, research: bool) -> Vec<Build> {
+fn builds(glsl: &Path, research: bool, offscreen: bool) -> Vec<Build> {
     let mut sources = Vec::new();
     collect(glsl, &mut sources);
     sources.retain(|src| research || !src.starts_with(glsl.join("research")));
+    sources.retain(|src| offscreen || !src.starts_with(glsl.join("offscreen")));
     sources.sort();
     let mut builds = Vec::new();
     for src in sources {

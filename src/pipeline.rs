@@ -441,7 +441,7 @@ pub(crate) fn create_splat_pipeline(
 }
 
 /// A compute pipeline running `code` with `constants`; the caller owns it.
-fn create_compute_pipeline(
+pub(crate) fn create_compute_pipeline(
     device: &ash::Device,
     cache: vk::PipelineCache,
     layout: vk::PipelineLayout,

@@ -482,6 +482,9 @@ fn device_info(
         text(driver.driver_name_as_c_str()),
         text(driver.driver_info_as_c_str())
     );
+    let transient =
+        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT;
+    let sampled = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
     DeviceInfo {
         name: text(props.device_name_as_c_str()),
         driver: driver_text,
@@ -493,20 +496,24 @@ fn device_info(
         fragment_stores_and_atomics: enabled.fragment_stores_and_atomics,
         compute_splat: enabled.renderer.contains(DeviceFeatures::COMPUTE_SPLAT),
         renderer_features: enabled.renderer,
+        // Multisampled depth and ID are sampled too: their sample 0 is fetched.
         sample_counts: props.limits.framebuffer_color_sample_counts
             & props.limits.framebuffer_depth_sample_counts
-            & attachment_sample_counts(instance, pd, crate::target::NORMAL_FORMAT)
-            & attachment_sample_counts(instance, pd, crate::target::ID_FORMAT),
+            & props.limits.sampled_image_depth_sample_counts
+            & props.limits.sampled_image_integer_sample_counts
+            & attachment_sample_counts(instance, pd, crate::target::NORMAL_FORMAT, transient)
+            & attachment_sample_counts(instance, pd, crate::target::ID_FORMAT, sampled),
     }
 }
 
-/// The sample counts a transient colour attachment of `format` may have (the normal and ID
+/// The sample counts a colour attachment of `format` with `usage` may have (the normal and ID
 /// outputs' formats are not covered by the framebuffer limits: the ID is an integer format,
 /// for which only one sample is guaranteed).
 fn attachment_sample_counts(
     instance: &ash::Instance,
     pd: vk::PhysicalDevice,
     format: vk::Format,
+    usage: vk::ImageUsageFlags,
 ) -> vk::SampleCountFlags {
     // SAFETY: `pd` belongs to `instance`.
     let properties = unsafe {
@@ -515,7 +522,7 @@ fn attachment_sample_counts(
             format,
             vk::ImageType::TYPE_2D,
             vk::ImageTiling::OPTIMAL,
-            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
+            usage,
             vk::ImageCreateFlags::empty(),
         )
     };

@@ -8,6 +8,7 @@ use ash::vk;
 mod outputs;
 mod readback;
 mod record;
+pub(crate) mod sample_zero;
 mod targets;
 
 use crate::camera::Camera;
@@ -21,6 +22,7 @@ use crate::settings::Settings;
 use crate::target::{HostDevice, Pass, RendererOptions, Target, ID_FORMAT, NORMAL_FORMAT};
 
 pub use outputs::Outputs;
+use sample_zero::SampleZero;
 use targets::Targets;
 
 const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
@@ -38,6 +40,8 @@ pub struct OffscreenRenderer {
     command_buffer: vk::CommandBuffer,
     fence: vk::Fence,
     queries: Option<FrameQueries>,
+    /// Reads sample 0 of multisampled depth and ID (made by the first `set_samples` above 1).
+    sample_zero: Option<SampleZero>,
     /// Samples per pixel of the attachments (`set_samples`).
     samples: vk::SampleCountFlags,
     /// Read-back frames count shaded pixels (the benchmark's measuring aid).
@@ -80,6 +84,7 @@ impl OffscreenRenderer {
             command_buffer: vk::CommandBuffer::null(),
             fence: vk::Fence::null(),
             queries: None,
+            sample_zero: None,
             samples: vk::SampleCountFlags::TYPE_1,
             #[cfg(feature = "research")]
             count_fragments: false,
@@ -151,9 +156,10 @@ impl OffscreenRenderer {
     }
 
     /// Draws later frames with `samples` samples per pixel (1, the default, or a count the
-    /// device supports for colour and depth attachments) and reads back the resolved frame:
-    /// colour is the mean of the samples, the normal the mean of the samples' normals (not
-    /// renormalised), depth and ID those of sample 0. Multisampled frames are shaded once
+    /// device supports for colour and depth attachments and for sampling depth and integer
+    /// images) and reads back the resolved frame: colour is the mean of the samples, the
+    /// normal the mean of the samples' normals (not renormalised), depth and ID those of
+    /// sample 0 (fetched by a compute pass, not resolved). Multisampled frames are shaded once
     /// per pixel with exact per-sample coverage, or per sample with
     /// [`Settings::per_sample_shading`].
     pub fn set_samples(&mut self, samples: vk::SampleCountFlags) -> Result<()> {
@@ -163,6 +169,9 @@ impl OffscreenRenderer {
                 "samples",
                 format!("{samples:?} per pixel: the device supports {supported:?}"),
             ));
+        }
+        if samples != vk::SampleCountFlags::TYPE_1 && self.sample_zero.is_none() {
+            self.sample_zero = Some(SampleZero::new(self.context.device())?);
         }
         self.samples = samples;
         // The plan of the next frame (`plan`) sees the new sample count at once.
@@ -464,6 +473,10 @@ impl OffscreenRenderer {
         if let Some(mut q) = self.queries.take() {
             // SAFETY: the device is idle (waited above).
             unsafe { q.destroy(self.context.device()) };
+        }
+        if let Some(mut fetch) = self.sample_zero.take() {
+            // SAFETY: the device is idle (waited above).
+            unsafe { fetch.destroy(self.context.device()) };
         }
         let (pool, fence) = (self.command_pool, self.fence);
         let (device, allocator) = self.context.device_and_allocator();

@@ -8,7 +8,8 @@ use crate::frame::NO_INSTANCE;
 use crate::gpu::image::full_range;
 use crate::gpu::GpuImage;
 
-use super::targets::Targets;
+use super::sample_zero::{Attachment, Copy, SampleZero};
+use super::targets::{Attachments, Targets};
 use super::{OffscreenRenderer, Outputs, BACKGROUND};
 
 impl OffscreenRenderer {
@@ -25,6 +26,7 @@ impl OffscreenRenderer {
         let cmd = self.begin_commands()?;
         let (device, allocator) = self.context.device_and_allocator();
         let queries = self.queries.as_ref();
+        let sample_zero = self.sample_zero.as_ref();
         let targets = self
             .targets
             .as_ref()
@@ -52,7 +54,7 @@ impl OffscreenRenderer {
                 renderer.record_prepass(device, allocator, cmd, camera)?;
             }
 
-            // Attachments to render layouts. The previous frame's copy read them: wait for it.
+            // Attachments to render layouts.
             let mut barriers: Vec<vk::ImageMemoryBarrier> = colors
                 .iter()
                 .chain(&drawn_colors)
@@ -83,9 +85,10 @@ impl OffscreenRenderer {
                         .subresource_range(full_range(vk::ImageAspectFlags::DEPTH)),
                 );
             }
+            // The previous frame's copies and fetches of sample 0 read them: wait for both.
             device.cmd_pipeline_barrier(
                 cmd,
-                vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
                 vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
                     | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
                     | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS,
@@ -104,9 +107,10 @@ impl OffscreenRenderer {
                     uint32: [NO_INSTANCE, 0, 0, 0],
                 },
             ];
-            // Multisampled: draw into the multisampled image and resolve into the read one --
-            // colour and normal by the mean of the samples (the only resolve float formats
-            // have), ID and depth by sample 0.
+            // Multisampled: draw into the multisampled image; colour and normal are resolved
+            // into the read one by the mean of the samples, ID and depth are kept and their
+            // sample 0 fetched after the pass (`sample_zero.rs`: a `SAMPLE_ZERO` resolve of
+            // integers takes another sample on some drivers).
             let attachment = |read: &GpuImage, drawn: Option<&GpuImage>, layout, mean: bool| {
                 let info = vk::RenderingAttachmentInfo::default()
                     .image_layout(layout)
@@ -115,19 +119,18 @@ impl OffscreenRenderer {
                     None => info
                         .image_view(read.view())
                         .store_op(vk::AttachmentStoreOp::STORE),
-                    Some(drawn) => info
+                    Some(drawn) if mean => info
                         .image_view(drawn.view())
                         .store_op(vk::AttachmentStoreOp::DONT_CARE)
                         .resolve_image_view(read.view())
                         .resolve_image_layout(layout)
-                        .resolve_mode(if mean {
-                            vk::ResolveModeFlags::AVERAGE
-                        } else {
-                            vk::ResolveModeFlags::SAMPLE_ZERO
-                        }),
+                        .resolve_mode(vk::ResolveModeFlags::AVERAGE),
+                    Some(drawn) => info
+                        .image_view(drawn.view())
+                        .store_op(vk::AttachmentStoreOp::STORE),
                 }
             };
-            // Colour and normal are float formats, resolved by the mean; the ID by sample 0.
+            // Colour and normal are float formats, resolved by the mean; the ID is kept.
             let by_mean = [true, true, false];
             let color_attachments: Vec<vk::RenderingAttachmentInfo> = colors
                 .iter()
@@ -225,6 +228,8 @@ impl OffscreenRenderer {
                     Some((normal, id)) => (Some(normal), Some(id)),
                     None => (None, None),
                 };
+                // Multisampled, depth and ID come from the fetch of sample 0 below.
+                let single = targets.multisampled.is_none();
                 let images = [
                     (
                         Some(&targets.read.color),
@@ -232,12 +237,16 @@ impl OffscreenRenderer {
                         offsets[0],
                     ),
                     (
-                        Some(&targets.read.depth),
+                        Some(&targets.read.depth).filter(|_| single),
                         vk::ImageAspectFlags::DEPTH,
                         offsets[1],
                     ),
                     (normal, vk::ImageAspectFlags::COLOR, offsets[2]),
-                    (id, vk::ImageAspectFlags::COLOR, offsets[3]),
+                    (
+                        id.filter(|_| single),
+                        vk::ImageAspectFlags::COLOR,
+                        offsets[3],
+                    ),
                 ];
                 let wanted = [outputs.color, outputs.depth, outputs.normal, outputs.id];
                 for ((image, aspect, offset), wanted) in images.into_iter().zip(wanted) {
@@ -265,18 +274,23 @@ impl OffscreenRenderer {
                         &[region],
                     );
                 }
+                if let (Some((_, drawn)), Some(fetch)) = (&targets.multisampled, sample_zero) {
+                    record_sample_zero(device, cmd, fetch, targets, drawn, outputs, offsets);
+                }
                 #[cfg(feature = "research")]
                 renderer.record_counter_barrier(device, cmd);
-                // Make the copies visible to the host read after the fence.
+                // Make the copies and fetches visible to the host read after the fence.
                 let to_host = vk::BufferMemoryBarrier::default()
-                    .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
+                    .src_access_mask(
+                        vk::AccessFlags::TRANSFER_WRITE | vk::AccessFlags::SHADER_WRITE,
+                    )
                     .dst_access_mask(vk::AccessFlags::HOST_READ)
                     .buffer(targets.readback.handle())
                     .offset(0)
                     .size(vk::WHOLE_SIZE);
                 device.cmd_pipeline_barrier(
                     cmd,
-                    vk::PipelineStageFlags::TRANSFER,
+                    vk::PipelineStageFlags::TRANSFER | vk::PipelineStageFlags::COMPUTE_SHADER,
                     vk::PipelineStageFlags::HOST,
                     vk::DependencyFlags::empty(),
                     &[],
@@ -287,5 +301,84 @@ impl OffscreenRenderer {
             device.end_command_buffer(cmd).call("vkEndCommandBuffer")?;
         }
         Ok(())
+    }
+}
+
+/// Records the fetch of sample 0 of the multisampled depth and ID attachments (`drawn`) into
+/// their regions of the read-back buffer, for the outputs asked for: the attachments' writes
+/// before the reads, with their layouts changed for sampling.
+///
+/// # Safety
+/// `cmd` is recording outside a pass, after the pass that drew into `drawn`; nothing pending
+/// uses `fetch`'s sets; every handle outlives the submission.
+unsafe fn record_sample_zero(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    fetch: &SampleZero,
+    targets: &Targets,
+    drawn: &Attachments,
+    outputs: Outputs,
+    offsets: [Option<u64>; 4],
+) {
+    let to_sampled = |image: &GpuImage, aspect, old, src_access| {
+        vk::ImageMemoryBarrier::default()
+            .src_access_mask(src_access)
+            .dst_access_mask(vk::AccessFlags::SHADER_READ)
+            .old_layout(old)
+            .new_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)
+            .image(image.handle())
+            .subresource_range(full_range(aspect))
+    };
+    let mut barriers = Vec::new();
+    let mut copies = Vec::new();
+    if let (true, Some(offset)) = (outputs.depth, offsets[1]) {
+        barriers.push(to_sampled(
+            &drawn.depth,
+            vk::ImageAspectFlags::DEPTH,
+            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+            vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE,
+        ));
+        copies.push(Copy {
+            attachment: Attachment::Depth,
+            view: drawn.depth.view(),
+            offset,
+        });
+    }
+    if let (true, Some(offset), Some((_, id))) = (outputs.id, offsets[3], &drawn.aux) {
+        barriers.push(to_sampled(
+            id,
+            vk::ImageAspectFlags::COLOR,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::AccessFlags::COLOR_ATTACHMENT_WRITE,
+        ));
+        copies.push(Copy {
+            attachment: Attachment::Id,
+            view: id.view(),
+            offset,
+        });
+    }
+    if copies.is_empty() {
+        return;
+    }
+    // SAFETY: caller contract.
+    unsafe {
+        device.cmd_pipeline_barrier(
+            cmd,
+            vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT
+                | vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS
+                | vk::PipelineStageFlags::LATE_FRAGMENT_TESTS,
+            vk::PipelineStageFlags::COMPUTE_SHADER,
+            vk::DependencyFlags::empty(),
+            &[],
+            &[],
+            &barriers,
+        );
+        fetch.record(
+            device,
+            cmd,
+            targets.readback.handle(),
+            targets.read.color.extent(),
+            &copies,
+        );
     }
 }

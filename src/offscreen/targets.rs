@@ -79,14 +79,16 @@ const WORD_TEXEL: u64 = 4;
 impl Targets {
     /// Byte offsets of colour, depth, normal and ID inside the readback buffer (`None` for an
     /// output not read back), and its size. The normal comes first: a copy's buffer offset
-    /// must be a multiple of its 16-byte texel.
+    /// must be a multiple of its 16-byte texel (every region starts on 256 bytes).
     pub fn layout(extent: vk::Extent2D, outputs: Outputs) -> ([Option<u64>; 4], u64) {
         let pixels = extent.width as u64 * extent.height as u64;
-        let mut at = 0;
+        let mut at: u64 = 0;
+        // Each region starts on 256 bytes: the most any device asks of a storage-buffer
+        // offset (`minStorageBufferOffsetAlignment`), which the fetch of sample 0 binds.
         let mut place = |wanted: bool, texel: u64| {
             wanted.then(|| {
-                let offset = at;
-                at += texel * pixels;
+                let offset = at.next_multiple_of(256);
+                at = offset + texel * pixels;
                 offset
             })
         };
@@ -132,10 +134,15 @@ impl Targets {
         let single = vk::SampleCountFlags::TYPE_1;
         let mut builds: Vec<_> = specs.iter().map(|&spec| (spec, single)).collect();
         if samples != single {
-            // Drawn into and resolved from, never copied: transient.
-            let drawn_into = |usage: vk::ImageUsageFlags| {
-                (usage & !vk::ImageUsageFlags::TRANSFER_SRC)
-                    | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT
+            // Colour and normal are resolved from, never copied: transient. Depth and ID are
+            // read at sample 0 by a compute fetch (`sample_zero.rs`): sampled.
+            let drawn_into = |usage: vk::ImageUsageFlags, format| {
+                let attachment = usage & !vk::ImageUsageFlags::TRANSFER_SRC;
+                if format == DEPTH_FORMAT || format == ID_FORMAT {
+                    attachment | vk::ImageUsageFlags::SAMPLED
+                } else {
+                    attachment | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT
+                }
             };
             let multisampled_name = |name: &str| match name {
                 "colour target" => "multisampled colour target",
@@ -145,7 +152,12 @@ impl Targets {
             };
             builds.extend(specs.iter().map(|&(name, format, usage, aspect)| {
                 (
-                    (multisampled_name(name), format, drawn_into(usage), aspect),
+                    (
+                        multisampled_name(name),
+                        format,
+                        drawn_into(usage, format),
+                        aspect,
+                    ),
                     samples,
                 )
             }));
@@ -175,7 +187,8 @@ impl Targets {
             allocator,
             "readback",
             Self::layout(extent, outputs).1,
-            vk::BufferUsageFlags::TRANSFER_DST,
+            // Copies write it; on multisampled frames, so does the fetch of sample 0.
+            vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryUse::Readback,
         ) {
             Ok(b) => b,

@@ -38,12 +38,24 @@ const OTHER_VIEWS: [(Binding, &str); 3] = [
 ];
 
 /// Each compute shader and the workgroup size the Rust side sizes its dispatches by.
-fn dispatch_group_sizes() -> [(&'static str, [u64; 3]); 2] {
-    [
+fn dispatch_group_sizes() -> Vec<(&'static str, [u64; 3])> {
+    let mut sizes = vec![
         ("cull.comp.spv", [GROUP_SIZE, 1, 1]),
         ("splat.comp.spv", [SPLAT_GROUP_SIZE as u64, 1, 1]),
-    ]
+    ];
+    #[cfg(feature = "offscreen")]
+    {
+        let edge = crate::offscreen::sample_zero::GROUP_EDGE as u64;
+        for file in SAMPLE_ZERO_MODULES {
+            sizes.push((file, [edge, edge, 1]));
+        }
+    }
+    sizes
 }
+
+/// The offscreen renderer's fetch of sample 0 (`glsl/offscreen/`): a set of its own, not the
+/// renderer's `Binding` table.
+const SAMPLE_ZERO_MODULES: [&str; 2] = ["sample_zero_depth.comp.spv", "sample_zero_id.comp.spv"];
 
 /// Every module this feature set built, by file name.
 fn modules() -> &'static BTreeMap<&'static str, Module> {
@@ -344,6 +356,9 @@ fn descriptor_bindings_match_the_binding_table() {
     let mut findings = Findings::default();
     let mut seen = BTreeSet::new();
     for (file, module) in modules() {
+        if SAMPLE_ZERO_MODULES.contains(file) {
+            continue; // its own set: `sample_zero_bindings_match_its_set_layout`
+        }
         let stage = stage(file, module);
         for variable in &module.variables {
             let Some(number) = module.decoration(variable.id, reader::BINDING) else {
@@ -400,6 +415,43 @@ fn descriptor_bindings_match_the_binding_table() {
         }
     }
     findings.assert_none("descriptor bindings");
+}
+
+/// The fetch of sample 0 reads its texture at `TEXTURE_BINDING` and writes the block
+/// `SampleZeroWords` at `WORDS_BINDING`, both in set 0, as its set layout says.
+#[cfg(feature = "offscreen")]
+#[test]
+fn sample_zero_bindings_match_its_set_layout() {
+    use crate::offscreen::sample_zero::{TEXTURE_BINDING, WORDS_BINDING};
+    let mut findings = Findings::default();
+    for file in SAMPLE_ZERO_MODULES {
+        let Some(module) = modules().get(file) else {
+            findings.add(file, "not built".into());
+            continue;
+        };
+        let mut found = BTreeMap::new();
+        for variable in &module.variables {
+            let Some(number) = module.decoration(variable.id, reader::BINDING) else {
+                continue;
+            };
+            if module.decoration(variable.id, reader::DESCRIPTOR_SET) != Some(0) {
+                findings.add(file, format!("binding {number} is not in set 0"));
+            }
+            let block = match module.types.get(&variable.pointer) {
+                Some(Type::Pointer { pointee, .. }) => module.name(*pointee),
+                _ => "",
+            };
+            found.insert(number, (variable.storage, block));
+        }
+        let expected = BTreeMap::from([
+            (TEXTURE_BINDING, (reader::UNIFORM_CONSTANT, "")),
+            (WORDS_BINDING, (reader::STORAGE_BUFFER, "SampleZeroWords")),
+        ]);
+        if found != expected {
+            findings.add(file, format!("bindings {found:?}, set layout {expected:?}"));
+        }
+    }
+    findings.assert_none("sample-zero bindings");
 }
 
 #[test]

@@ -63,6 +63,7 @@ pub const LOCAL_SIZE: u32 = 17;
 pub const LOCAL_SIZE_ID: u32 = 38;
 
 // Storage classes of what the host binds.
+pub const UNIFORM_CONSTANT: u32 = 0;
 pub const PUSH_CONSTANT: u32 = 9;
 pub const STORAGE_BUFFER: u32 = 12;
 
