@@ -183,7 +183,6 @@ pub const COUNTER_TO_HOST: Barrier = Barrier {
 
 /// `impostor-visbuffer` (feature `research`): the visibility buffer's clear -> the
 /// visibility-buffer draw's atomics.
-#[cfg(feature = "research")]
 pub const VISIBILITY_CLEARED_TO_DRAW: Barrier = Barrier {
     purpose: "visibility-buffer clear -> the visibility-buffer draw's fragment atomics",
     src_stages: vk::PipelineStageFlags::TRANSFER,
@@ -194,7 +193,6 @@ pub const VISIBILITY_CLEARED_TO_DRAW: Barrier = Barrier {
 
 /// `impostor-visbuffer` (feature `research`): the visibility-buffer draw's atomics -> the
 /// resolve's tile reads (vertex stage) and key reads (fragment stage) in the host's pass.
-#[cfg(feature = "research")]
 pub const VISIBILITY_DRAW_TO_RESOLVE: Barrier = Barrier {
     purpose: "visibility-buffer draw's fragment atomics -> the resolve's vertex and fragment reads",
     src_stages: vk::PipelineStageFlags::FRAGMENT_SHADER,
@@ -220,5 +218,4 @@ pub const ALL: [Barrier; 8] = [
 ];
 
 /// The `research` barriers of `impostor-visbuffer`.
-#[cfg(feature = "research")]
 pub const RESEARCH: [Barrier; 2] = [VISIBILITY_CLEARED_TO_DRAW, VISIBILITY_DRAW_TO_RESOLVE];

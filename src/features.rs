@@ -29,8 +29,8 @@ pub struct DeviceFeatures {
 }
 
 impl DeviceFeatures {
-    /// What the compute splat needs on top of a target's features (`Settings::compute_splat`
-    /// runs only where the host enabled them).
+    /// What the compute splat needs on top of a target's features (the plan splats only
+    /// where the host enabled them).
     pub const COMPUTE_SPLAT: Self = Self {
         dynamic_rendering: false,
         maintenance4: false,

@@ -13,7 +13,6 @@
 
 // Without `research` the module is private, and the conveniences only the benchmark calls
 // go unused.
-#![cfg_attr(not(feature = "research"), allow(dead_code))]
 use glam::DVec3;
 
 use crate::ellipsoid::Ellipsoid;

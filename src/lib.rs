@@ -12,8 +12,9 @@
 //! - `vk-mem`: [`MemoryAllocator`] for `vk_mem::Allocator` (VMA), for hosts on VMA.
 //! - `offscreen` (default): `OffscreenRenderer`, `Frame`, `Outputs` and its own Vulkan
 //!   `Context`; implies `gpu-allocator`.
-//! - `research`: the benchmark's baselines (`draw::Method`: textbook intersection, box proxy,
-//!   icosphere meshes, flat fill, fixed footprints) and fragment counting. Hosts never need it.
+//! - `research`: the benchmark's baselines (`research::Method`: textbook intersection, box
+//!   proxy, icosphere meshes, flat fill, fixed footprints) and fragment counting. Hosts never
+//!   need it.
 //!
 //! Diagnostics go through the `log` crate. [`EllipsoidRenderer`] reads no environment
 //! variable; the `offscreen` context reads `ELLIPSOID_SPLAT_DEVICE` (which device, when
@@ -53,15 +54,15 @@ pub mod bounds;
 pub mod camera;
 mod culling;
 mod depth;
-pub mod draw;
 mod ellipsoid;
 mod error;
 mod features;
+mod footprint;
 mod frame_slots;
 mod gpu_layout;
 mod host_camera;
 mod instances;
-mod pipeline;
+mod path;
 mod renderer;
 mod scene;
 mod settings;
@@ -72,13 +73,31 @@ mod target;
 #[cfg(feature = "offscreen")]
 mod frame;
 mod gpu;
-#[cfg(feature = "research")]
-mod icosphere;
 #[cfg(feature = "offscreen")]
 mod offscreen;
+/// The benchmark's baselines and measuring aids: the drawing methods `bench` compares with
+/// the shipped impostor. Hosts never need it.
+#[cfg(feature = "research")]
+pub mod research;
+#[cfg(not(feature = "research"))]
+#[path = "research/off.rs"]
+mod research;
 /// Supersampling: a frame drawn K times larger, box-filtered in linear light.
 #[cfg(feature = "offscreen")]
 pub mod supersample;
+
+/// The frame plan's vocabulary: the exact paths a frame can take, how a host lets the plan
+/// choose ([`plan::PlanMode`], in [`Settings::plan`]), why a frame took its path, and the
+/// first guess's thresholds.
+pub mod plan {
+    pub use crate::footprint::Footprint;
+    pub use crate::path::{DrawPath, FramePath, HiddenLayers, PathKind, PlanMode, SplatPath};
+    pub use crate::renderer::{
+        DrawReason, Guess, Measured, PlanReason, MAX_SETUP_ONCE_INSTANCES, SETUP_ONCE_MAX_AREA_PX,
+        SPLAT_MAX_BOX_PIXELS, SPLAT_MAX_MEAN_AREA_PX, SPLAT_MIN_GLYPHS,
+        VISIBLE_FIRST_MIN_HIDDEN_PX,
+    };
+}
 
 pub use allocator::MemoryAllocator;
 pub use camera::{Camera, Intrinsics, Projection};
@@ -89,7 +108,7 @@ pub use error::{Error, Result};
 pub use features::DeviceFeatures;
 pub use host_camera::HostViewport;
 pub use instances::InstanceFormat;
-pub use renderer::{DrawReason, EllipsoidRenderer, FramePlan};
+pub use renderer::{EllipsoidRenderer, FramePlan};
 pub use scene::Scene;
 pub use settings::{Material, Settings};
 pub use target::{HostDevice, Pass, RendererOptions, Target, ID_FORMAT, NORMAL_FORMAT};
@@ -113,12 +132,8 @@ pub mod internals {
     pub use crate::ellipsoid::{shape_color, symmetric_eigen};
     #[cfg(feature = "offscreen")]
     pub use crate::gpu::validation;
-    #[cfg(feature = "research")]
-    pub use crate::icosphere::icosphere;
-    #[cfg(feature = "research")]
     pub use crate::instances::pack_instances;
     /// The offscreen renderer's background (linear RGBA), for checks of its colour output.
     #[cfg(feature = "offscreen")]
     pub use crate::offscreen::BACKGROUND;
-    pub use crate::renderer::{MAX_SETUP_ONCE_INSTANCES, SETUP_ONCE_MAX_AREA_PX};
 }

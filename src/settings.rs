@@ -4,6 +4,7 @@
 
 use crate::culling::Culling;
 use crate::instances::InstanceFormat;
+use crate::path::PlanMode;
 
 /// Blinn-Phong material after Gumhold 2003: ambient, diffuse, specular, shininess, specular
 /// colour.
@@ -70,47 +71,17 @@ pub struct Settings {
     /// single-sample targets. Off by default: fewer vertices and primitives, but 1.65 shaded
     /// fragments per covered pixel instead of 1.27. On multisampled targets `Auto` takes the
     /// triangle below the same size whatever this says
-    /// ([`crate::draw::Footprint::for_area_multisampled`]).
+    /// ([`crate::plan::Footprint::for_area_multisampled`]).
     pub small_glyph_triangles: bool,
     /// How `upload` stores instances: full float32 (default) or the compact 32-byte records,
     /// a third less memory at a measured accuracy cost.
     pub instance_format: InstanceFormat,
-    /// Draw frames of many small and medium glyphs without the rasterizer: a compute pass ray
-    /// casts each glyph's pixel centres and keeps the nearest hit per pixel with a 64-bit
-    /// atomic, and a pass inside the host's pass shades each covered pixel once; glyphs too
-    /// large for it (a box of more than 4,096 pixel centres, or reaching the eye plane) are
-    /// drawn in the same frame. The same pixels, depths and IDs as the draw (bit for bit where
-    /// the driver compiles the shared set-up and hit alike in every stage, as lavapipe does;
-    /// only where a splatted and a drawn glyph lie at exactly the same depth does the
-    /// splatted one show rather than the lower instance). On by default for the shipped
-    /// impostor with the automatic footprint, but it runs only where the host enabled
-    /// [`crate::DeviceFeatures::COMPUTE_SPLAT`] (and says so in
-    /// [`crate::HostDevice::enabled_features`]), on single-sample targets with
-    /// float32 depth, for glyphs of at most `SPLAT_MAX_MEAN_AREA_PX` on average (in the size
-    /// sample), for at most `MAX_SPLAT_CHUNKS` chunks and for at least
-    /// `compute_splat_min_glyphs` glyphs.
-    pub compute_splat: bool,
-    /// In frames the compute splat takes (one chunk, occlusion culling on) of a camera held
-    /// still, splat first the glyphs an earlier frame with that camera showed (a frame whose
-    /// camera is the frame before's stamps them), then only those of the others whose every
-    /// pixel is not already held by a nearer hit of the first pass (tested per tile of 4 x 4
-    /// pixels, each glyph as a whole, before any ray cast). On by default; the same pixels bit
-    /// for bit; it pays where many glyphs lie hidden (README, "Skipping the hidden layers"),
-    /// and is taken only where each glyph is expected to hide at least
-    /// `visible_first_min_hidden_px`.
-    pub visible_first: bool,
-    /// The least area per glyph, in square pixels, that the scene is expected to hide for the
-    /// visible-first splat to run ([`crate::FramePlan::hidden_area_px`]: the mean projected
-    /// area times `1 - 1 / layers`): it saves the hidden glyphs' ray casts, and its own steps
-    /// (three compactions, the tiles, the stamps) cost about the same per glyph whatever its
-    /// size. 45 by default: on lavapipe the tensor field at 1280x720 (31 px^2 hidden per
-    /// glyph) is 16 % slower with it, at 1600x900 (49 px^2) 6 % faster (README).
-    pub visible_first_min_hidden_px: f64,
-    /// The fewest glyphs for which the compute splat pays: it has a fixed cost (clearing the
-    /// visibility buffer and resolving the tiles its glyphs touch, about 30 ms when they
-    /// spread over a whole 1920x1080 image on lavapipe) and saves about 0.45 us per glyph;
-    /// measured with `bench`, the two meet between 10,000 and 100,000.
-    pub compute_splat_min_glyphs: u32,
+    /// How the frame plan chooses among the exact paths that can serve a frame -- the
+    /// draw, the compute splat, the visible-first splat ([`crate::plan::FramePath`]): by
+    /// measuring them on this device (the default), by its first guess alone, or as fixed.
+    /// Every path draws the same picture (bit for bit on lavapipe; within the float64
+    /// reference's bounds on any driver), so the choice costs time, never a pixel.
+    pub plan: PlanMode,
     /// The most instances drawn with one descriptor set; the device's
     /// `maxStorageBufferRange` caps it anyway. Larger scenes are drawn in chunks, each with
     /// its own pre-pass and draw. Rounded down to a multiple of 256 (at least 256). Takes
@@ -141,10 +112,7 @@ impl Default for Settings {
             sphere_path: true,
             cap_free_path: true,
             small_glyph_triangles: false,
-            compute_splat: true,
-            visible_first: true,
-            visible_first_min_hidden_px: 45.0,
-            compute_splat_min_glyphs: 50_000,
+            plan: PlanMode::Measure,
             instance_format: InstanceFormat::Full,
             max_chunk_instances: u32::MAX,
             per_sample_shading: false,

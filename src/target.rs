@@ -263,6 +263,20 @@ pub(crate) struct DeviceCaps {
     pub limits: vk::PhysicalDeviceLimits,
     /// What the host enabled, of what the device supports.
     pub enabled: DeviceFeatures,
+    /// Valid bits of the queue family's timestamps (0: none, and the plan cannot measure).
+    pub timestamp_valid_bits: u32,
+    /// Which device and driver build: what learned plans are keyed by.
+    pub identity: DeviceIdentity,
+}
+
+/// A device and its driver build, as the plan's learned choices are keyed (as
+/// `VkPipelineCache` data is: the pipeline-cache UUID changes with the driver build).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct DeviceIdentity {
+    pub vendor_id: u32,
+    pub device_id: u32,
+    pub driver_version: u32,
+    pub pipeline_cache_uuid: [u8; vk::UUID_SIZE],
 }
 
 impl HostDevice<'_> {
@@ -317,6 +331,13 @@ impl HostDevice<'_> {
         Ok(DeviceCaps {
             limits: properties.limits,
             enabled: self.enabled_features,
+            timestamp_valid_bits: family.timestamp_valid_bits,
+            identity: DeviceIdentity {
+                vendor_id: properties.vendor_id,
+                device_id: properties.device_id,
+                driver_version: properties.driver_version,
+                pipeline_cache_uuid: properties.pipeline_cache_uuid,
+            },
         })
     }
 }

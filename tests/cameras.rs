@@ -4,13 +4,14 @@
 //! views in one frame -- against the float64 reference: no coverage mismatch, depth p99 within
 //! 1e-6, under validation and synchronization validation.
 
-use ellipsoid_splat::{
-    Camera, Frame, HostViewport, Intrinsics, Outputs, Projection, Settings, NO_INSTANCE,
-};
+use ellipsoid_splat::plan::PathKind;
+use ellipsoid_splat::{Camera, Frame, HostViewport, Intrinsics, Outputs, Projection, NO_INSTANCE};
 use ellipsoid_splat_loaders::random_cloud;
 use ellipsoid_splat_reference::compare::{compare, Bounds, ErrorStats};
 use ellipsoid_splat_reference::reference::render_reference;
-use ellipsoid_splat_reference::testing::{finish_validated, validated_renderer};
+use ellipsoid_splat_reference::testing::{
+    finish_validated, fixed_path, splats, stamps, validated_renderer, visible_first,
+};
 use glam::{DMat4, DVec2, DVec3, DVec4};
 
 const W: u32 = 200;
@@ -100,18 +101,16 @@ fn every_camera_kind_matches_the_reference() {
     let scene = random_cloud(1500, 7, 5.0, 0.6);
     for splat in [false, true] {
         let mut renderer = validated_renderer();
-        if splat {
-            renderer.set_settings({
-                let mut settings = Settings::default();
-                settings.compute_splat_min_glyphs = 1;
-                settings
-            });
-        }
+        renderer.set_settings(fixed_path(if splat {
+            PathKind::Splat
+        } else {
+            PathKind::Draw
+        }));
         renderer.upload(&scene).unwrap();
         for (name, camera) in general_cameras() {
             assert!(camera.validate().is_ok(), "{name}");
             let plan = renderer.plan(&camera).unwrap();
-            assert_eq!(plan.compute_splat, splat, "{name}");
+            assert_eq!(splats(&plan), splat, "{name}");
             let (frame, _) = renderer.render_uploaded(&camera, Outputs::ALL).unwrap();
             assert_exact(&format!("{name}, splat {splat}"), &frame, &camera, &scene);
         }
@@ -200,13 +199,11 @@ fn a_stereo_pair_side_by_side_is_exact() {
     let right_eye = eye(1.0, (-0.5, 0.62)).with_viewport_origin(W, 0).unwrap();
     for splat in [false, true] {
         let mut renderer = validated_renderer();
-        if splat {
-            renderer.set_settings({
-                let mut settings = Settings::default();
-                settings.compute_splat_min_glyphs = 1;
-                settings
-            });
-        }
+        renderer.set_settings(fixed_path(if splat {
+            PathKind::Splat
+        } else {
+            PathKind::Draw
+        }));
         renderer.upload(&scene).unwrap();
         let (pair, _) = renderer
             .render_views(2 * W, H, &[left_eye, right_eye], Outputs::ALL)
@@ -238,22 +235,17 @@ fn each_view_keeps_its_own_history() {
     .with_viewport_origin(W, 0)
     .unwrap();
     let mut renderer = validated_renderer();
-    renderer.set_settings({
-        let mut settings = Settings::default();
-        settings.compute_splat_min_glyphs = 1;
-        settings.visible_first_min_hidden_px = 0.0;
-        settings
-    });
+    renderer.set_settings(fixed_path(PathKind::VisibleFirst));
     renderer.upload(&scene).unwrap();
     let mut frames = Vec::new();
     for frame in 0..4 {
         let plans = [renderer.plan(&a).unwrap(), renderer.plan(&b).unwrap()];
         for plan in &plans {
-            assert!(plan.compute_splat);
+            assert!(splats(plan));
             // The second frame (the first of a still camera) stamps what it shows, the next
             // ones start from it.
-            assert_eq!(plan.mark_shown, frame > 0, "frame {frame}: {plan:?}");
-            assert_eq!(plan.visible_first, frame > 1, "frame {frame}: {plan:?}");
+            assert_eq!(stamps(plan), frame > 0, "frame {frame}: {plan:?}");
+            assert_eq!(visible_first(plan), frame > 1, "frame {frame}: {plan:?}");
         }
         let (pair, _) = renderer
             .render_views(2 * W, H, &[a, b], Outputs::ALL)

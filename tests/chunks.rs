@@ -16,7 +16,7 @@ fn assert_chunking_changes_nothing(scene: &Scene, camera: &Camera, expect_setup_
     let mut renderer = validated_renderer();
     renderer.upload(scene).unwrap();
     assert_eq!(
-        renderer.plan(camera).expect("plan").setup_once,
+        renderer.plan(camera).expect("plan").setup_once(),
         expect_setup_once
     );
     let (whole, _) = renderer.render_uploaded(camera, Outputs::ALL).unwrap();

@@ -85,7 +85,8 @@ fn every_committed_file_has_a_shader_source() {
         }
         count += 1;
         let source = source_name(&name);
-        if !glsl.join(source).is_file() && !glsl.join("research").join(source).is_file() {
+        let folders = ["", "research", "offscreen"];
+        if !folders.iter().any(|f| glsl.join(f).join(source).is_file()) {
             orphans.push(name.into_owned());
         }
     }

@@ -9,13 +9,19 @@
 //! visible-first splat (those first, then the rest its hits do not hide); and a camera
 //! stopping along an orbit matches the draw at every frame.
 
+#[cfg(feature = "research")]
+use ellipsoid_splat::plan::{DrawReason, PlanReason};
+use ellipsoid_splat::plan::{PathKind, PlanMode};
+#[cfg(feature = "research")]
+use ellipsoid_splat::Culling;
 use ellipsoid_splat::{
     Camera, DepthConvention, Ellipsoid, InstanceFormat, OffscreenRenderer, Outputs, Projection,
     Scene, Settings, NO_INSTANCE,
 };
 use ellipsoid_splat_loaders::random_cloud;
 use ellipsoid_splat_reference::testing::{
-    assert_frames_agree, finish_validated, validated_renderer, Agreement, Seen,
+    assert_frames_agree, finish_validated, splats, stamps, validated_renderer, visible_first,
+    Agreement, Seen,
 };
 use glam::{DQuat, DVec3};
 
@@ -31,16 +37,18 @@ fn assert_splat_matches_draw(
     // Visible first however deep the scene lies, to check it on every case.
     let settings = |compute_splat| {
         let mut settings = Settings::default();
-        settings.compute_splat = compute_splat;
-        settings.compute_splat_min_glyphs = 0;
-        settings.visible_first_min_hidden_px = 0.0;
+        settings.plan = PlanMode::Fixed(if compute_splat {
+            PathKind::VisibleFirst
+        } else {
+            PathKind::Draw
+        });
         settings.instance_format = format;
         settings
     };
     renderer.set_settings(settings(false));
     renderer.upload(scene).expect("upload");
     let plan = renderer.plan(camera).expect("plan");
-    assert!(!plan.compute_splat, "{name}: {plan:?}");
+    assert!(!splats(&plan), "{name}: {plan:?}");
     let drawn = renderer
         .render_uploaded(camera, Outputs::ALL)
         .expect("draw")
@@ -48,11 +56,11 @@ fn assert_splat_matches_draw(
     renderer.set_settings(settings(true));
     renderer.upload(scene).expect("upload");
     let plan = renderer.plan(camera).expect("plan");
+    assert!(splats(&plan), "{name}: the plan does not splat: {plan:?}");
     assert!(
-        plan.compute_splat,
-        "{name}: the plan does not splat: {plan:?}"
+        !visible_first(&plan),
+        "{name}: a new scene has no stamps yet"
     );
-    assert!(!plan.visible_first, "{name}: a new scene has no stamps yet");
     let splatted = renderer
         .render_uploaded(camera, Outputs::ALL)
         .expect("splat")
@@ -68,7 +76,7 @@ fn assert_splat_matches_draw(
     assert_frames_agree(agreement, name, &drawn, &splatted, seen);
     // The next frame splats first what this one showed.
     let plan = renderer.plan(camera).expect("plan");
-    assert!(plan.visible_first, "{name}: second frame: {plan:?}");
+    assert!(visible_first(&plan), "{name}: second frame: {plan:?}");
     let second = renderer
         .render_uploaded(camera, Outputs::ALL)
         .expect("visible-first splat")
@@ -163,7 +171,7 @@ fn medium_glyphs_many_layers_deep_match_the_draw() {
     let plan = renderer.plan(&camera).expect("plan");
     let area = plan.mean_area_px.expect("glyphs on screen");
     assert!(area > 50.0, "mean glyph area {area} px");
-    assert!(!plan.setup_once, "{plan:?}");
+    assert!(!plan.setup_once(), "{plan:?}");
     let full = InstanceFormat::Full;
     assert_splat_matches_draw(&mut renderer, "medium perspective", &scene, &camera, full);
     let ortho = Camera {
@@ -264,8 +272,11 @@ fn glyphs_too_large_to_splat_are_drawn_in_the_same_frame() {
         let count = |renderer: &mut OffscreenRenderer, scene: &Scene, splat: bool| {
             renderer.set_settings({
                 let mut settings = Settings::default();
-                settings.compute_splat = splat;
-                settings.compute_splat_min_glyphs = 0;
+                settings.plan = PlanMode::Fixed(if splat {
+                    PathKind::Splat
+                } else {
+                    PathKind::Draw
+                });
                 settings
             });
             renderer.upload(scene).expect("upload");
@@ -330,8 +341,11 @@ fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
         for compute_splat in [false, true] {
             renderer.set_settings({
                 let mut settings = Settings::default();
-                settings.compute_splat = compute_splat;
-                settings.compute_splat_min_glyphs = 0;
+                settings.plan = PlanMode::Fixed(if compute_splat {
+                    PathKind::Splat
+                } else {
+                    PathKind::Draw
+                });
                 settings
             });
             let frame = renderer
@@ -363,8 +377,7 @@ fn visible_first_frames_match_the_draw_at_each_stop_of_an_orbit() {
     let mut scene = random_cloud(6_000, 25, 10.0, 0.5);
     let splat = {
         let mut settings = Settings::default();
-        settings.compute_splat_min_glyphs = 0;
-        settings.visible_first_min_hidden_px = 0.0;
+        settings.plan = PlanMode::Fixed(PathKind::VisibleFirst);
         settings
     };
     let mut splatted = validated_renderer();
@@ -373,7 +386,7 @@ fn visible_first_frames_match_the_draw_at_each_stop_of_an_orbit() {
     let mut drawn = validated_renderer();
     drawn.set_settings({
         let mut settings = splat;
-        settings.compute_splat = false;
+        settings.plan = PlanMode::Fixed(PathKind::Draw);
         settings
     });
     drawn.upload(&scene).expect("upload");
@@ -406,16 +419,16 @@ fn visible_first_frames_match_the_draw_at_each_stop_of_an_orbit() {
                 // A drawn frame between stamps nothing and keeps the stamps of the last.
                 splatted.set_settings({
                     let mut settings = splat;
-                    settings.compute_splat = false;
+                    settings.plan = PlanMode::Fixed(PathKind::Draw);
                     settings
                 });
                 splatted.render_uploaded(&camera, Outputs::ALL).unwrap();
                 splatted.set_settings(splat);
             }
             let plan = splatted.plan(&camera).expect("plan");
-            assert!(plan.compute_splat, "stop {stop}: {plan:?}");
-            assert_eq!(plan.mark_shown, marks, "stop {stop}, frame {k}");
-            assert_eq!(plan.visible_first, first, "stop {stop}, frame {k}");
+            assert!(splats(&plan), "stop {stop}: {plan:?}");
+            assert_eq!(stamps(&plan), marks, "stop {stop}, frame {k}");
+            assert_eq!(visible_first(&plan), first, "stop {stop}, frame {k}");
             let frame = splatted.render_uploaded(&camera, Outputs::ALL).unwrap().0;
             let name = format!("stop {stop}, frame {k}");
             let seen = Seen {
@@ -475,14 +488,17 @@ fn chunked_splat_matches_the_draw(
     let render = |renderer: &mut OffscreenRenderer, compute_splat: bool, chunk: u32| {
         renderer.set_settings({
             let mut settings = Settings::default();
-            settings.compute_splat = compute_splat;
-            settings.compute_splat_min_glyphs = 0;
+            settings.plan = PlanMode::Fixed(if compute_splat {
+                PathKind::Splat
+            } else {
+                PathKind::Draw
+            });
             settings.max_chunk_instances = chunk;
             settings
         });
         renderer.upload(scene).expect("upload");
         let plan = renderer.plan(camera).expect("plan");
-        assert_eq!(plan.compute_splat, compute_splat, "{name}: {plan:?}");
+        assert_eq!(splats(&plan), compute_splat, "{name}: {plan:?}");
         renderer
             .render_uploaded(camera, Outputs::ALL)
             .expect("render")
@@ -519,7 +535,7 @@ fn chunked_splat_matches_the_draw(
 #[cfg(feature = "research")]
 #[test]
 fn visibility_buffer_draw_matches_the_draw() {
-    use ellipsoid_splat::draw::Method;
+    use ellipsoid_splat::research::Method;
     let camera = Camera::look_at(
         DVec3::new(3.0, -2.0, 24.0),
         DVec3::ZERO,
@@ -584,8 +600,11 @@ fn visibility_buffer_draw_matches_the_draw() {
             });
             renderer.upload(scene).expect("upload");
             let plan = renderer.plan(&camera).expect("plan");
+            // The visibility-buffer draw is a baseline: the draw's path, no culling.
+            let visbuffer = plan.reason == PlanReason::Only(DrawReason::Baseline)
+                && plan.culling() == Culling::OFF;
             assert_eq!(
-                plan.visibility_draw,
+                visbuffer,
                 method == Method::ImpostorVisbuffer,
                 "{name}: {plan:?}"
             );
@@ -613,7 +632,7 @@ fn visibility_buffer_draw_matches_the_draw() {
 #[cfg(feature = "research")]
 #[test]
 fn ray_casts_are_counted_against_the_reference() {
-    use ellipsoid_splat::draw::Method;
+    use ellipsoid_splat::research::Method;
     use ellipsoid_splat_reference::reference::render_reference;
 
     // Glyphs of a few to tens of pixels, several layers deep.

@@ -8,6 +8,7 @@ use ellipsoid_splat::Outputs;
 use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
+use ellipsoid_splat::plan::{PathKind, PlanMode};
 use ellipsoid_splat::Culling;
 use ellipsoid_splat::Ellipsoid;
 use ellipsoid_splat::OffscreenRenderer;
@@ -82,9 +83,11 @@ fn assert_culling_exact(
     scene: &Scene,
     camera: &Camera,
 ) -> (Vec<u64>, u64) {
+    // The culling is the draw's: the draw takes every frame.
     renderer.set_settings({
         let mut settings = *renderer.settings();
         settings.culling = Culling::OFF;
+        settings.plan = PlanMode::Fixed(PathKind::Draw);
         settings
     });
     renderer.upload(scene).expect("upload");
@@ -108,7 +111,7 @@ fn assert_culling_exact(
             .render_uploaded(camera, Outputs::ALL)
             .expect("render with culling");
         assert_eq!(
-            renderer.plan(camera).unwrap().culling,
+            renderer.plan(camera).unwrap().culling(),
             culling,
             "{culling:?}"
         );
@@ -250,6 +253,12 @@ fn setup_in_the_prepass_changes_no_pixel() {
     let mut orthographic = perspective;
     orthographic.projection = Projection::Orthographic { height: 22.0 };
     let mut renderer = validated_renderer();
+    // Set-up once is the draw's: the draw takes every frame.
+    renderer.set_settings({
+        let mut settings = *renderer.settings();
+        settings.plan = PlanMode::Fixed(PathKind::Draw);
+        settings
+    });
     renderer.upload(&scene).expect("upload");
     for camera in [perspective, orthographic] {
         for culling in [Culling::ON, Culling::OFF] {
@@ -266,14 +275,14 @@ fn setup_in_the_prepass_changes_no_pixel() {
             let (plain, _) = renderer
                 .render_uploaded(&camera, Outputs::ALL)
                 .expect("render");
-            assert!(!renderer.plan(&camera).expect("plan").setup_once);
+            assert!(!renderer.plan(&camera).expect("plan").setup_once());
             renderer.set_settings({
                 let mut settings = *renderer.settings();
                 settings.setup_once = true;
                 settings
             });
             assert!(
-                renderer.plan(&camera).expect("plan").setup_once,
+                renderer.plan(&camera).expect("plan").setup_once(),
                 "the glyphs should be small enough for the pre-pass set-up"
             );
             let (setup_once, _) = renderer

@@ -10,10 +10,12 @@
 use ellipsoid_splat_test_host as host;
 
 use ash::vk;
+use ellipsoid_splat::plan::PathKind;
 use ellipsoid_splat::{
     Camera, DeviceFeatures, Ellipsoid, EllipsoidRenderer, HostDevice, Material, Pass,
     RendererOptions, Scene, Settings, Target,
 };
+use ellipsoid_splat_reference::testing::fixed_path;
 use glam::{DMat4, DQuat, DVec2, DVec3};
 use gpu_allocator::vulkan::Allocator;
 use host::{DepthKind, Host, HostTarget, MeshPipeline, TargetKind};
@@ -799,7 +801,7 @@ fn an_upload_between_pre_pass_and_draw_is_refused() {
         renderer
             .record_prepass(device, allocator, cmd, &camera)
             .unwrap();
-        assert!(renderer.plan(&camera).unwrap().prepass, "the frame culls");
+        assert!(renderer.plan(&camera).unwrap().prepass(), "the frame culls");
         renderer.upload(device, allocator, cmd, &scene).unwrap();
         renderer.record(device, allocator, cmd, &camera)
     };
@@ -839,12 +841,11 @@ fn render_small_glyphs(
             target.aux_outputs = false;
             target
         });
-        options.settings = {
-            let mut settings = Settings::default();
-            settings.compute_splat = compute_splat;
-            settings.compute_splat_min_glyphs = 0;
-            settings
-        };
+        options.settings = fixed_path(if compute_splat {
+            PathKind::Splat
+        } else {
+            PathKind::Draw
+        });
         options
     };
     // 20,000 glyphs of about a pixel in a slab around the plane, many cutting through it.
@@ -870,7 +871,7 @@ fn render_small_glyphs(
     let splatted = unsafe {
         renderer.begin_frame(device, allocator, 0).unwrap();
         renderer.upload(device, allocator, cmd, &scene).unwrap();
-        let splatted = renderer.plan(&camera).unwrap().compute_splat;
+        let splatted = renderer.plan(&camera).unwrap().path.splat().is_some();
         renderer
             .record_prepass(device, allocator, cmd, &camera)
             .unwrap();

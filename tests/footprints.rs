@@ -1,7 +1,7 @@
 //! Every footprint the benchmark compares (feature `research`) covers exactly the pixels of
 //! the float64 reference, in perspective, near-plane cuts and orthographic views.
 
-use ellipsoid_splat::draw::{DrawConfig, Footprint};
+use ellipsoid_splat::research::{DrawConfig, Footprint};
 use ellipsoid_splat::{Camera, Outputs, Projection};
 use ellipsoid_splat_loaders::random_cloud;
 use ellipsoid_splat_reference::testing::{finish_validated, validated_renderer};

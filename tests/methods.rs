@@ -5,7 +5,7 @@ use ellipsoid_splat::Outputs;
 use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
-use ellipsoid_splat::draw::{DrawConfig, Footprint, Method};
+use ellipsoid_splat::research::{DrawConfig, Footprint, Method};
 use ellipsoid_splat::{Camera, Projection, NO_INSTANCE};
 use ellipsoid_splat_loaders::random_cloud;
 use ellipsoid_splat_reference::compare::{compare, Bounds};
@@ -46,7 +46,9 @@ fn every_method_renders_what_it_promises() {
             | Method::ImpostorHexagon
             | Method::ImpostorOctagon
             | Method::ImpostorFastNormal
+            | Method::ImpostorEstimate
             | Method::ImpostorCompute
+            | Method::ImpostorVisibleFirst
             | Method::ImpostorDraw
             | Method::ImpostorFirstFrame
             | Method::ImpostorVisbuffer

@@ -4,6 +4,7 @@
 //! of its memory back. Prints the GPU memory the scene takes with each allocator.
 
 use ash::vk;
+use ellipsoid_splat::plan::{PathKind, PlanMode};
 use ellipsoid_splat::{
     DeviceFeatures, EllipsoidRenderer, HostDevice, MemoryAllocator, RendererOptions, Scene,
     Settings, Target, NO_INSTANCE,
@@ -110,11 +111,12 @@ fn a_host_on_vma_draws_what_a_host_on_gpu_allocator_draws() {
     let reference = render_reference(&scene, &camera).unwrap();
     // The draw, and the compute splat taking every glyph.
     for splat in [false, true] {
-        let settings = {
-            let mut settings = Settings::default();
-            settings.compute_splat_min_glyphs = if splat { 1 } else { u32::MAX };
-            settings
-        };
+        let mut settings = Settings::default();
+        settings.plan = PlanMode::Fixed(if splat {
+            PathKind::Splat
+        } else {
+            PathKind::Draw
+        });
         let vma_blocks = |vma: &vk_mem::Allocator| {
             vma.calculate_statistics()
                 .unwrap()

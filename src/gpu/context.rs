@@ -68,7 +68,7 @@ pub struct DeviceInfo {
     /// Whether fragment shaders may write storage buffers (the `bench` fragment counter).
     pub fragment_stores_and_atomics: bool,
     /// Whether `shaderInt64` and `shaderBufferInt64Atomics` were enabled: the compute splat
-    /// path ([`crate::Settings::compute_splat`]) needs both.
+    /// path ([`crate::plan::FramePath::Splat`]) needs both.
     pub compute_splat: bool,
     /// The renderer's features the device was created with.
     pub renderer_features: DeviceFeatures,

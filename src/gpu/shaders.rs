@@ -5,55 +5,50 @@ use ash::vk;
 use crate::error::{Error, Result, VkCall};
 
 /// One fragment shader's builds (`build.rs`): with or without the normal and ID outputs
-/// (`AUX_OUTPUTS`), and with the `research` feature also with the shaded-pixel counter
-/// (`COUNT_FRAGMENTS`).
+/// (`AUX_OUTPUTS`). The `research` feature's counting builds are the research module's.
 #[derive(Clone, Copy, Debug)]
 pub struct FragmentShader {
+    /// The source's file name, e.g. `ellipsoid.frag`.
+    pub name: &'static str,
     /// Colour only.
     pub plain: &'static [u8],
     /// Colour, normal and ID.
     pub aux: &'static [u8],
-    /// Colour only, counting shaded pixels.
-    #[cfg(feature = "research")]
-    pub counted: &'static [u8],
-    /// Colour, normal and ID, counting shaded pixels.
-    #[cfg(feature = "research")]
-    pub aux_counted: &'static [u8],
 }
 
 impl FragmentShader {
-    /// The build with (`aux`) the normal and ID outputs and (`counted`) the pixel counter
-    /// (ignored without the `research` feature, which alone builds it).
-    pub fn pick(&self, aux: bool, counted: bool) -> &'static [u8] {
-        match (aux, counted) {
-            #[cfg(feature = "research")]
-            (false, true) => self.counted,
-            #[cfg(feature = "research")]
-            (true, true) => self.aux_counted,
-            (false, _) => self.plain,
-            (true, _) => self.aux,
+    /// The build with (`aux`) or without the normal and ID outputs.
+    pub fn pick(&self, aux: bool) -> &'static [u8] {
+        if aux {
+            self.aux
+        } else {
+            self.plain
         }
     }
 }
 
+/// The SPIR-V `build.rs` made of one build, by its file name.
 macro_rules! spirv {
     ($file:literal) => {
         include_bytes!(concat!(env!("OUT_DIR"), "/", $file))
     };
 }
+// The research module's shaders use the two macros too.
+#[allow(unused_imports)]
+pub(crate) use spirv;
 
+/// A fragment shader's two builds, by its source's file name.
 macro_rules! fragment_shader {
     ($name:literal) => {
-        FragmentShader {
+        $crate::gpu::shaders::FragmentShader {
+            name: $name,
             plain: include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".spv")),
             aux: include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".aux.spv")),
-            #[cfg(feature = "research")]
-            counted: include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".counted.spv")),
-            #[cfg(feature = "research")]
-            aux_counted: include_bytes!(concat!(env!("OUT_DIR"), "/", $name, ".aux.counted.spv")),
         }
     };
 }
+#[allow(unused_imports)]
+pub(crate) use fragment_shader;
 
 /// The ellipsoid impostor vertex shader.
 pub const ELLIPSOID_VERT: &[u8] = spirv!("ellipsoid.vert.spv");
@@ -63,25 +58,6 @@ pub const ELLIPSOID_FRAG: FragmentShader = fragment_shader!("ellipsoid.frag");
 pub const ELLIPSOID_SETUP_ONCE_VERT: &[u8] = spirv!("ellipsoid_setup_once.vert.spv");
 /// `ELLIPSOID_FRAG` reading the set-up the pre-pass computed once (`SETUP_ONCE`).
 pub const ELLIPSOID_SETUP_ONCE_FRAG: FragmentShader = fragment_shader!("ellipsoid_setup_once.frag");
-/// The `impostor-flat-depth` fragment shader (no depth write).
-#[cfg(feature = "research")]
-pub const ELLIPSOID_FLAT_DEPTH_FRAG: FragmentShader = fragment_shader!("ellipsoid_flat_depth.frag");
-/// The `flat-fill` fragment shader.
-#[cfg(feature = "research")]
-pub const FLAT_FILL_FRAG: FragmentShader = fragment_shader!("flat_fill.frag");
-/// `impostor-visbuffer`'s fragment stage: the nearest hit per pixel into the visibility
-/// buffer, nothing shaded.
-#[cfg(feature = "research")]
-pub const ELLIPSOID_VISIBILITY_FRAG: FragmentShader = fragment_shader!("ellipsoid_visibility.frag");
-/// Icosphere vertex shader (`mesh-L*`).
-#[cfg(feature = "research")]
-pub const MESH_VERT: &[u8] = spirv!("mesh.vert.spv");
-/// Icosphere fragment shader (`mesh-L*`).
-#[cfg(feature = "research")]
-pub const MESH_FRAG: FragmentShader = fragment_shader!("mesh.frag");
-/// Oriented-box proxy vertex shader (`box-proxy`).
-#[cfg(feature = "research")]
-pub const BOX_VERT: &[u8] = spirv!("box.vert.spv");
 /// The compute splat: each kept glyph's pixel centres into the visibility buffer.
 pub const SPLAT_COMP: &[u8] = spirv!("splat.comp.spv");
 /// The compute splat's resolve: a square per resolve tile a splatted glyph touched.
@@ -124,7 +100,7 @@ const DEPTH_GREATER: u32 = 14;
 const DEPTH_LESS: u32 = 15;
 
 /// Turns `OpExecutionMode %main DepthLess` into `DepthGreater`; returns how many it changed.
-fn mirror_depth_layout(words: &mut [u32]) -> usize {
+pub(crate) fn mirror_depth_layout(words: &mut [u32]) -> usize {
     let mut changed = 0;
     let mut at = 5; // after the header
     while at < words.len() {
@@ -146,11 +122,9 @@ fn mirror_depth_layout(words: &mut [u32]) -> usize {
 mod tests {
     use super::*;
 
+    /// (The research module checks its counting builds the same way.)
     #[test]
     fn every_depth_writing_fragment_shader_declares_depth_less_once() {
-        #[cfg(feature = "research")]
-        let builds = |f: FragmentShader| [f.plain, f.aux, f.counted, f.aux_counted];
-        #[cfg(not(feature = "research"))]
         let builds = |f: FragmentShader| [f.plain, f.aux];
         for spirv in builds(ELLIPSOID_FRAG)
             .into_iter()

@@ -17,6 +17,7 @@ use crate::frame::Frame;
 use crate::gpu::queries::{FrameQueries, QueryResults};
 use crate::gpu::{Context, ContextOptions};
 use crate::renderer::{EllipsoidRenderer, FramePlan};
+use crate::research;
 use crate::scene::Scene;
 use crate::settings::Settings;
 use crate::target::{HostDevice, Pass, RendererOptions, Target, ID_FORMAT, NORMAL_FORMAT};
@@ -44,9 +45,6 @@ pub struct OffscreenRenderer {
     sample_zero: Option<SampleZero>,
     /// Samples per pixel of the attachments (`set_samples`).
     samples: vk::SampleCountFlags,
-    /// Read-back frames count shaded pixels (the benchmark's measuring aid).
-    #[cfg(feature = "research")]
-    count_fragments: bool,
     /// A submission failed or was not waited for to completion: its command buffer may still
     /// be pending, so nothing may be recorded again.
     unfinished: bool,
@@ -86,8 +84,6 @@ impl OffscreenRenderer {
             queries: None,
             sample_zero: None,
             samples: vk::SampleCountFlags::TYPE_1,
-            #[cfg(feature = "research")]
-            count_fragments: false,
             unfinished: false,
             context,
         };
@@ -187,50 +183,28 @@ impl OffscreenRenderer {
         self.renderer().plan(camera)
     }
 
+    /// The plan of the last frame: the path it took and why (see
+    /// [`EllipsoidRenderer::last_plan`]).
+    pub fn last_plan(&self) -> Option<&FramePlan> {
+        self.renderer().last_plan()
+    }
+
+    /// What the plan learned on this device, as bytes (see
+    /// [`EllipsoidRenderer::plan_wisdom`]).
+    pub fn plan_wisdom(&self) -> Vec<u8> {
+        self.renderer().plan_wisdom()
+    }
+
+    /// Takes in what a renderer on the same device and driver build learned (see
+    /// [`EllipsoidRenderer::load_plan_wisdom`]).
+    pub fn load_plan_wisdom(&mut self, bytes: &[u8]) -> Result<()> {
+        self.renderer_mut().load_plan_wisdom(bytes)
+    }
+
     /// Bytes of GPU memory the uploaded scene's buffers take (see
     /// [`EllipsoidRenderer::gpu_memory_bytes`]).
     pub fn gpu_memory_bytes(&self) -> u64 {
         self.renderer().gpu_memory_bytes()
-    }
-
-    /// Draws with a benchmark baseline's `config` from the next frame on.
-    #[cfg(feature = "research")]
-    pub fn set_draw_config(&mut self, config: crate::draw::DrawConfig) {
-        self.renderer_mut().set_draw_config(config);
-    }
-
-    /// Replaces the compute splat by one of its floors (see
-    /// [`EllipsoidRenderer::set_splat_floor`]).
-    #[cfg(feature = "research")]
-    pub fn set_splat_floor(&mut self, floor: u32) {
-        self.renderer_mut().set_splat_floor(floor);
-    }
-
-    /// Forgets which glyphs the last frame showed (see
-    /// [`EllipsoidRenderer::forget_shown`]).
-    #[cfg(feature = "research")]
-    pub fn forget_shown(&mut self) {
-        self.renderer_mut().forget_shown();
-    }
-
-    /// Gives the visible-pixel floor the pixels each glyph shows (see
-    /// [`EllipsoidRenderer::set_floor_pixels`]).
-    #[cfg(feature = "research")]
-    pub fn set_floor_pixels(&mut self, ids: &[u32], width: u32) -> Result<()> {
-        let (device, allocator) = self.context.device_and_allocator();
-        let renderer = self
-            .renderer
-            .as_mut()
-            .expect("renderer exists after construction");
-        // SAFETY: the renderer was made on this context's device and allocator.
-        unsafe { renderer.set_floor_pixels(device, allocator, ids, width) }
-    }
-
-    /// With `true`, read-back frames run the counting shader builds and report
-    /// `FrameTiming::shaded_fragments` (needs `fragmentStoresAndAtomics`).
-    #[cfg(feature = "research")]
-    pub fn set_count_fragments(&mut self, on: bool) {
-        self.count_fragments = on;
     }
 
     fn renderer(&self) -> &EllipsoidRenderer {
@@ -239,21 +213,33 @@ impl OffscreenRenderer {
             .expect("renderer exists after construction")
     }
 
-    fn renderer_mut(&mut self) -> &mut EllipsoidRenderer {
+    pub(crate) fn renderer_mut(&mut self) -> &mut EllipsoidRenderer {
         self.renderer
             .as_mut()
             .expect("renderer exists after construction")
+    }
+
+    /// The device, the allocator and the renderer, borrowed together.
+    pub(crate) fn parts(
+        &mut self,
+    ) -> (
+        &ash::Device,
+        &mut gpu_allocator::vulkan::Allocator,
+        &mut EllipsoidRenderer,
+    ) {
+        let (device, allocator) = self.context.device_and_allocator();
+        let renderer = self
+            .renderer
+            .as_mut()
+            .expect("renderer exists after construction");
+        (device, allocator, renderer)
     }
 
     /// Uploads the scene's instances (replacing the previous scene), in a submission of its
     /// own.
     pub fn upload(&mut self, scene: &Scene) -> Result<()> {
         let cmd = self.begin_commands()?;
-        let renderer = self
-            .renderer
-            .as_mut()
-            .expect("renderer exists after construction");
-        let (device, allocator) = self.context.device_and_allocator();
+        let (device, allocator, renderer) = self.parts();
         // SAFETY: `cmd` is recording outside a pass; it is submitted and waited for below.
         let recorded = unsafe { renderer.upload(device, allocator, cmd, scene) };
         // SAFETY: `cmd` is recording.
@@ -360,24 +346,17 @@ impl OffscreenRenderer {
     ) -> Result<FrameTiming> {
         check_views(extent, cameras)?;
         self.ensure_targets(extent, outputs)?;
-        #[cfg(feature = "research")]
-        let counting =
-            readback && self.count_fragments && self.context.info().fragment_stores_and_atomics;
-        {
+        let supported = self.context.info().fragment_stores_and_atomics;
+        let counting = {
             // Recording builds any pipeline the frame needs (the plan decides once, in
             // `record_prepass`); the timed part is submit to fence.
-            let renderer = self
-                .renderer
-                .as_mut()
-                .expect("renderer exists after construction");
+            let samples = self.samples;
+            let renderer = self.renderer_mut();
             // SAFETY: the offscreen targets are dynamic rendering: no render pass to outlive.
-            unsafe { renderer.set_target(target(outputs.aux(), self.samples))? };
-            #[cfg(feature = "research")]
-            {
-                renderer.set_count_fragments(counting);
-                renderer.reset_fragment_counter()?;
-            }
-        }
+            unsafe { renderer.set_target(target(outputs.aux(), samples))? };
+            // The benchmark's read-back frames count shaded pixels (`research`; never else).
+            research::begin_counting(renderer, readback, supported)?
+        };
         self.record(cameras, extent, outputs, readback)?;
         let start = Instant::now();
         self.submit_and_wait()?;
@@ -386,18 +365,11 @@ impl OffscreenRenderer {
             Some(q) => q.read(self.context.device())?,
             None => QueryResults::default(),
         };
-        #[cfg(feature = "research")]
         let (shaded_fragments, compute_ray_casts) = if counting {
-            let renderer = self.renderer();
-            (
-                renderer.fragment_count().map(u64::from),
-                renderer.compute_ray_count().map(u64::from),
-            )
+            research::counts(self.renderer())
         } else {
             (None, None)
         };
-        #[cfg(not(feature = "research"))]
-        let (shaded_fragments, compute_ray_casts) = (None, None);
         Ok(FrameTiming {
             gpu_wall,
             gpu,

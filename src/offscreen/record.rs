@@ -277,7 +277,6 @@ impl OffscreenRenderer {
                 if let (Some((_, drawn)), Some(fetch)) = (&targets.multisampled, sample_zero) {
                     record_sample_zero(device, cmd, fetch, targets, drawn, outputs, offsets);
                 }
-                #[cfg(feature = "research")]
                 renderer.record_counter_barrier(device, cmd);
                 // Make the copies and fetches visible to the host read after the fence.
                 let to_host = vk::BufferMemoryBarrier::default()

@@ -8,7 +8,7 @@ use ash::vk;
 
 use crate::error::{Result, VkCall};
 use crate::gpu_layout::SpecConstants;
-use crate::pipeline::create_compute_pipeline;
+use crate::renderer::pipelines::create_compute_pipeline;
 
 /// The depth build: a `texture2DMS` whose sample 0 is written as float bits.
 const DEPTH_COMP: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/sample_zero_depth.comp.spv"));

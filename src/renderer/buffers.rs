@@ -144,30 +144,26 @@ pub(crate) struct SceneBuffers {
 
 impl SceneBuffers {
     /// The buffer of `binding`, if it exists.
-    #[cfg(feature = "research")]
     pub fn get(&self, binding: Binding) -> Option<&GpuBuffer> {
         self.buffers[binding as usize].as_ref()
     }
 
     /// The handle of `binding`'s buffer, or an error naming it.
     pub fn handle(&self, binding: Binding) -> Result<vk::Buffer> {
-        self.buffers[binding as usize]
-            .as_ref()
-            .map(GpuBuffer::handle)
-            .ok_or_else(|| {
-                Error::invalid(
-                    "descriptor set",
-                    format!(
-                        "binding {} ({}) has no buffer",
-                        binding as u32,
-                        binding.name()
-                    ),
-                )
-            })
+        self.get(binding).map(GpuBuffer::handle).ok_or_else(|| {
+            Error::invalid(
+                "descriptor set",
+                format!(
+                    "binding {} ({}) has no buffer",
+                    binding as u32,
+                    binding.name()
+                ),
+            )
+        })
     }
 
-    /// The buffer of `binding`, mutably (the host-visible counter).
-    #[cfg(feature = "research")]
+    /// The buffer of `binding`, mutably (the host-visible counter; the research module's).
+    #[allow(dead_code)]
     pub fn get_mut(&mut self, binding: Binding) -> Option<&mut GpuBuffer> {
         self.buffers[binding as usize].as_mut()
     }
@@ -182,29 +178,15 @@ impl SceneBuffers {
         binding: Binding,
         bytes: u64,
     ) -> Result<()> {
-        let slot = &mut self.buffers[binding as usize];
-        if let Some(buffer) = slot.take() {
-            if buffer.size() >= bytes {
-                *slot = Some(buffer);
-                return Ok(());
-            }
-            slots.retire(Retired::Buffer(buffer));
+        if self.get(binding).is_some_and(|b| b.size() >= bytes) {
+            return Ok(());
         }
-        *slot = Some(GpuBuffer::new(
-            device,
-            allocator,
-            binding.name(),
-            bytes,
-            binding.usage(),
-            binding.memory_use(),
-        )?);
-        self.replaced = true;
-        Ok(())
+        self.replace(device, allocator, slots, binding, bytes)
+            .map(|_| ())
     }
 
     /// Replaces `binding`'s buffer by a new one of `bytes` (the old one retired into `slots`
-    /// until no recorded frame can use it), for a host-visible buffer rewritten whole.
-    #[cfg(feature = "research")]
+    /// until no recorded frame can use it).
     pub fn replace(
         &mut self,
         device: &ash::Device,

@@ -2,8 +2,6 @@
 //! its own descriptor set (slices of the scene's buffers), pre-pass and draw, in instance
 //! order so depth ties resolve as in one draw.
 
-use crate::culling;
-
 /// Alignment of each chunk's slice of a buffer: a multiple of every device's
 /// `minStorageBufferOffsetAlignment` (at most 256 by the specification).
 pub(crate) const SLICE_ALIGN: u64 = 256;
@@ -45,6 +43,6 @@ impl Chunking {
     /// Bytes of one chunk's slice of the culling-groups buffer.
     pub fn groups_slice(&self) -> u64 {
         let chunk = self.capacity.min(self.count.max(1));
-        culling::groups_bytes(chunk).next_multiple_of(SLICE_ALIGN)
+        super::prepass::steps::groups_bytes(chunk).next_multiple_of(SLICE_ALIGN)
     }
 }

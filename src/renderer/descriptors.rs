@@ -4,7 +4,7 @@
 
 use ash::vk;
 
-use crate::culling;
+use super::prepass::steps;
 use crate::error::{Error, Result, VkCall};
 use crate::gpu_layout::{FootprintRecord, IndirectDraw, ShadingRecord};
 
@@ -94,7 +94,7 @@ pub(crate) fn create_chunk_sets(
             | Binding::GlyphStamps => whole,
             Binding::Visible => slice(4),
             Binding::IndirectDraw => (k as u64 * SLICE_ALIGN, size_of::<IndirectDraw>() as u64),
-            Binding::CullGroups => (k as u64 * groups, culling::groups_bytes(count as u32)),
+            Binding::CullGroups => (k as u64 * groups, steps::groups_bytes(count as u32)),
             Binding::ShadingRecords => record(size_of::<ShadingRecord>()),
             Binding::FootprintRecords => record(size_of::<FootprintRecord>()),
         });

@@ -4,16 +4,16 @@ use crate::allocator::MemoryAllocator;
 use ash::vk;
 
 use crate::camera::Camera;
-use crate::draw::Geometry;
 use crate::error::{Error, Result};
 use crate::gpu_layout::resolve_tiles;
-use crate::pipeline::PipelineKey;
 
 use super::buffers::Binding;
 use super::chunks::SLICE_ALIGN;
+use super::pipelines::keys::PipelineKey;
 use super::pipelines::DRAW_PUSH_STAGES;
 use super::plan::FramePlan;
 use super::push::push_constants;
+use super::viewport::viewport_and_scissor;
 use super::EllipsoidRenderer;
 
 impl EllipsoidRenderer {
@@ -26,31 +26,18 @@ impl EllipsoidRenderer {
         allocator: &mut dyn MemoryAllocator,
         plan: &FramePlan,
     ) -> Result<(vk::Pipeline, Option<vk::Pipeline>)> {
-        #[cfg(feature = "research")]
-        if let Geometry::Mesh(level) = plan.config.geometry {
-            self.meshes.ensure(device, allocator, level)?;
-        }
-        #[cfg(not(feature = "research"))]
-        let _ = allocator;
+        self.research.prepare(device, allocator, plan)?;
         let target = &self.targets[plan.target];
-        let resolve = match PipelineKey::resolve(plan) {
+        let resolve = match PipelineKey::resolve(plan, &self.research) {
             Some(key) => Some(self.pipelines.draw(device, key, target)?),
             None => None,
         };
-        // The benchmark's visibility-buffer draw runs in a pass of its own, with no
-        // attachments.
-        #[cfg(feature = "research")]
-        let no_attachments = super::visibility_draw::no_attachments();
-        #[cfg(feature = "research")]
-        let target = if plan.visibility_draw {
-            &no_attachments
-        } else {
-            target
-        };
-        Ok((
-            self.pipelines.draw(device, PipelineKey::of(plan), target)?,
-            resolve,
-        ))
+        // A baseline drawn in a pass of its own (the visibility-buffer draw) has a target of
+        // its own.
+        let own_target = plan.baseline.and_then(|b| b.own_pass_target());
+        let target = own_target.as_ref().unwrap_or(target);
+        let key = PipelineKey::draw(plan, &self.research);
+        Ok((self.pipelines.draw(device, key, target)?, resolve))
     }
 
     /// Creates the pipeline of a frame with `camera` now, so the first `record` with it
@@ -104,23 +91,23 @@ impl EllipsoidRenderer {
             return Ok(());
         }
         // A view draws into the target that was current at its pre-pass (its plan's).
-        let (view, plan) = match prepared {
-            Some(prepared) => prepared,
+        let (view, plan, timed) = match prepared {
+            Some((view, plan)) => (view, plan, Some(view)),
             None => {
                 // A frame without a pre-pass reads no view's buffers: any view's sets do.
                 let plan = self.plan_for_view(0, camera)?;
-                if plan.prepass {
+                if plan.prepass() {
                     return Err(Error::invalid(
                         "record",
                         "this frame has a pre-pass: call record_prepass with the same camera \
                          first (each pre-pass serves one draw)",
                     ));
                 }
-                (0, plan)
+                (0, plan, None)
             }
         };
         // A plan without a pre-pass reads no view's buffers: view 0's sets do.
-        let view = if plan.prepass { view } else { 0 };
+        let view = if plan.prepass() { view } else { 0 };
         let (pipeline, resolve) = self.prepare(device, allocator, &plan)?;
         let sets = self.descriptor_sets(device, view)?;
         let (viewport, scissor) = viewport_and_scissor(camera);
@@ -129,17 +116,18 @@ impl EllipsoidRenderer {
         let layout = self.pipelines.draw_layout;
         // The visibility-buffer draw is done by now (`record_prepass`): only its resolve
         // remains.
-        let draw = (!plan.visibility_draw).then_some(pipeline);
+        let draw = (!plan.visibility_draw()).then_some(pipeline);
         // SAFETY: `cmd` is recording inside a compatible rendering pass (caller contract); every
         // bound object is owned by `self` and outlives the command buffer's execution.
         unsafe {
+            if let Some(timed) = timed {
+                self.timer.draw_start(device, cmd, self.slot, timed);
+            }
             if let Some(pipeline) = draw.or(resolve) {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
             }
             device.cmd_set_viewport(cmd, 0, &[viewport]);
             device.cmd_set_scissor(cmd, 0, &[scissor]);
-            #[cfg(feature = "research")]
-            self.meshes.bind(device, cmd, plan.config.geometry);
             // One draw per chunk, in instance order (so depth ties resolve as in one draw).
             let chunks: Vec<(u32, u32)> = self.chunking().chunks().collect();
             for (k, ((first, count), set)) in chunks.into_iter().zip(sets).enumerate() {
@@ -166,7 +154,7 @@ impl EllipsoidRenderer {
                     bytemuck::bytes_of(&push),
                 );
                 // The benchmark's floors measure the splat alone: nothing drawn.
-                if plan.compute_splat && self.splat_floor != 0 {
+                if plan.path.splat().is_some() && self.research.splat_floor() != 0 {
                     continue;
                 }
                 if let Some(resolve) = resolve {
@@ -183,53 +171,29 @@ impl EllipsoidRenderer {
                 if resolve.is_some() {
                     device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
                 }
-                match plan.config.geometry {
-                    Geometry::Impostor if plan.indirect_draw => {
-                        let offset = k as u64 * SLICE_ALIGN;
+                let indirect = plan
+                    .indirect_draw()
+                    .then_some((indirect, k as u64 * SLICE_ALIGN));
+                match (plan.baseline, indirect) {
+                    (Some(baseline), indirect) => self.research.record_draw(
+                        device,
+                        cmd,
+                        baseline,
+                        indirect,
+                        count,
+                        plan.footprint,
+                    ),
+                    (None, Some((buffer, offset))) => {
                         let stride = size_of::<vk::DrawIndirectCommand>() as u32;
-                        device.cmd_draw_indirect(cmd, indirect, offset, 1, stride)
+                        device.cmd_draw_indirect(cmd, buffer, offset, 1, stride)
                     }
-                    Geometry::Impostor => {
-                        device.cmd_draw(cmd, plan.config.footprint.vertices(), count, 0, 0)
-                    }
-                    #[cfg(feature = "research")]
-                    Geometry::BoxProxy => device.cmd_draw(cmd, 36, count, 0, 0),
-                    #[cfg(feature = "research")]
-                    Geometry::Mesh(level) => {
-                        device.cmd_draw_indexed(cmd, self.meshes.index_count(level), count, 0, 0, 0)
-                    }
-                    // Unreachable: without `research` the baselines have no pipeline, and
-                    // `prepare` refused them above.
-                    #[cfg(not(feature = "research"))]
-                    Geometry::BoxProxy | Geometry::Mesh(_) => {}
+                    (None, None) => device.cmd_draw(cmd, plan.footprint.vertices(), count, 0, 0),
                 }
+            }
+            if let Some(timed) = timed {
+                self.timer.draw_end(device, cmd, self.slot, timed);
             }
         }
         Ok(())
     }
-}
-
-/// The viewport and scissor of `camera`'s image in the attachments: its size at its
-/// `viewport_origin` (which `Camera::validate` keeps within 16384 pixels), depth range [0, 1].
-pub(super) fn viewport_and_scissor(camera: &Camera) -> (vk::Viewport, vk::Rect2D) {
-    let [x, y] = camera.viewport_origin;
-    let viewport = vk::Viewport {
-        x: x as f32,
-        y: y as f32,
-        width: camera.width as f32,
-        height: camera.height as f32,
-        min_depth: 0.0,
-        max_depth: 1.0,
-    };
-    let scissor = vk::Rect2D {
-        offset: vk::Offset2D {
-            x: x as i32,
-            y: y as i32,
-        },
-        extent: vk::Extent2D {
-            width: camera.width,
-            height: camera.height,
-        },
-    };
-    (viewport, scissor)
 }

@@ -39,28 +39,29 @@ mod buffers;
 mod chunks;
 mod descriptors;
 mod draw;
-mod draw_reason;
-mod pipelines;
+mod estimate;
+mod frame_timer;
+mod learning;
+pub(crate) mod pipelines;
 mod plan;
-mod prepass;
-mod push;
-#[cfg(feature = "research")]
-mod research;
+mod plan_reason;
+pub(crate) mod prepass;
+pub(crate) mod push;
 mod upload;
 mod uploaded;
 mod view;
-#[cfg(feature = "research")]
-mod visibility_draw;
+pub(crate) mod viewport;
+mod wisdom;
 
 use crate::allocator::MemoryAllocator;
 use ash::vk;
 use glam::DVec3;
 
 use crate::camera::Camera;
-use crate::draw::DrawConfig;
 use crate::error::Result;
 use crate::features::DeviceFeatures;
 use crate::frame_slots::{FrameSlots, Retired};
+use crate::research::Research;
 use crate::settings::Settings;
 use crate::target::DeviceCaps;
 use crate::target::{HostDevice, RendererOptions, Target};
@@ -68,10 +69,13 @@ use crate::target::{HostDevice, RendererOptions, Target};
 pub(crate) use buffers::Binding;
 use buffers::SceneBuffers;
 use chunks::Chunking;
-pub use draw_reason::DrawReason;
+pub use estimate::{SPLAT_MAX_MEAN_AREA_PX, SPLAT_MIN_GLYPHS, VISIBLE_FIRST_MIN_HIDDEN_PX};
+use frame_timer::FrameTimer;
+use learning::PlanLearning;
 use pipelines::Pipelines;
 use plan::PlanInputs;
-pub use plan::{FramePlan, MAX_SETUP_ONCE_INSTANCES, SETUP_ONCE_MAX_AREA_PX};
+pub use plan::{FramePlan, MAX_SETUP_ONCE_INSTANCES, SETUP_ONCE_MAX_AREA_PX, SPLAT_MAX_BOX_PIXELS};
+pub use plan_reason::{DrawReason, Guess, Measured, PlanReason};
 use uploaded::UploadedScene;
 use view::{View, MAX_VIEWS};
 
@@ -113,34 +117,33 @@ use view::{View, MAX_VIEWS};
 /// ```
 pub struct EllipsoidRenderer {
     caps: DeviceCaps,
-    settings: Settings,
+    pub(crate) settings: Settings,
     /// The host enabled the compute splat's device features.
     compute_splat_features: bool,
     /// Every target drawn into so far; `target` indexes the current one.
     targets: Vec<Target>,
     target: usize,
-    slots: FrameSlots<Retired>,
-    pipelines: Pipelines,
+    pub(crate) slots: FrameSlots<Retired>,
+    pub(crate) pipelines: Pipelines,
     /// The buffers every view shares (`Binding::per_view` is false).
-    buffers: SceneBuffers,
+    pub(crate) buffers: SceneBuffers,
     /// The views drawn so far: each frame's `record_prepass` calls take them in order.
-    views: Vec<View>,
+    pub(crate) views: Vec<View>,
     /// The view the next `record_prepass` of this frame takes.
     next_view: usize,
-    scene: UploadedScene,
-    /// How the glyphs are drawn: the shipped impostor unless the benchmark chose a baseline.
-    config: DrawConfig,
-    /// Fragment shaders count shaded pixels (the benchmark's measuring aid).
-    count_fragments: bool,
-    /// The benchmark's floor of the compute splat (0: the splat itself).
-    splat_floor: u32,
+    pub(crate) scene: UploadedScene,
     /// The stamp of the last recorded pre-pass (never 0; see `gpu_layout::IndirectDraw`).
     frame_stamp: u32,
-    #[cfg(feature = "research")]
-    meshes: research::Meshes,
-    /// The glyph count the visible-pixel floor's lists were made for (`set_floor_pixels`).
-    #[cfg(feature = "research")]
-    floor_pixels_for: Option<u32>,
+    /// The frame slot `begin_frame` started last.
+    slot: u32,
+    /// What the plan measured: the candidate paths' times per scene class.
+    learning: PlanLearning,
+    /// Timestamps around each view's pre-pass and draw, for `learning`.
+    timer: FrameTimer,
+    /// The plan of the last `record_prepass`.
+    last_plan: Option<FramePlan>,
+    /// The benchmark's baselines and measuring aids (nothing without `research`).
+    pub(crate) research: Research,
     /// `destroy` ran (a renderer dropped without it leaks its Vulkan objects, and says so).
     destroyed: bool,
 }
@@ -189,14 +192,17 @@ impl EllipsoidRenderer {
                 chunk_limit: options.settings.max_chunk_instances,
                 ..UploadedScene::default()
             },
-            config: DrawConfig::default(),
-            count_fragments: false,
-            splat_floor: 0,
             frame_stamp: 1,
-            #[cfg(feature = "research")]
-            meshes: research::Meshes::default(),
-            #[cfg(feature = "research")]
-            floor_pixels_for: None,
+            slot: 0,
+            learning: PlanLearning::default(),
+            timer: FrameTimer::new(
+                device,
+                options.frames_in_flight,
+                caps.limits.timestamp_period,
+                caps.timestamp_valid_bits,
+            )?,
+            last_plan: None,
+            research: Research::default(),
             destroyed: false,
         };
         // On failure, `destroy` releases whatever was created (null handles are skipped).
@@ -241,16 +247,50 @@ impl EllipsoidRenderer {
             max_storage_buffer_range: self.caps.limits.max_storage_buffer_range,
             standard_sample_locations: self.caps.limits.standard_sample_locations == vk::TRUE,
             sample_rate_shading: self.caps.enabled.sample_rate_shading,
+            timed: self.timer.available(),
             chunks: self.chunking().len(),
             still: last_camera == Some(*camera),
             shown_stamped: shown_stamped.is_some_and(|(_, seen)| seen == *camera),
             scene: &self.scene,
             settings: &self.settings,
-            config: self.config,
-            count_fragments: self.count_fragments,
+            learning: &self.learning,
+            baseline: self.research.baseline(),
+            splat_floor: self.research.splat_floor() != 0,
             target: (self.target, &self.targets[self.target]),
             camera,
         })
+    }
+
+    /// The plan of the last `record_prepass`: the path the frame took and why (with
+    /// [`crate::plan::PlanMode::Measure`], "measured: X ms against Y ms" once its class is learned).
+    pub fn last_plan(&self) -> Option<&FramePlan> {
+        self.last_plan.as_ref()
+    }
+
+    /// What the plan learned on this device, as bytes to save and give to
+    /// [`EllipsoidRenderer::load_plan_wisdom`] of a later renderer on the same device and
+    /// driver build (keyed by their IDs, driver version and pipeline-cache UUID, as
+    /// `VkPipelineCache` data is): each settled scene class, the path chosen and the
+    /// candidates' median frame times.
+    pub fn plan_wisdom(&self) -> Vec<u8> {
+        wisdom::export(&self.learning, &self.caps.identity)
+    }
+
+    /// Takes in what a renderer on the same device and driver build learned
+    /// ([`EllipsoidRenderer::plan_wisdom`]): its scene classes are then planned as learned,
+    /// without exploring. Bytes from another device, driver build or format, or damaged, are
+    /// refused with an error that says which, and change nothing.
+    pub fn load_plan_wisdom(&mut self, bytes: &[u8]) -> Result<()> {
+        for (class, best, medians) in wisdom::import(bytes, &self.caps.identity)? {
+            self.learning.insert_settled(class, best, medians);
+        }
+        Ok(())
+    }
+
+    /// Whether the plan can measure on this device (its queue family has timestamps); where
+    /// it cannot, [`crate::plan::PlanMode::Measure`] plans as [`crate::plan::PlanMode::Estimate`] does.
+    pub fn can_measure(&self) -> bool {
+        self.timer.available()
     }
 
     /// The settings in force.
@@ -312,6 +352,11 @@ impl EllipsoidRenderer {
             // uses it.
             unsafe { object.destroy(device, allocator) };
         }
+        // The slot's last frames are done (caller contract): their times are there.
+        for (token, ms) in self.timer.begin_slot(device, slot) {
+            self.learning.record(token, ms);
+        }
+        self.slot = slot;
         self.next_view = 0;
         for view in &mut self.views {
             view.prepared = None;
@@ -342,7 +387,7 @@ impl EllipsoidRenderer {
     }
 
     /// How the uploaded instances are split across descriptor sets.
-    fn chunking(&self) -> Chunking {
+    pub(crate) fn chunking(&self) -> Chunking {
         Chunking::new(
             self.scene.count,
             self.scene.format.bytes(),
@@ -397,7 +442,7 @@ impl EllipsoidRenderer {
             ),
             (
                 Binding::OcclusionTiles,
-                crate::culling::tiles_bytes(extent.0, extent.1),
+                prepass::steps::tiles_bytes(extent.0, extent.1),
             ),
             (
                 Binding::Visibility,
@@ -463,7 +508,7 @@ impl EllipsoidRenderer {
     /// View `view`'s descriptor sets, one per chunk: new ones (in a pool of their own) when
     /// a buffer was replaced or the scene changed since the last were written; the old pool
     /// is retired, since command buffers recorded earlier may still use it.
-    fn descriptor_sets(
+    pub(crate) fn descriptor_sets(
         &mut self,
         device: &ash::Device,
         view: usize,
@@ -510,8 +555,8 @@ impl EllipsoidRenderer {
             for view in &mut self.views {
                 view.destroy(device, allocator);
             }
-            #[cfg(feature = "research")]
-            self.meshes.destroy(device, allocator);
+            self.research.destroy(device, allocator);
+            self.timer.destroy(device);
             self.pipelines.destroy(device);
         }
     }

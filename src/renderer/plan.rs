@@ -1,31 +1,31 @@
-//! The frame plan: every decision a frame needs (footprint, culling steps, set-up once,
-//! shader variants), made once from the scene, the settings, the target and the camera, and
-//! then only read.
+//! The frame plan: every decision a frame needs -- its path, the footprint, the shader
+//! variants, how a multisampled target is culled and shaded -- made once from the scene, the
+//! settings, the target and the camera (and, for the path, what the renderer measured), and
+//! then only read. The pipeline keys and specialization constants are derived from it in one
+//! place (`pipelines/keys.rs`).
 
 use ash::vk;
 
 use crate::camera::Camera;
 use crate::culling::Culling;
-use crate::draw::{DrawConfig, Footprint, Geometry, Intersection, Shading};
 use crate::error::{Error, Result};
+use crate::footprint::Footprint;
 use crate::gpu_layout::{visibility_bytes, ShadingRecord};
 use crate::instances::InstanceFormat;
+use crate::path::{DrawPath, FramePath, HiddenLayers, PathKind, PlanMode, SplatPath};
+use crate::research::Baseline;
 use crate::settings::Settings;
 use crate::target::Target;
 
-use super::draw_reason::DrawReason;
+use super::estimate::{first_guess, Sizes};
+use super::learning::{PlanLearning, SceneClass};
+use super::plan_reason::{DrawReason, PlanReason};
 use super::uploaded::UploadedScene;
 
 /// The largest mean projected glyph area (square pixels) for which the pre-pass sets up the
 /// impostors once. On lavapipe the fragment stage's record loads cost more than the flat
 /// varyings they replace once glyphs cover more than a few pixels (README, `bench --skip`).
 pub const SETUP_ONCE_MAX_AREA_PX: f64 = 12.0;
-
-/// The largest mean projected glyph area (square pixels) for which the compute splat takes
-/// the frame. Each glyph whose pixel box holds more than 4,096 pixel centres, or that reaches
-/// the eye plane, is drawn instead (`glsl/splat.comp`), and splat frames run no culling
-/// steps: scenes of mostly large glyphs keep the draw with its occlusion culling.
-pub const SPLAT_MAX_MEAN_AREA_PX: f64 = 1024.0;
 
 /// The most pixel centres a glyph's box may hold for the compute splat to walk it; larger
 /// glyphs are drawn in the same frame. One invocation walks each glyph, so a much larger one
@@ -44,8 +44,13 @@ pub const MAX_SETUP_ONCE_INSTANCES: u32 = (1 << 27) / size_of::<ShadingRecord>()
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct FramePlan {
-    /// How the glyphs are drawn, with the footprint resolved from their size on screen.
-    pub config: DrawConfig,
+    /// The exact path the frame takes.
+    pub path: FramePath,
+    /// Why it takes that path.
+    pub reason: PlanReason,
+    /// The polygon the draw rasterizes each glyph as (every glyph, or in a splatted frame
+    /// those the splat leaves to the draw), from the glyphs' mean size on screen.
+    pub footprint: Footprint,
     /// Mean projected area of the sampled glyphs on screen (square pixels), if any is.
     pub mean_area_px: Option<f64>,
     /// About how many glyphs deep the scene lies where it covers the image: the total
@@ -55,48 +60,10 @@ pub struct FramePlan {
     /// The area per glyph, in square pixels, the scene is expected to hide: `mean_area_px`
     /// times `1 - 1 / depth_complexity` (0 at or below one layer).
     pub hidden_area_px: Option<f64>,
-    /// The culling the pre-pass does.
-    pub culling: Culling,
-    /// The pre-pass runs (to cull, to set up, to splat, or the benchmark's visibility-buffer
-    /// draw).
-    pub prepass: bool,
-    /// The draw in the host's pass reads the pre-pass's compacted list through an indirect
-    /// command (every pre-pass but the visibility-buffer draw's, which leaves only the
-    /// resolve).
-    pub indirect_draw: bool,
-    /// The pre-pass computes each impostor's set-up once for the draw (never together with
-    /// the compute splat, which computes the set-up where it needs it).
-    pub setup_once: bool,
     /// The shaders take the sphere path.
     pub spheres: bool,
-    /// The fragment stage leaves out the near-plane cap code.
+    /// The shaders leave out the near-plane cap code.
     pub no_caps: bool,
-    /// The glyphs are splatted by a compute pass into a visibility buffer and shaded by a
-    /// resolve over the tiles they touch, instead of drawn (those too large to splat are
-    /// drawn in the same frame).
-    pub compute_splat: bool,
-    /// Why the glyphs are drawn rather than splatted, when they are.
-    pub drawn_because: Option<DrawReason>,
-    /// The most pixel centres a glyph's box may hold for the compute splat to walk it.
-    pub splat_max_box_pixels: u32,
-    /// The compute splat stamps the glyphs its finished frame shows, so that the next frame
-    /// with the same camera can splat them first (a camera that held still since the last
-    /// frame; docs/design.md §5.7).
-    pub mark_shown: bool,
-    /// The visible-first splat (docs/design.md §5.7): the camera is the last pre-pass's and
-    /// the last stamping frame's, so the glyphs that frame showed are splatted first and the
-    /// others only where its hits do not hide them.
-    pub visible_first: bool,
-    /// The culling the visible-first splat's second pass lists its glyphs with (its occlusion
-    /// test is the first pass's hits, not the tiles of `culling`).
-    pub rest_culling: Culling,
-    /// The benchmark's visibility-buffer draw (`Shading::VisibilityBuffer`): the pre-pass
-    /// draws every glyph into the visibility buffer, in a pass of its own, and the host's
-    /// pass only resolves.
-    pub visibility_draw: bool,
-    /// A resolve inside the host's pass shades the visibility buffer's pixels (after the
-    /// compute splat or the visibility-buffer draw).
-    pub resolve: bool,
     /// The instances are compact records.
     pub compact: bool,
     /// The camera is orthographic.
@@ -116,10 +83,88 @@ pub struct FramePlan {
     /// plane may cut a glyph inside a pixel: the coverage then tests every sample in full,
     /// never only the silhouette.
     pub far_plane: bool,
+    /// The kinds of path that could serve this frame (the draw always).
+    pub(crate) candidates: Candidates,
+    /// The kind chosen (the visible-first splat while its first still frame only stamps).
+    pub(crate) chosen: PathKind,
+    /// The frame's scene class where the plan measures, for timing it.
+    pub(crate) class: Option<SceneClass>,
     /// Index of the renderer's target drawn into.
     pub(crate) target: usize,
-    /// Fragment shaders count shaded pixels.
-    pub(crate) count_fragments: bool,
+    /// The benchmark baseline drawn instead of the shipped impostor (`research`).
+    pub(crate) baseline: Option<Baseline>,
+}
+
+/// A set of path kinds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub(crate) struct Candidates(u8);
+
+impl Candidates {
+    fn with(self, kind: PathKind) -> Self {
+        Self(self.0 | 1 << kind.index())
+    }
+
+    /// Whether `kind` is one.
+    pub fn contains(self, kind: PathKind) -> bool {
+        self.0 & 1 << kind.index() != 0
+    }
+
+    /// The kinds, in order.
+    pub fn kinds(self) -> Vec<PathKind> {
+        PathKind::ALL
+            .into_iter()
+            .filter(|&k| self.contains(k))
+            .collect()
+    }
+}
+
+impl FramePlan {
+    /// Whether a pre-pass runs before the host's pass (to cull, to set up, to splat, or the
+    /// benchmark's visibility-buffer draw).
+    pub fn prepass(&self) -> bool {
+        match &self.path {
+            FramePath::Draw(draw) => draw.prepass() || self.visibility_draw(),
+            FramePath::Splat(_) => true,
+        }
+    }
+
+    /// The culling the pre-pass does (none in a splatted frame: the splat culls as it goes).
+    pub fn culling(&self) -> Culling {
+        self.path.draw().map_or(Culling::OFF, |d| d.culling)
+    }
+
+    /// Whether the pre-pass sets the glyphs up once for the draw.
+    pub fn setup_once(&self) -> bool {
+        self.path.draw().is_some_and(|d| d.setup_once)
+    }
+
+    /// The kinds of path that could serve this frame: the candidates the plan measures.
+    pub fn candidates(&self) -> Vec<PathKind> {
+        self.candidates.kinds()
+    }
+
+    /// Whether a resolve inside the host's pass shades the visibility buffer's pixels.
+    pub(crate) fn resolves(&self) -> bool {
+        self.path.splat().is_some() || self.visibility_draw()
+    }
+
+    /// The benchmark's visibility-buffer draw (`research`).
+    pub(crate) fn visibility_draw(&self) -> bool {
+        self.baseline.is_some_and(|b| b.visibility_draw())
+    }
+
+    /// Whether the draw in the host's pass reads the pre-pass's list through an indirect
+    /// command (every pre-pass but the visibility-buffer draw's, which leaves only the
+    /// resolve).
+    pub(crate) fn indirect_draw(&self) -> bool {
+        self.prepass() && !self.visibility_draw()
+    }
+
+    /// Vertices per instance of the draw.
+    pub(crate) fn vertices(&self) -> u32 {
+        self.baseline
+            .map_or(self.footprint.vertices(), |b| b.vertices(self.footprint))
+    }
 }
 
 /// What a plan is made from.
@@ -132,6 +177,8 @@ pub(crate) struct PlanInputs<'a> {
     pub standard_sample_locations: bool,
     /// The host enabled `sampleRateShading` (shading every sample needs it).
     pub sample_rate_shading: bool,
+    /// The renderer can time its frames (timestamps on the queue family).
+    pub timed: bool,
     /// Chunks the scene is drawn in (the splat resolves once per chunk).
     pub chunks: u32,
     /// The last pre-pass recorded had this camera.
@@ -141,10 +188,41 @@ pub(crate) struct PlanInputs<'a> {
     pub shown_stamped: bool,
     pub scene: &'a UploadedScene,
     pub settings: &'a Settings,
-    pub config: DrawConfig,
-    pub count_fragments: bool,
+    /// What the renderer measured so far.
+    pub learning: &'a PlanLearning,
+    /// The benchmark's baseline, if one is drawn.
+    pub baseline: Option<Baseline>,
+    /// The benchmark replaces the splat by a floor (no visible-first splat then).
+    pub splat_floor: bool,
     pub target: (usize, &'a Target),
     pub camera: &'a Camera,
+}
+
+/// The scene as a frame's camera sees it, from the size sample.
+struct OnScreen {
+    mean_area_px: Option<f64>,
+    depth_complexity: Option<f64>,
+    hidden_area_px: Option<f64>,
+}
+
+impl OnScreen {
+    fn new(scene: &UploadedScene, camera: &Camera) -> Self {
+        let sample = scene.projected_sample(camera);
+        // The glyphs on screen (a share of the sample) over the image area the scene covers.
+        let image_px = camera.width as f64 * camera.height as f64;
+        let depth_complexity = sample.map(|(area, on_screen)| {
+            let glyphs = on_screen * scene.count as f64;
+            area * glyphs / (scene.screen_share(camera) * image_px).max(1.0)
+        });
+        let mean_area_px = sample.map(|(area, _)| area);
+        Self {
+            mean_area_px,
+            depth_complexity,
+            hidden_area_px: mean_area_px
+                .zip(depth_complexity)
+                .map(|(area, layers)| area * (1.0 - 1.0 / layers.max(1.0))),
+        }
+    }
 }
 
 impl FramePlan {
@@ -152,239 +230,279 @@ impl FramePlan {
     /// draw with this camera.
     pub(crate) fn new(inputs: PlanInputs) -> Result<Self> {
         let PlanInputs {
-            compute_splat_features,
-            max_storage_buffer_range,
-            standard_sample_locations,
-            sample_rate_shading,
-            chunks,
-            still,
-            shown_stamped,
             scene,
             settings,
-            mut config,
-            count_fragments,
+            baseline,
             target: (target_index, target),
             camera,
+            ..
         } = inputs;
         let orthographic = camera.is_orthographic();
-        if orthographic && config.geometry != Geometry::Impostor {
-            return Err(Error::invalid(
-                "draw configuration",
-                format!("{:?} supports perspective cameras only", config.geometry),
-            ));
+        if let Some(baseline) = baseline {
+            baseline.check_camera(orthographic)?;
         }
-        let sample = scene.projected_sample(camera);
-        let mean_area_px = sample.map(|(area, _)| area);
-        // The glyphs on screen (a share of the sample) over the image area the scene covers.
-        let image_px = camera.width as f64 * camera.height as f64;
-        let depth_complexity = sample.map(|(area, on_screen)| {
-            let glyphs = on_screen * scene.count as f64;
-            area * glyphs / (scene.screen_share(camera) * image_px).max(1.0)
-        });
-        let hidden_area_px = mean_area_px
-            .zip(depth_complexity)
-            .map(|(area, layers)| area * (1.0 - 1.0 / layers.max(1.0)));
-        // The benchmark's footprint variants measure the draw: only the shipped choice splats.
-        let auto_footprint = config.footprint == Footprint::Auto;
-        if auto_footprint {
-            let area = mean_area_px.unwrap_or(0.0);
-            config.footprint = if target.multisampled() {
-                Footprint::for_area_multisampled(area)
-            } else {
-                match Footprint::for_area(area) {
-                    Footprint::Triangle if !settings.small_glyph_triangles => {
-                        Footprint::OrientedRect
-                    }
-                    chosen => chosen,
-                }
-            };
-        }
-        // Only impostors with the exact hit go through the pre-pass (the culling proofs assume
-        // its coverage and depth); set-up once also needs the exact fragment stage.
-        let exact_impostor = config.geometry == Geometry::Impostor
-            && config.intersection == Intersection::Stable
-            && matches!(config.shading, Shading::Exact | Shading::FastNormal);
-        let small_glyphs = exact_impostor
-            && config.footprint != Footprint::WorldQuad
-            && mean_area_px.is_some_and(|area| area <= SETUP_ONCE_MAX_AREA_PX);
-        // Occlusion needs float32 depth (its 1e-4 depth gap must survive the depth buffer's
-        // rounding). On multisampled targets the pre-pass's proofs cover every sample of a
-        // pixel, not only its centre (`sample_grid`).
-        let single = !target.multisampled();
-        let culling = Culling {
-            occlusion: settings.culling.occlusion
-                && target.depth_format() == vk::Format::D32_SFLOAT,
-            ..settings.culling
+        let seen = OnScreen::new(scene, camera);
+        let area = seen.mean_area_px.unwrap_or(0.0);
+        let footprint = if target.multisampled() {
+            Footprint::for_area_multisampled(area)
+        } else {
+            Footprint::for_area(area, settings.small_glyph_triangles)
         };
-        // The compute splat takes scenes of many glyphs, small on average, on devices with its
-        // features and single-sample targets: enough glyphs pay for its fixed cost (clearing
-        // and resolving), it beats the draw up to its mean size (README), and the glyphs too
-        // large for it are drawn in the same frame.
-        // What any frame that fills the visibility buffer needs: its features, a single-sample
-        // target, a float32 depth attachment (the keys order float32 depths; the draw's test
-        // compares them in the attachment's format, which must then be float32 too to break
-        // ties the same way), a buffer within one binding and few enough chunks (each
-        // resolves over every marked tile).
-        let visibility_possible = compute_splat_features
-            && single
-            && matches!(
-                target.depth_format(),
-                vk::Format::D32_SFLOAT | vk::Format::D32_SFLOAT_S8_UINT
-            )
-            && visibility_bytes(camera.width, camera.height) <= max_storage_buffer_range as u64
-            && chunks <= MAX_SPLAT_CHUNKS;
-        let visibility_draw = config.shading == Shading::VisibilityBuffer;
-        if visibility_draw && (!visibility_possible || config.geometry != Geometry::Impostor) {
-            return Err(Error::invalid(
-                "draw configuration",
-                "the visibility-buffer draw needs 64-bit buffer atomics, a single-sample target \
-                 with float32 depth, a visibility buffer within one storage binding and at most \
-                 MAX_SPLAT_CHUNKS chunks",
-            ));
-        }
-        // The first condition of the splat the frame does not meet, if any.
-        let drawn_because = [
-            (!settings.compute_splat, DrawReason::SplatOff),
-            (!(exact_impostor && auto_footprint), DrawReason::Baseline),
-            (!compute_splat_features, DrawReason::MissingFeatures),
-            (!single, DrawReason::Multisampled),
-            (
-                !matches!(
-                    target.depth_format(),
-                    vk::Format::D32_SFLOAT | vk::Format::D32_SFLOAT_S8_UINT
-                ),
-                DrawReason::DepthFormat,
-            ),
-            (
-                visibility_bytes(camera.width, camera.height) > max_storage_buffer_range as u64,
-                DrawReason::ImageTooLarge,
-            ),
-            (chunks > MAX_SPLAT_CHUNKS, DrawReason::TooManyChunks),
-            (
-                mean_area_px.is_none() || scene.count == 0,
-                DrawReason::NothingOnScreen,
-            ),
-            (
-                mean_area_px.is_some_and(|area| area > SPLAT_MAX_MEAN_AREA_PX),
-                DrawReason::GlyphsTooLarge,
-            ),
-            (
-                scene.count < settings.compute_splat_min_glyphs,
-                DrawReason::TooFewGlyphs,
-            ),
-        ]
-        .into_iter()
-        .find_map(|(refused, reason)| refused.then_some(reason));
-        let compute_splat = drawn_because.is_none();
-
-        // What the last frame showed is splatted first where the frame is one chunk (stamps
-        // and lists are per chunk), occlusion culling is on (the second pass's test is an
-        // occlusion test), the glyphs hide enough, and the camera holds still: a frame whose
-        // camera is the last one's stamps what it shows, the next with the same camera
-        // splats that first.
-        let mark_shown = still
-            && compute_splat
-            && chunks == 1
-            && settings.visible_first
-            && settings.culling.occlusion
-            && hidden_area_px.is_some_and(|hidden| hidden >= settings.visible_first_min_hidden_px);
-        let visible_first = mark_shown && shown_stamped;
-        // Otherwise such glyphs are set up once by the pre-pass, where the records fit.
-        let setup_once = settings.setup_once
-            && !compute_splat
-            && small_glyphs
-            && (1..=MAX_SETUP_ONCE_INSTANCES).contains(&scene.count);
-        let draws_through_prepass = config.geometry == Geometry::Impostor
-            && config.intersection == Intersection::Stable
-            && config.shading != Shading::FlatFill;
-        let prepass = scene.count > 0
-            && (visibility_draw
-                || draws_through_prepass && (culling.any() || setup_once || compute_splat));
-        // Pixel-rate shading needs the sample positions in the shader: the standard ones,
-        // written out there for 2 and 4 samples.
-        let coverage_samples = match target.samples {
-            vk::SampleCountFlags::TYPE_2 | vk::SampleCountFlags::TYPE_4
-                if standard_sample_locations && !settings.per_sample_shading =>
-            {
-                target.samples.as_raw()
+        let splat = splat_possible(&inputs, &seen);
+        if baseline.is_some_and(|b| b.visibility_draw()) {
+            if let Err(why) = splat {
+                return Err(Error::invalid(
+                    "draw configuration",
+                    format!("the visibility-buffer draw needs what the splat needs, but {why}"),
+                ));
             }
-            _ => 1,
-        };
-        if target.multisampled() && coverage_samples == 1 && !sample_rate_shading {
-            return Err(Error::invalid(
-                "multisampled target",
-                "shading every sample needs sampleRateShading, which the host did not enable \
-                 (HostDevice::enabled_features); with 2 or 4 samples and the standard sample \
-                 locations, Settings::per_sample_shading off shades once per pixel without it",
-            ));
         }
+        let candidates = candidates(&inputs, splat.is_ok());
+        let (chosen, reason, class) = choose(&inputs, &seen, candidates, splat)?;
+        let path = match chosen {
+            PathKind::Draw => FramePath::Draw(draw_path(&inputs, area)),
+            kind => FramePath::Splat(splat_path(&inputs, kind)),
+        };
         Ok(Self {
-            compute_splat,
-            drawn_because,
-            splat_max_box_pixels: SPLAT_MAX_BOX_PIXELS,
-            mark_shown,
-            visible_first,
-            rest_culling: Culling {
-                occlusion: false,
-                ..settings.culling
-            },
-            visibility_draw,
-            resolve: compute_splat || visibility_draw,
-            indirect_draw: prepass && !visibility_draw,
-            config,
-            mean_area_px,
-            depth_complexity,
-            hidden_area_px,
-            // The splat culls as it goes (off-screen glyphs, empty pixel boxes): the culling
-            // steps would only add dispatches.
-            culling: if compute_splat || visibility_draw {
-                Culling::OFF
-            } else {
-                culling
-            },
-            prepass,
-            setup_once,
+            path,
+            reason,
+            footprint,
+            mean_area_px: seen.mean_area_px,
+            depth_complexity: seen.depth_complexity,
+            hidden_area_px: seen.hidden_area_px,
             spheres: settings.sphere_path && scene.all_spheres,
             no_caps: settings.cap_free_path && scene.beyond_near_plane(camera),
             compact: scene.format == InstanceFormat::Compact,
             orthographic,
             reversed_z: camera.depth.reversed,
-            // The standard locations of 2, 4 and 8 samples are odd multiples of 1 / (2 R);
-            // those of 16 include 0 and 1/2, on no such grid.
-            sample_grid: match target.samples {
-                vk::SampleCountFlags::TYPE_1 => 1,
-                vk::SampleCountFlags::TYPE_2
-                | vk::SampleCountFlags::TYPE_4
-                | vk::SampleCountFlags::TYPE_8
-                    if standard_sample_locations =>
-                {
-                    target.samples.as_raw()
-                }
-                _ => 0,
-            },
-            coverage_samples,
-            far_plane: coverage_samples > 1 && camera.depth.far.is_some(),
+            sample_grid: sample_grid(target, inputs.standard_sample_locations),
+            coverage_samples: coverage_samples(&inputs)?,
+            far_plane: coverage_samples(&inputs)? > 1 && camera.depth.far.is_some(),
+            candidates,
+            chosen,
+            class,
             target: target_index,
-            count_fragments,
+            baseline,
         })
     }
 }
 
+/// Whether the compute splat can serve the frame, or the first reason it cannot: a
+/// baseline is drawn, the device lacks its features, the target is multisampled or its depth
+/// not float32 (the keys order float32 depths, and the draw's depth test must break ties the
+/// same way), the visibility buffer exceeds one binding, too many chunks resolve, or nothing
+/// is on screen.
+fn splat_possible(inputs: &PlanInputs, seen: &OnScreen) -> std::result::Result<(), DrawReason> {
+    let (_, target) = inputs.target;
+    let camera = inputs.camera;
+    let float_depth = matches!(
+        target.depth_format(),
+        vk::Format::D32_SFLOAT | vk::Format::D32_SFLOAT_S8_UINT
+    );
+    let visibility_fits =
+        visibility_bytes(camera.width, camera.height) <= inputs.max_storage_buffer_range as u64;
+    let visibility_draw = inputs.baseline.is_some_and(|b| b.visibility_draw());
+    [
+        (
+            inputs.baseline.is_some() && !visibility_draw,
+            DrawReason::Baseline,
+        ),
+        (!inputs.compute_splat_features, DrawReason::MissingFeatures),
+        (target.multisampled(), DrawReason::Multisampled),
+        (!float_depth, DrawReason::DepthFormat),
+        (!visibility_fits, DrawReason::ImageTooLarge),
+        (inputs.chunks > MAX_SPLAT_CHUNKS, DrawReason::TooManyChunks),
+        (
+            seen.mean_area_px.is_none() || inputs.scene.count == 0,
+            DrawReason::NothingOnScreen,
+        ),
+    ]
+    .into_iter()
+    .find_map(|(refused, reason)| refused.then_some(reason))
+    .map_or(Ok(()), Err)
+}
+
+/// The kinds of path that can serve the frame: the draw always; the splat where it can run;
+/// the visible-first splat besides where the camera holds still, the scene is one chunk
+/// (stamps and lists are per chunk) and occlusion culling is on (its second pass's test is
+/// an occlusion test).
+fn candidates(inputs: &PlanInputs, splat: bool) -> Candidates {
+    let mut candidates = Candidates::default().with(PathKind::Draw);
+    if splat && inputs.baseline.is_none() {
+        candidates = candidates.with(PathKind::Splat);
+        if inputs.still && inputs.chunks == 1 && inputs.settings.culling.occlusion {
+            candidates = candidates.with(PathKind::VisibleFirst);
+        }
+    }
+    candidates
+}
+
+/// The kind the frame takes, why, and its class where the plan measures.
+fn choose(
+    inputs: &PlanInputs,
+    seen: &OnScreen,
+    candidates: Candidates,
+    splat: std::result::Result<(), DrawReason>,
+) -> Result<(PathKind, PlanReason, Option<SceneClass>)> {
+    if let Some(baseline) = inputs.baseline {
+        let reason = PlanReason::Only(if baseline.visibility_draw() {
+            DrawReason::Baseline
+        } else {
+            splat.err().unwrap_or(DrawReason::Baseline)
+        });
+        return Ok((PathKind::Draw, reason, None));
+    }
+    if let Err(why) = splat {
+        return Ok((PathKind::Draw, PlanReason::Only(why), None));
+    }
+    let kinds = candidates.kinds();
+    let sizes = Sizes {
+        glyphs: inputs.scene.count,
+        mean_area_px: seen.mean_area_px.unwrap_or(0.0),
+        hidden_area_px: seen.hidden_area_px.unwrap_or(0.0),
+    };
+    let (guess, why) = first_guess(&sizes, &kinds);
+    let estimated = (guess, PlanReason::Estimated(why));
+    Ok(match inputs.settings.plan {
+        PlanMode::Fixed(kind) => {
+            // The visible-first splat of a moving camera is the plain splat.
+            let kind = match kind {
+                PathKind::VisibleFirst if !candidates.contains(kind) => PathKind::Splat,
+                kind => kind,
+            };
+            (kind, PlanReason::Fixed, None)
+        }
+        PlanMode::Estimate => (estimated.0, estimated.1, None),
+        PlanMode::Measure if !inputs.timed => (estimated.0, estimated.1, None),
+        PlanMode::Measure => {
+            let (_, target) = inputs.target;
+            let camera = inputs.camera;
+            let class = SceneClass::new(
+                inputs.scene.count,
+                sizes.mean_area_px,
+                seen.depth_complexity.unwrap_or(1.0),
+                camera.width as u64 * camera.height as u64,
+                target.samples.as_raw(),
+                inputs.still,
+            );
+            let (kind, reason) = inputs.learning.choose(&class, &kinds, estimated);
+            (kind, reason, Some(class))
+        }
+    })
+}
+
+/// The draw's path: the culling the settings ask for (occlusion only over float32 depth,
+/// whose rounding its 1e-4 depth gap survives), and set-up once for glyphs of a few pixels
+/// where the records fit; neither where the draw's stages do not go through the pre-pass
+/// (a baseline whose coverage the proofs do not assume) or nothing is uploaded.
+fn draw_path(inputs: &PlanInputs, mean_area_px: f64) -> DrawPath {
+    let (_, target) = inputs.target;
+    let settings = inputs.settings;
+    let count = inputs.scene.count;
+    let through_prepass = count > 0
+        && inputs
+            .baseline
+            .is_none_or(|b| b.through_prepass() && !b.visibility_draw());
+    if !through_prepass {
+        return DrawPath {
+            culling: Culling::OFF,
+            setup_once: false,
+        };
+    }
+    let culling = Culling {
+        occlusion: settings.culling.occlusion && target.depth_format() == vk::Format::D32_SFLOAT,
+        ..settings.culling
+    };
+    let setup_once = settings.setup_once
+        && inputs.baseline.is_none_or(|b| b.setup_once_allowed())
+        && inputs.scene.count > 0
+        && mean_area_px > 0.0
+        && mean_area_px <= SETUP_ONCE_MAX_AREA_PX
+        && count <= MAX_SETUP_ONCE_INSTANCES;
+    DrawPath {
+        culling,
+        setup_once,
+    }
+}
+
+/// The splat's path for `kind`: the visible-first splat where the camera holds still (a
+/// frame whose camera is the last pre-pass's stamps what it shows; the next with the same
+/// camera splats that first), else every glyph.
+fn splat_path(inputs: &PlanInputs, kind: PathKind) -> SplatPath {
+    let still_enough = kind == PathKind::VisibleFirst
+        && inputs.still
+        && inputs.chunks == 1
+        && inputs.settings.culling.occlusion
+        && !inputs.splat_floor;
+    let hidden = match (still_enough, inputs.shown_stamped) {
+        (false, _) => HiddenLayers::SplatAll,
+        (true, false) => HiddenLayers::StampShown,
+        (true, true) => HiddenLayers::VisibleFirst {
+            rest: Culling {
+                occlusion: false,
+                ..inputs.settings.culling
+            },
+        },
+    };
+    SplatPath {
+        hidden,
+        max_box_pixels: SPLAT_MAX_BOX_PIXELS,
+    }
+}
+
+/// Where the culling proofs find a pixel's samples: the standard locations of 2, 4 and 8
+/// samples are odd multiples of 1 / (2 R); those of 16 include 0 and 1/2, on no such grid.
+fn sample_grid(target: &Target, standard_sample_locations: bool) -> u32 {
+    match target.samples {
+        vk::SampleCountFlags::TYPE_1 => 1,
+        vk::SampleCountFlags::TYPE_2
+        | vk::SampleCountFlags::TYPE_4
+        | vk::SampleCountFlags::TYPE_8
+            if standard_sample_locations =>
+        {
+            target.samples.as_raw()
+        }
+        _ => 0,
+    }
+}
+
+/// Pixel-rate shading needs the sample positions in the shader: the standard ones, written
+/// out there for 2 and 4 samples. Shading every sample instead needs `sampleRateShading`.
+fn coverage_samples(inputs: &PlanInputs) -> Result<u32> {
+    let (_, target) = inputs.target;
+    let samples = match target.samples {
+        vk::SampleCountFlags::TYPE_2 | vk::SampleCountFlags::TYPE_4
+            if inputs.standard_sample_locations && !inputs.settings.per_sample_shading =>
+        {
+            target.samples.as_raw()
+        }
+        _ => 1,
+    };
+    if target.multisampled() && samples == 1 && !inputs.sample_rate_shading {
+        return Err(Error::invalid(
+            "multisampled target",
+            "shading every sample needs sampleRateShading, which the host did not enable \
+             (HostDevice::enabled_features); with 2 or 4 samples and the standard sample \
+             locations, Settings::per_sample_shading off shades once per pixel without it",
+        ));
+    }
+    Ok(samples)
+}
+
 #[cfg(test)]
 mod tests {
+    use super::super::estimate::SPLAT_MAX_MEAN_AREA_PX;
+    use super::super::plan_reason::Guess;
     use super::*;
     use crate::instances::pack_scene;
+    use crate::path::PathKind;
     use crate::target::Pass;
     use crate::{Ellipsoid, Scene};
     use glam::{DQuat, DVec3};
 
-    /// 60,000 glyphs of about a pixel in a 10-unit cube, seen from 40 units at 640x480;
-    /// with `big`, the first is a sphere of radius 4 (about 10,000 pixels).
-    fn tiny_scene(big: bool) -> (UploadedScene, Camera) {
-        scene_of(big, 1.0)
-    }
-
-    /// As `tiny_scene`, with semi-axes `scale` times larger.
+    /// 60,000 glyphs in a 10-unit cube seen from 40 units at 640x480, semi-axes `scale`
+    /// times (0.02, 0.015, 0.01) (about a pixel at 1); with `big`, the first is a sphere of
+    /// radius 4 (about 10,000 pixels).
     fn scene_of(big: bool, scale: f64) -> (UploadedScene, Camera) {
         let mut glyphs: Vec<Ellipsoid> = (0..60_000)
             .map(|k| {
@@ -409,6 +527,48 @@ mod tests {
         (UploadedScene::new(&scene, &packed, u32::MAX), camera)
     }
 
+    fn target(samples: vk::SampleCountFlags) -> Target {
+        Target {
+            pass: Pass::Dynamic {
+                color_formats: vec![vk::Format::R8G8B8A8_SRGB],
+                depth_format: vk::Format::D32_SFLOAT,
+            },
+            samples,
+            aux_outputs: false,
+        }
+    }
+
+    /// The plan of a frame; `history` is (still, shown stamped).
+    fn plan_with(
+        scene: &UploadedScene,
+        camera: &Camera,
+        samples: vk::SampleCountFlags,
+        features: bool,
+        settings: &Settings,
+        history: (bool, bool),
+        learning: &PlanLearning,
+    ) -> FramePlan {
+        let target = target(samples);
+        FramePlan::new(PlanInputs {
+            compute_splat_features: features,
+            max_storage_buffer_range: 1 << 27,
+            standard_sample_locations: true,
+            sample_rate_shading: true,
+            timed: true,
+            chunks: 1,
+            still: history.0,
+            shown_stamped: history.1,
+            scene,
+            settings,
+            learning,
+            baseline: None,
+            splat_floor: false,
+            target: (0, &target),
+            camera,
+        })
+        .unwrap()
+    }
+
     fn plan(
         scene: &UploadedScene,
         camera: &Camera,
@@ -416,30 +576,23 @@ mod tests {
         features: bool,
         settings: &Settings,
     ) -> FramePlan {
-        let target = Target {
-            pass: Pass::Dynamic {
-                color_formats: vec![vk::Format::R8G8B8A8_SRGB],
-                depth_format: vk::Format::D32_SFLOAT,
-            },
-            samples,
-            aux_outputs: false,
-        };
-        FramePlan::new(PlanInputs {
-            compute_splat_features: features,
-            max_storage_buffer_range: 1 << 27,
-            standard_sample_locations: true,
-            sample_rate_shading: true,
-            chunks: 1,
-            still: false,
-            shown_stamped: false,
+        let learning = PlanLearning::default();
+        plan_with(
             scene,
-            settings,
-            config: DrawConfig::default(),
-            count_fragments: false,
-            target: (0, &target),
             camera,
-        })
-        .unwrap()
+            samples,
+            features,
+            settings,
+            (false, false),
+            &learning,
+        )
+    }
+
+    fn mode(plan: PlanMode) -> Settings {
+        Settings {
+            plan,
+            ..Settings::default()
+        }
     }
 
     /// Multisampled targets are shaded once per pixel with the sample count's exact coverage
@@ -447,7 +600,7 @@ mod tests {
     /// positions in the shader; single-sample targets never test coverage.
     #[test]
     fn multisampled_targets_shade_once_per_pixel_unless_asked_otherwise() {
-        let (scene, camera) = tiny_scene(false);
+        let (scene, camera) = scene_of(false, 1.0);
         let shipped = Settings::default();
         let per_sample = Settings {
             per_sample_shading: true,
@@ -467,10 +620,10 @@ mod tests {
         }
     }
 
-    /// Multisampled frames keep every culling, proved at their samples' grid, and draw one
-    /// or two triangles per glyph.
+    /// Multisampled frames draw, keep every culling (proved at their samples' grid) and
+    /// draw one or two triangles per glyph.
     #[test]
-    fn multisampled_frames_cull_at_their_samples_with_few_primitives() {
+    fn multisampled_frames_draw_and_cull_at_their_samples_with_few_primitives() {
         use vk::SampleCountFlags as S;
         let shipped = Settings::default();
         for (scale, single, multi) in [
@@ -478,213 +631,214 @@ mod tests {
             (60.0, Footprint::Hexagon, Footprint::OrientedRect),
         ] {
             let (scene, camera) = scene_of(false, scale);
-            for (samples, grid) in [
-                (S::TYPE_1, 1),
-                (S::TYPE_2, 2),
-                (S::TYPE_4, 4),
-                (S::TYPE_8, 8),
-            ] {
-                let plan = plan(&scene, &camera, samples, false, &shipped);
+            for (samples, grid) in [(S::TYPE_2, 2), (S::TYPE_4, 4), (S::TYPE_8, 8)] {
+                let plan = plan(&scene, &camera, samples, true, &shipped);
                 assert_eq!(plan.sample_grid, grid, "{samples:?}");
-                assert_eq!(plan.culling, Culling::ON, "{samples:?}");
-                let expected = if samples == S::TYPE_1 { single } else { multi };
-                assert_eq!(plan.config.footprint, expected, "{samples:?} at {scale}x");
+                assert_eq!(plan.culling(), Culling::ON, "{samples:?}");
+                assert_eq!(plan.footprint, multi, "{samples:?} at {scale}x");
+                assert_eq!(plan.reason, PlanReason::Only(DrawReason::Multisampled));
+                assert_eq!(plan.candidates(), [PathKind::Draw]);
             }
+            let one = plan(&scene, &camera, S::TYPE_1, false, &shipped);
+            assert_eq!((one.sample_grid, one.footprint), (1, single));
             let sixteen = plan(&scene, &camera, S::TYPE_16, false, &shipped);
             assert_eq!(sixteen.sample_grid, 0);
         }
     }
 
+    /// The first guess splats many small glyphs and draws few or large ones; a fixed path
+    /// holds wherever it can serve the frame; where the splat cannot, the draw says why.
     #[test]
-    fn the_compute_splat_runs_only_where_it_may_and_pays() {
-        let (scene, camera) = tiny_scene(false);
-        let shipped = Settings::default();
+    fn the_first_guess_and_fixed_paths_choose_among_what_can_serve() {
         let one = vk::SampleCountFlags::TYPE_1;
-        let splat = plan(&scene, &camera, one, true, &shipped);
-        assert!(
-            splat.mean_area_px.unwrap() <= SETUP_ONCE_MAX_AREA_PX,
-            "{splat:?}"
-        );
-        assert!(
-            splat.compute_splat && splat.prepass && !splat.setup_once,
-            "{splat:?}"
-        );
-        // Without the host's 64-bit atomics: the draw, set up once.
-        let draw = plan(&scene, &camera, one, false, &shipped);
-        assert!(!draw.compute_splat && draw.setup_once, "{draw:?}");
-        // Multisampled targets keep the draw (it is exact per sample; the splat keys pixels).
-        let msaa = plan(
-            &scene,
-            &camera,
-            vk::SampleCountFlags::TYPE_4,
-            true,
-            &shipped,
-        );
-        assert!(!msaa.compute_splat, "{msaa:?}");
-        // Fewer glyphs than pay for the splat's fixed cost: the draw.
-        let few = Settings {
-            compute_splat_min_glyphs: 60_001,
-            ..shipped
-        };
-        assert!(!plan(&scene, &camera, one, true, &few).compute_splat);
-        // Switched off.
-        let off = Settings {
-            compute_splat: false,
-            ..shipped
-        };
-        assert!(!plan(&scene, &camera, one, true, &off).compute_splat);
+        let estimate = mode(PlanMode::Estimate);
+        let (tiny, camera) = scene_of(false, 1.0);
+        let splat = plan(&tiny, &camera, one, true, &estimate);
+        assert!(splat.path.splat().is_some(), "{splat:?}");
+        assert_eq!(splat.reason, PlanReason::Estimated(Guess::SmallGlyphs));
+        assert_eq!(splat.candidates(), [PathKind::Draw, PathKind::Splat]);
         // One glyph of thousands of pixels among them: splatted all the same (the splat
         // leaves that one to the draw).
-        let (big, camera) = tiny_scene(true);
-        let mixed = plan(&big, &camera, one, true, &shipped);
-        assert!(
-            mixed.mean_area_px.unwrap() <= SETUP_ONCE_MAX_AREA_PX,
-            "{mixed:?}"
-        );
-        assert!(mixed.compute_splat, "{mixed:?}");
+        let (mixed, camera) = scene_of(true, 1.0);
+        assert!(plan(&mixed, &camera, one, true, &estimate)
+            .path
+            .splat()
+            .is_some());
         // Glyphs of thousands of pixels on average: the draw, with its culling.
         let (large, camera) = scene_of(false, 150.0);
-        let plan_large = plan(&large, &camera, one, true, &shipped);
+        let drawn = plan(&large, &camera, one, true, &estimate);
         assert!(
-            plan_large.mean_area_px.unwrap() > SPLAT_MAX_MEAN_AREA_PX,
-            "{plan_large:?}"
+            drawn.mean_area_px.unwrap() > SPLAT_MAX_MEAN_AREA_PX,
+            "{drawn:?}"
         );
-        assert!(!plan_large.compute_splat, "{plan_large:?}");
-        // Glyphs of tens of pixels splat too (never set up once)...
-        let (medium, camera) = scene_of(false, 20.0);
-        let plan_medium = plan(&medium, &camera, one, true, &shipped);
-        let area = plan_medium.mean_area_px.unwrap();
-        assert!(area > 4.0 * SETUP_ONCE_MAX_AREA_PX, "{plan_medium:?}");
+        assert_eq!(drawn.reason, PlanReason::Estimated(Guess::LargeGlyphs));
+        assert_eq!(drawn.culling(), Culling::ON);
+        // Fixed: the draw of small glyphs sets them up once; the splat takes large ones.
+        let (_, camera) = scene_of(false, 1.0);
+        let fixed_draw = plan(
+            &tiny,
+            &camera,
+            one,
+            true,
+            &mode(PlanMode::Fixed(PathKind::Draw)),
+        );
         assert!(
-            plan_medium.compute_splat && !plan_medium.setup_once,
-            "{plan_medium:?}"
+            fixed_draw.setup_once() && fixed_draw.prepass(),
+            "{fixed_draw:?}"
         );
-        // ...but not when a benchmark variant picks the footprint: that measures the draw.
-        let target = Target {
-            pass: Pass::Dynamic {
-                color_formats: vec![vk::Format::R8G8B8A8_SRGB],
-                depth_format: vk::Format::D32_SFLOAT,
-            },
-            samples: one,
-            aux_outputs: false,
-        };
-        let hexagon = FramePlan::new(PlanInputs {
-            compute_splat_features: true,
-            max_storage_buffer_range: 1 << 27,
-            standard_sample_locations: true,
-            sample_rate_shading: true,
-            chunks: 1,
-            still: false,
-            shown_stamped: false,
-            scene: &medium,
-            settings: &shipped,
-            config: DrawConfig {
-                footprint: Footprint::Hexagon,
-                ..DrawConfig::default()
-            },
-            count_fragments: false,
-            target: (0, &target),
-            camera: &camera,
-        })
-        .unwrap();
-        assert!(!hexagon.compute_splat, "{hexagon:?}");
-        assert_eq!(hexagon.drawn_because, Some(DrawReason::Baseline));
-    }
-
-    /// The visible-first splat runs for a still camera that an earlier frame stamped, one
-    /// chunk and glyphs that hide enough; stamping needs only the still camera.
-    #[test]
-    fn visible_first_needs_a_still_stamped_camera_one_chunk_and_enough_hidden() {
-        let (scene, camera) = scene_of(false, 20.0);
-        let shipped = Settings::default();
-        let target = Target {
-            pass: Pass::Dynamic {
-                color_formats: vec![vk::Format::R8G8B8A8_SRGB],
-                depth_format: vk::Format::D32_SFLOAT,
-            },
-            samples: vk::SampleCountFlags::TYPE_1,
-            aux_outputs: false,
-        };
-        let make = |still, shown_stamped, chunks, settings: &Settings| {
-            FramePlan::new(PlanInputs {
-                compute_splat_features: true,
-                max_storage_buffer_range: 1 << 27,
-                standard_sample_locations: true,
-                sample_rate_shading: true,
-                chunks,
-                still,
-                shown_stamped,
-                scene: &scene,
-                settings,
-                config: DrawConfig::default(),
-                count_fragments: false,
-                target: (0, &target),
-                camera: &camera,
-            })
-            .unwrap()
-        };
-        let hidden = make(true, true, 1, &shipped).hidden_area_px.unwrap();
-        let deep_enough = Settings {
-            visible_first_min_hidden_px: hidden * 0.5,
-            ..shipped
-        };
-        let too_shallow = Settings {
-            visible_first_min_hidden_px: hidden * 2.0,
-            ..shipped
-        };
-        let off = Settings {
-            visible_first: false,
-            ..deep_enough
-        };
-        for (still, stamped, chunks, settings, marks, first) in [
-            (true, true, 1, &deep_enough, true, true),
-            (true, false, 1, &deep_enough, true, false),
-            (false, true, 1, &deep_enough, false, false),
-            (false, false, 1, &deep_enough, false, false),
-            (true, true, 2, &deep_enough, false, false),
-            (true, true, 1, &too_shallow, false, false),
-            (true, true, 1, &off, false, false),
-        ] {
-            let plan = make(still, stamped, chunks, settings);
-            assert!(plan.compute_splat, "{plan:?}");
-            let case = format!("still {still}, stamped {stamped}, {chunks} chunks");
-            assert_eq!(
-                (plan.mark_shown, plan.visible_first),
-                (marks, first),
-                "{case}"
-            );
-        }
-    }
-
-    /// A drawn frame says why: the first condition of the splat it does not meet.
-    #[test]
-    fn drawn_frames_say_why() {
-        let (scene, camera) = tiny_scene(false);
-        let shipped = Settings::default();
-        use vk::SampleCountFlags as S;
-        let why = |samples, features, settings: &Settings| {
-            plan(&scene, &camera, samples, features, settings).drawn_because
-        };
-        assert_eq!(why(S::TYPE_1, true, &shipped), None);
-        assert_eq!(
-            why(S::TYPE_4, true, &shipped),
-            Some(DrawReason::Multisampled)
+        assert_eq!(fixed_draw.reason, PlanReason::Fixed);
+        let (_, camera) = scene_of(false, 150.0);
+        let fixed_splat = plan(
+            &large,
+            &camera,
+            one,
+            true,
+            &mode(PlanMode::Fixed(PathKind::Splat)),
+        );
+        assert!(fixed_splat.path.splat().is_some() && !fixed_splat.setup_once());
+        // Without the host's 64-bit atomics: the draw, whatever is asked.
+        let (_, camera) = scene_of(false, 1.0);
+        let missing = plan(
+            &tiny,
+            &camera,
+            one,
+            false,
+            &mode(PlanMode::Fixed(PathKind::Splat)),
+        );
+        assert!(
+            missing.path.draw().is_some_and(|d| d.setup_once),
+            "{missing:?}"
         );
         assert_eq!(
-            why(S::TYPE_1, false, &shipped),
-            Some(DrawReason::MissingFeatures)
+            missing.reason,
+            PlanReason::Only(DrawReason::MissingFeatures)
         );
-        let off = Settings {
-            compute_splat: false,
-            ..shipped
-        };
-        assert_eq!(why(S::TYPE_4, false, &off), Some(DrawReason::SplatOff));
-        let few = Settings {
-            compute_splat_min_glyphs: 100_000,
-            ..shipped
-        };
-        assert_eq!(why(S::TYPE_1, true, &few), Some(DrawReason::TooFewGlyphs));
         let reason = DrawReason::Multisampled.to_string();
         assert!(reason.contains("per sample"), "{reason}");
+    }
+
+    /// The visible-first splat is a candidate only for a still camera; the first still
+    /// frame stamps what it shows and the next starts from it.
+    #[test]
+    fn visible_first_needs_a_still_camera_and_stamps() {
+        let (scene, camera) = scene_of(false, 20.0);
+        let one = vk::SampleCountFlags::TYPE_1;
+        let fixed = mode(PlanMode::Fixed(PathKind::VisibleFirst));
+        let learning = PlanLearning::default();
+        let hidden = |history| {
+            let plan = plan_with(&scene, &camera, one, true, &fixed, history, &learning);
+            plan.path.splat().map(|s| s.hidden)
+        };
+        assert_eq!(hidden((false, false)), Some(HiddenLayers::SplatAll));
+        assert_eq!(hidden((false, true)), Some(HiddenLayers::SplatAll));
+        assert_eq!(hidden((true, false)), Some(HiddenLayers::StampShown));
+        assert!(
+            matches!(hidden((true, true)), Some(HiddenLayers::VisibleFirst { rest }) if !rest.occlusion && rest.frustum)
+        );
+        let still = plan_with(&scene, &camera, one, true, &fixed, (true, true), &learning);
+        assert_eq!(still.candidates(), PathKind::ALL);
+        // Without occlusion culling the second pass has no test: no candidate.
+        let no_occlusion = Settings {
+            culling: Culling {
+                occlusion: false,
+                ..Culling::ON
+            },
+            ..fixed
+        };
+        let plan = plan_with(
+            &scene,
+            &camera,
+            one,
+            true,
+            &no_occlusion,
+            (true, true),
+            &learning,
+        );
+        assert_eq!(plan.candidates(), [PathKind::Draw, PathKind::Splat]);
+        assert_eq!(
+            plan.path.splat().map(|s| s.hidden),
+            Some(HiddenLayers::SplatAll)
+        );
+    }
+
+    /// Measuring: the first frames take the first guess; once the class is timed the plan
+    /// takes the fastest candidate and says what it measured.
+    #[test]
+    fn measured_plans_take_the_fastest_candidate() {
+        let (scene, camera) = scene_of(false, 20.0);
+        let one = vk::SampleCountFlags::TYPE_1;
+        let settings = Settings::default();
+        let mut learning = PlanLearning::default();
+        let first = plan_with(
+            &scene,
+            &camera,
+            one,
+            true,
+            &settings,
+            (false, false),
+            &learning,
+        );
+        assert!(
+            matches!(first.reason, PlanReason::Estimated(_)),
+            "{first:?}"
+        );
+        let class = first.class.expect("a measured plan has a class");
+        // The draw is twice as fast as the splat on this device.
+        for _ in 0..40 {
+            let plan = plan_with(
+                &scene,
+                &camera,
+                one,
+                true,
+                &settings,
+                (false, false),
+                &learning,
+            );
+            let candidates = plan.candidates();
+            let ran = plan.path.timed_kind();
+            if let Some(token) = learning.commit(class, &candidates, plan.chosen, ran) {
+                learning.record(
+                    token,
+                    if token.ran == PathKind::Draw {
+                        5.0
+                    } else {
+                        10.0
+                    },
+                );
+            }
+        }
+        let learned = plan_with(
+            &scene,
+            &camera,
+            one,
+            true,
+            &settings,
+            (false, false),
+            &learning,
+        );
+        assert!(learned.path.draw().is_some(), "{learned:?}");
+        match learned.reason {
+            PlanReason::Measured(m) => {
+                assert_eq!(m.ms, 5.0);
+                assert_eq!(m.runner_up, Some((PathKind::Splat, 10.0)));
+            }
+            other => panic!("not measured: {other:?}"),
+        }
+        assert!(
+            learned.reason.to_string().contains("against splat"),
+            "{}",
+            learned.reason
+        );
+        // The estimate ignores what was learned.
+        let estimate = plan_with(
+            &scene,
+            &camera,
+            one,
+            true,
+            &mode(PlanMode::Estimate),
+            (false, false),
+            &learning,
+        );
+        assert!(estimate.path.splat().is_some());
     }
 }

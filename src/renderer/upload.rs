@@ -64,10 +64,7 @@ impl EllipsoidRenderer {
             )?;
         }
         // Nor do the floor's lists.
-        #[cfg(feature = "research")]
-        {
-            self.floor_pixels_for = None;
-        }
+        self.research.forget_upload();
         self.buffers.ensure(
             device,
             allocator,

@@ -14,8 +14,8 @@ use std::sync::OnceLock;
 
 use ash::vk;
 
-use crate::culling::{GROUP_SIZE, SPLAT_GROUP_SIZE};
 use crate::gpu_layout::SpecConstants;
+use crate::renderer::prepass::steps::{GROUP_SIZE, SPLAT_GROUP_SIZE};
 use crate::renderer::Binding;
 use reader::{Constant, Module, Type};
 use rust_layouts::{shared_layouts, spec_constant_fields, Layout};

@@ -24,9 +24,11 @@
 /**
  * The ABI's version: it changes whenever a function, struct or constant changes in a way a
  * host compiled against the old header would break on. The shared library's soname carries
- * it (`libellipsoid_splat.so.1`).
+ * it (`libellipsoid_splat.so.2`). Version 2: `EsSettings` and `EsFramePlan` grew (the plan's
+ * mode; the path taken and why), and `es_settings_default`, `es_renderer_plan` write them
+ * whole.
  */
-#define ES_ABI_VERSION 1
+#define ES_ABI_VERSION 2
 
 /**
  * `maintenance4` (Vulkan 1.3): every target needs it.
@@ -133,6 +135,106 @@ typedef enum EsProjection {
 } EsProjection;
 
 /**
+ * How the frame plan chooses among the exact paths that can serve a frame (each draws the
+ * same picture; they differ in cost).
+ */
+typedef enum EsPlanMode {
+  /**
+   * First a guess from the scene's size on screen, then the candidate paths timed on
+   * frames the renderer draws anyway, a few frames each; the fastest is kept per scene
+   * class (`es_renderer_plan_wisdom` saves what was learned). Where the queue family has
+   * no timestamps it plans as `ES_PLAN_MODE_ESTIMATE`. The default.
+   */
+  ES_PLAN_MODE_MEASURE = 0,
+  /**
+   * The first guess alone: the same path for the same scene and camera every time.
+   */
+  ES_PLAN_MODE_ESTIMATE = 1,
+  /**
+   * The path `fixed_path` names wherever it can serve the frame; otherwise the draw.
+   */
+  ES_PLAN_MODE_FIXED = 2,
+} EsPlanMode;
+
+/**
+ * A kind of exact path a frame can take.
+ */
+typedef enum EsPathKind {
+  /**
+   * No path: in `EsSettings.fixed_path` when no path is fixed, in
+   * `EsFramePlan.runner_up` when no other candidate was timed.
+   */
+  ES_PATH_KIND_NONE = 0,
+  /**
+   * Every glyph rasterized as an impostor (after a pre-pass where it culls or sets up).
+   */
+  ES_PATH_KIND_DRAW = 1,
+  /**
+   * The compute splat: the glyphs ray cast into a visibility buffer and shaded by a
+   * resolve in the host's pass; glyphs too large for it are drawn in the same frame.
+   */
+  ES_PATH_KIND_SPLAT = 2,
+  /**
+   * The compute splat, the glyphs the last still frame showed first wherever the camera
+   * holds still (its first still frame stamps what it shows).
+   */
+  ES_PATH_KIND_VISIBLE_FIRST = 3,
+} EsPathKind;
+
+/**
+ * Which glyphs a splatted frame ray casts first, and what it leaves out.
+ */
+typedef enum EsHiddenLayers {
+  /**
+   * The frame draws every glyph: nothing is splatted.
+   */
+  ES_HIDDEN_LAYERS_NONE = 0,
+  /**
+   * Every glyph is splatted, hidden ones too.
+   */
+  ES_HIDDEN_LAYERS_SPLAT_ALL = 1,
+  /**
+   * Every glyph is splatted, and those the frame shows are stamped so that the next frame
+   * with the same camera can splat them first (the visible-first splat's first still
+   * frame).
+   */
+  ES_HIDDEN_LAYERS_STAMP_SHOWN = 2,
+  /**
+   * The glyphs the last still frame showed are splatted first, then of the rest only those
+   * their hits do not hide.
+   */
+  ES_HIDDEN_LAYERS_VISIBLE_FIRST = 3,
+} EsHiddenLayers;
+
+/**
+ * Why a frame takes its path.
+ */
+typedef enum EsPlanReasonKind {
+  /**
+   * The draw is the only path that can serve the frame (`drawn_because` says why).
+   */
+  ES_PLAN_REASON_KIND_ONLY = 0,
+  /**
+   * The host fixed the path (`ES_PLAN_MODE_FIXED`).
+   */
+  ES_PLAN_REASON_KIND_FIXED = 1,
+  /**
+   * The first guess from the scene's size on screen (before measuring, or with
+   * `ES_PLAN_MODE_ESTIMATE`).
+   */
+  ES_PLAN_REASON_KIND_ESTIMATED = 2,
+  /**
+   * A candidate timed while the plan learns this scene class.
+   */
+  ES_PLAN_REASON_KIND_EXPLORING = 3,
+  /**
+   * The fastest candidate measured for this scene class on this device (`measured_ms`,
+   * `runner_up`, `runner_up_ms`).
+   */
+  ES_PLAN_REASON_KIND_MEASURED = 4,
+} EsPlanReasonKind;
+
+/**
  * A renderer: opaque to the host.
  */
 typedef struct EsRenderer EsRenderer;
@@ -229,8 +331,9 @@ typedef struct EsCamera {
 } EsCamera;
 
 /**
- * The plan of a frame: every decision `es_renderer_record_prepass` and `es_renderer_record`
- * will take with that camera.
+ * The plan of a frame: the path `es_renderer_record_prepass` and `es_renderer_record`
+ * take with a camera, why, and what it does. Written whole by the library (this header's
+ * version).
  */
 typedef struct EsFramePlan {
   /**
@@ -243,12 +346,13 @@ typedef struct EsFramePlan {
    */
   uint32_t prepass;
   /**
-   * Non-zero: the compute splat draws the small glyphs without the rasterizer.
+   * Non-zero: the compute splat draws the glyphs without the rasterizer (`path` is
+   * `ES_PATH_KIND_SPLAT` or `ES_PATH_KIND_VISIBLE_FIRST`).
    */
   uint32_t compute_splat;
   /**
-   * Why the frame keeps the draw: a NUL-terminated sentence, or null where the compute
-   * splat runs (static storage).
+   * Where the draw is the only path (`reason` is `ES_PLAN_REASON_KIND_ONLY`), why: a
+   * NUL-terminated sentence in static storage; null otherwise.
    */
   const char *drawn_because;
   /**
@@ -272,7 +376,8 @@ typedef struct EsFramePlan {
    */
   uint32_t setup_once;
   /**
-   * Non-zero: the glyphs the view's last still frame showed go first.
+   * Non-zero: the glyphs the view's last still frame showed go first (`hidden_layers`
+   * is `ES_HIDDEN_LAYERS_VISIBLE_FIRST`).
    */
   uint32_t visible_first;
   /**
@@ -287,6 +392,34 @@ typedef struct EsFramePlan {
    * Non-zero: reversed Z.
    */
   uint32_t reversed_z;
+  /**
+   * The path the frame takes: an `EsPathKind` value (`ES_PATH_KIND_VISIBLE_FIRST` also for
+   * its first still frame, which stamps what it shows).
+   */
+  uint32_t path;
+  /**
+   * What a splatted frame does about hidden glyphs: an `EsHiddenLayers` value
+   * (`ES_HIDDEN_LAYERS_NONE` where the frame draws).
+   */
+  uint32_t hidden_layers;
+  /**
+   * Why the frame takes its path: an `EsPlanReasonKind` value.
+   */
+  uint32_t reason;
+  /**
+   * With `ES_PLAN_REASON_KIND_MEASURED`, the next fastest candidate: an `EsPathKind`
+   * value, `ES_PATH_KIND_NONE` where no other was timed (or the plan did not measure).
+   */
+  uint32_t runner_up;
+  /**
+   * With `ES_PLAN_REASON_KIND_MEASURED`, the median GPU time of the path's frames in
+   * milliseconds; negative otherwise.
+   */
+  double measured_ms;
+  /**
+   * The runner-up's median GPU time in milliseconds; negative where there is none.
+   */
+  double runner_up_ms;
 } EsFramePlan;
 
 /**
@@ -475,7 +608,13 @@ typedef struct EsMaterial {
 
 /**
  * What a host may tune. Start from `es_settings_default`; every field but the material only
- * skips work and leaves the picture the same.
+ * changes the work done and leaves the picture the same.
+ *
+ * Versions: the first (`struct_size` 52) ends at `per_sample_shading`; the second adds
+ * `plan_mode` and `fixed_path`. The library reads only the version `struct_size` names, and
+ * a first-version struct keeps its meaning: `compute_splat` zero keeps every frame on the
+ * draw; non-zero lets the plan choose as the renderer's settings had it (measuring unless a
+ * second-version struct chose otherwise).
  */
 typedef struct EsSettings {
   /**
@@ -500,7 +639,9 @@ typedef struct EsSettings {
    */
   uint32_t culling_occlusion;
   /**
-   * Non-zero: frames of many small glyphs skip the rasterizer where the device allows.
+   * Deprecated (leave it at the default 1 and use `plan_mode`): zero keeps every frame on
+   * the draw whatever `plan_mode` says, as `ES_PLAN_MODE_FIXED` with `ES_PATH_KIND_DRAW`
+   * does; zero with a `plan_mode` that fixes a splat path is refused.
    */
   uint32_t compute_splat;
   /**
@@ -508,6 +649,16 @@ typedef struct EsSettings {
    * once per pixel with exact per-sample coverage.
    */
   uint32_t per_sample_shading;
+  /**
+   * How the frame plan chooses its path: an `EsPlanMode` value (second version).
+   */
+  uint32_t plan_mode;
+  /**
+   * With `ES_PLAN_MODE_FIXED`, the path: an `EsPathKind` value other than
+   * `ES_PATH_KIND_NONE`; otherwise ignored (`es_settings_default` writes
+   * `ES_PATH_KIND_NONE`). Second version.
+   */
+  uint32_t fixed_path;
 } EsSettings;
 
 /**
@@ -623,6 +774,17 @@ enum EsStatus es_renderer_plan(struct EsRenderer *renderer,
                                struct EsFramePlan *out_plan);
 
 /**
+ * The plan of the last frame recorded (the last `es_renderer_record_prepass`): the path it
+ * took and why. Fails with `ES_STATUS_ERROR_INVALID_ARGUMENT` before the first pre-pass.
+ * Thread: the renderer's.
+ *
+ * # Safety
+ * `renderer` is live; `out_plan` points at a writable `EsFramePlan`.
+ */
+enum EsStatus es_renderer_last_plan(struct EsRenderer *renderer,
+                                    struct EsFramePlan *out_plan);
+
+/**
  * Makes a renderer on the host's device and writes its handle to `out_renderer` (null on
  * failure). It checks the queue family, the enabled features, the target's formats and
  * sample count, and names what is missing. Any thread.
@@ -660,10 +822,12 @@ enum EsStatus es_renderer_set_target(struct EsRenderer *renderer,
 
 /**
  * Replaces the settings (the material costs nothing; other changes build their pipelines
- * on first use). Thread: the renderer's.
+ * on first use). Fields of versions later than the struct's `struct_size` keep their
+ * values. A bad value (an unknown `plan_mode`, say) is refused and changes nothing.
+ * Thread: the renderer's.
  *
  * # Safety
- * `renderer` is live; `settings` points at a valid `EsSettings`.
+ * `renderer` is live; `settings` points at a valid `EsSettings` of its `struct_size`.
  */
 enum EsStatus es_renderer_set_settings(struct EsRenderer *renderer,
                                        const struct EsSettings *settings);
@@ -749,7 +913,8 @@ enum EsStatus es_renderer_gpu_memory_bytes(struct EsRenderer *renderer,
                                            uint64_t *out_bytes);
 
 /**
- * Fills `out_settings` with the shipped renderer's settings. Any thread.
+ * Fills `out_settings` with the shipped renderer's settings (the whole struct, this
+ * header's version). Any thread.
  *
  * # Safety
  * `out_settings` points at a writable `EsSettings`.
@@ -771,6 +936,48 @@ const char *es_last_error(void);
  */
 enum EsStatus es_target_required_features(const struct EsTargetInfo *target,
                                           uint32_t *out_features);
+
+/**
+ * The plan's wisdom: for each scene class the renderer settled on, the path it chose and the
+ * candidates' median frame times, keyed by the device's vendor and device IDs, driver
+ * version and pipeline-cache UUID. Two calls: with `bytes` null it writes the size needed to
+ * `size`; then with a buffer of `*size` bytes it writes the bytes and their count. A buffer
+ * smaller than needed fails (`ES_STATUS_ERROR_INVALID_ARGUMENT`, the message names the size)
+ * and `*size` is set to the size needed. A renderer that settled nothing still gives valid
+ * bytes (a header without entries). Thread: the renderer's.
+ *
+ * # Safety
+ * `renderer` is live; `size` points at a writable `size_t`; a non-null `bytes` points at
+ * `*size` writable bytes.
+ */
+enum EsStatus es_renderer_plan_wisdom(struct EsRenderer *renderer,
+                                      uint8_t *bytes,
+                                      size_t *size);
+
+/**
+ * Takes in the wisdom of `es_renderer_plan_wisdom` from a renderer on the same device and
+ * driver build: the scene classes it settled are then planned as learned, without exploring
+ * them again. Bytes from another device, driver build or format, truncated or damaged ones
+ * are refused (`ES_STATUS_ERROR_INVALID_ARGUMENT`, the message says which) and change
+ * nothing. The bytes are read during the call only. Thread: the renderer's.
+ *
+ * # Safety
+ * `renderer` is live; a non-null `bytes` points at `size` readable bytes.
+ */
+enum EsStatus es_renderer_load_plan_wisdom(struct EsRenderer *renderer,
+                                           const uint8_t *bytes,
+                                           size_t size);
+
+/**
+ * Writes to `out_can_measure` whether the plan can time its frames on this device (its
+ * queue family has timestamps): 1 if so; 0 where `ES_PLAN_MODE_MEASURE` plans as
+ * `ES_PLAN_MODE_ESTIMATE` does and no wisdom is learned. Thread: the renderer's.
+ *
+ * # Safety
+ * `renderer` is live; `out_can_measure` points at a writable `uint32_t`.
+ */
+enum EsStatus es_renderer_can_measure(struct EsRenderer *renderer,
+                                      uint32_t *out_can_measure);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -1,4 +1,4 @@
-//! The C ABI of `ellipsoid-splat`: the library `ellipsoid_splat` (`libellipsoid_splat.so.1`,
+//! The C ABI of `ellipsoid-splat`: the library `ellipsoid_splat` (`libellipsoid_splat.so.2`,
 //! `libellipsoid_splat.a`, as `scripts/install-capi.sh` installs this crate's
 //! `libellipsoid_splat_capi`) and its header `include/ellipsoid_splat.h`, generated from these
 //! sources by cbindgen and committed.
@@ -7,15 +7,18 @@
 //! from the host's raw Vulkan handles and `vkGetInstanceProcAddr`, a target (a render pass and
 //! subpass, or dynamic rendering formats), frame slots, glyphs uploaded from arrays of plain
 //! structs, per view a pre-pass outside the pass and a draw inside it, cameras from
-//! column-major matrices and a viewport or from a look-at, settings, the frame plan, and memory
-//! from the host's callbacks (or the library's own allocator).
+//! column-major matrices and a viewport or from a look-at, settings (the frame plan's mode
+//! among them), the frame plan before and after a frame, the plan's learned wisdom as bytes,
+//! and memory from the host's callbacks (or the library's own allocator).
 //!
 //! The rules (`docs/design.md` §6.7): every function returns an [`EsStatus`]; after a failure
 //! [`es_last_error`] gives the message on the calling thread. No panic unwinds into the
 //! host: it becomes `ES_STATUS_ERROR_PANIC`, and the renderer it happened in refuses every
 //! call but `es_renderer_destroy`. Option structs begin with `struct_size` (set it to
-//! `sizeof` the struct), so later versions can add fields at the end. Handles are opaque;
-//! nothing the host passes in is ever destroyed by the library.
+//! `sizeof` the struct), so later versions can add fields at the end and the library reads
+//! only the version the host was compiled with. Structs the library writes (settings,
+//! cameras, plans) are written whole, so growing one of them changes [`ES_ABI_VERSION`].
+//! Handles are opaque; nothing the host passes in is ever destroyed by the library.
 
 mod allocator;
 mod camera;
@@ -26,6 +29,7 @@ mod renderer;
 mod settings;
 mod status;
 mod target;
+mod wisdom;
 
 pub use allocator::{
     EsAllocatorCallbacks, EsBuffer, EsCreateBufferFn, EsDestroyBufferFn, EsMemoryUse,
@@ -37,21 +41,26 @@ pub use device::{
     ES_FEATURE_SHADER_INT64,
 };
 pub use glyphs::EsGlyph;
-pub use plan::{es_renderer_plan, EsFramePlan};
+pub use plan::{
+    es_renderer_last_plan, es_renderer_plan, EsFramePlan, EsHiddenLayers, EsPlanReasonKind,
+};
 pub use renderer::{
     es_renderer_begin_frame, es_renderer_create, es_renderer_destroy, es_renderer_gpu_memory_bytes,
     es_renderer_record, es_renderer_record_prepass, es_renderer_set_settings,
     es_renderer_set_target, es_renderer_update, es_renderer_upload, EsRenderer,
     EsRendererCreateInfo,
 };
-pub use settings::{es_settings_default, EsMaterial, EsSettings};
+pub use settings::{es_settings_default, EsMaterial, EsPathKind, EsPlanMode, EsSettings};
 pub use status::{es_last_error, EsStatus};
 pub use target::{es_target_required_features, EsTargetInfo};
+pub use wisdom::{es_renderer_can_measure, es_renderer_load_plan_wisdom, es_renderer_plan_wisdom};
 
 /// The ABI's version: it changes whenever a function, struct or constant changes in a way a
 /// host compiled against the old header would break on. The shared library's soname carries
-/// it (`libellipsoid_splat.so.1`).
-pub const ES_ABI_VERSION: u32 = 1;
+/// it (`libellipsoid_splat.so.2`). Version 2: `EsSettings` and `EsFramePlan` grew (the plan's
+/// mode; the path taken and why), and `es_settings_default`, `es_renderer_plan` write them
+/// whole.
+pub const ES_ABI_VERSION: u32 = 2;
 
 /// The ABI version of the library loaded, to compare with `ES_ABI_VERSION` of the header the
 /// host was compiled with. Any thread.

@@ -12,7 +12,7 @@ use crate::allocator::{EsAllocatorCallbacks, RendererMemory, ALLOCATOR_CALLBACKS
 use crate::camera::{read_camera, EsCamera};
 use crate::device::{EsDeviceInfo, LoadedDevice, DEVICE_INFO_V1};
 use crate::glyphs::{ellipsoids, EsGlyph};
-use crate::settings::{settings_from, EsSettings, SETTINGS_V1};
+use crate::settings::{read_settings, EsSettings};
 use crate::status::{guard, output, versioned, EsStatus, Failure};
 use crate::target::{target_from, EsTargetInfo, TARGET_INFO_V1};
 
@@ -139,18 +139,18 @@ pub unsafe extern "C" fn es_renderer_create(
             // SAFETY: caller contract.
             Some(unsafe { versioned(info.allocator, "allocator", ALLOCATOR_CALLBACKS_V1)? })
         };
-        // SAFETY: caller contract: valid handles and loader.
-        let device = unsafe { LoadedDevice::load(device_info)? };
         // SAFETY: caller contract on `color_formats`.
         let target = unsafe { target_from(target_info)? };
         let mut options = RendererOptions::new(target);
         options.frames_in_flight = info.frames_in_flight;
         options.pipeline_cache = info.pipeline_cache;
+        // The plain values are checked before anything is loaded or made.
         if !info.settings.is_null() {
             // SAFETY: caller contract.
-            let settings = unsafe { versioned(info.settings, "settings", SETTINGS_V1)? };
-            options.settings = settings_from(settings, &options.settings);
+            options.settings = unsafe { read_settings(info.settings, &options.settings)? };
         }
+        // SAFETY: caller contract: valid handles and loader.
+        let device = unsafe { LoadedDevice::load(device_info)? };
         // SAFETY: caller contract: the device is loaded from the host's valid handles.
         let mut memory = unsafe { RendererMemory::new(callbacks, &device)? };
         // SAFETY: caller contract: the handles belong together, the features are enabled,
@@ -216,10 +216,12 @@ pub unsafe extern "C" fn es_renderer_set_target(
 }
 
 /// Replaces the settings (the material costs nothing; other changes build their pipelines
-/// on first use). Thread: the renderer's.
+/// on first use). Fields of versions later than the struct's `struct_size` keep their
+/// values. A bad value (an unknown `plan_mode`, say) is refused and changes nothing.
+/// Thread: the renderer's.
 ///
 /// # Safety
-/// `renderer` is live; `settings` points at a valid `EsSettings`.
+/// `renderer` is live; `settings` points at a valid `EsSettings` of its `struct_size`.
 #[no_mangle]
 pub unsafe extern "C" fn es_renderer_set_settings(
     renderer: *mut EsRenderer,
@@ -228,9 +230,8 @@ pub unsafe extern "C" fn es_renderer_set_settings(
     // SAFETY: caller contract.
     unsafe {
         with_renderer(renderer, "es_renderer_set_settings", |r| {
-            let settings = versioned(settings, "settings", SETTINGS_V1)?;
             let library = r.renderer()?;
-            let settings = settings_from(settings, library.settings());
+            let settings = read_settings(settings, library.settings())?;
             library.set_settings(settings);
             Ok(())
         })

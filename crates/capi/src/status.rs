@@ -136,6 +136,47 @@ pub(crate) unsafe fn versioned<'a, T>(
     Ok(unsafe { &*pointer })
 }
 
+/// A copy of the struct behind `pointer` as far as the host's version of it goes: its first
+/// `struct_size` bytes (at least `minimum`, the first version's size; at most this version's
+/// whole struct) over `later()`, which gives the fields of later versions the host did not
+/// allocate. Returns the copy and the bytes taken from the host.
+///
+/// # Safety
+/// A non-null `pointer` points at a readable struct whose first field is its `struct_size`
+/// (`u32`) and which holds at least `min(struct_size, size_of::<T>())` readable bytes. `T` is
+/// plain data: any bytes of a host's struct are a valid `T` (integers and floats only).
+pub(crate) unsafe fn versioned_prefix<T: Copy>(
+    pointer: *const T,
+    what: &str,
+    minimum: usize,
+    later: impl FnOnce() -> T,
+) -> Result<(T, usize), Failure> {
+    if pointer.is_null() {
+        return Err(Failure::invalid(what, "is null"));
+    }
+    // SAFETY: non-null; the caller guarantees a `u32` struct_size first.
+    let size = unsafe { pointer.cast::<u32>().read_unaligned() } as usize;
+    if size < minimum {
+        return Err(Failure::invalid(
+            what,
+            format!("struct_size is {size}, at least {minimum} (sizeof the struct) expected"),
+        ));
+    }
+    let taken = size.min(std::mem::size_of::<T>());
+    let mut copy = later();
+    // SAFETY: the host's struct holds `taken` readable bytes (caller contract); `copy` is a
+    // distinct local of `size_of::<T>() >= taken` bytes; `T` is plain data, so the bytes make
+    // a valid `T`.
+    unsafe {
+        std::ptr::copy_nonoverlapping(
+            pointer.cast::<u8>(),
+            (&mut copy as *mut T).cast::<u8>(),
+            taken,
+        )
+    };
+    Ok((copy, taken))
+}
+
 /// The value behind a non-null `pointer`.
 ///
 /// # Safety

@@ -6,7 +6,7 @@
 //! render pass, on its own allocator callbacks, under the validation layer (any message fails
 //! it). Its pixels are checked here: the glyphs against the float64 reference (coverage and
 //! depth), the plane against the analytic plane, the ImGui window against a frame ImGui drew
-//! alone.
+//! alone. The same host checks the frame plan's calls itself (its `plan` mode).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -311,6 +311,18 @@ fn a_cpp_host_draws_a_mesh_the_ellipsoids_and_imgui_in_one_render_pass() {
             .arg("imgui"),
         "cpp_host imgui",
     );
+    // The frame plan through the C ABI, checked by the host itself: the paths it fixes draw
+    // the same picture (bit for bit on lavapipe), the plan that measures settles on the same
+    // camera, its wisdom goes to a second renderer and comes back the same, and bad settings,
+    // garbage, truncated and damaged bytes are refused with a message.
+    let said = run(
+        Command::new(&host)
+            .arg(&glyph_file)
+            .arg(work.join("plan"))
+            .arg("plan"),
+        "cpp_host plan",
+    );
+    println!("{said}");
     let read = |prefix: &Path, ext: &str| std::fs::read(prefix.with_extension(ext)).unwrap();
     let rgba = read(&out_full, "rgba");
     let depth: Vec<f32> = read(&out_full, "depth")

@@ -166,3 +166,158 @@ fn bad_arguments_are_named_errors() {
     assert_eq!(status, EsStatus::Success);
     assert_eq!(es_abi_version(), ES_ABI_VERSION);
 }
+
+/// `es_renderer_create` with `settings` and handles that are all null: the settings are
+/// checked first, so a bad one is what the call names.
+fn create_with(settings: &EsSettings) -> (EsStatus, String) {
+    let color = vk::Format::R8G8B8A8_UNORM;
+    let target = EsTargetInfo {
+        struct_size: std::mem::size_of::<EsTargetInfo>() as u32,
+        render_pass: vk::RenderPass::null(),
+        subpass: 0,
+        color_attachment_count: 1,
+        color_formats: &color,
+        depth_format: vk::Format::D32_SFLOAT,
+        samples: 1,
+        aux_outputs: 0,
+    };
+    let device = EsDeviceInfo {
+        struct_size: std::mem::size_of::<EsDeviceInfo>() as u32,
+        get_instance_proc_addr: None,
+        instance: vk::Instance::null(),
+        physical_device: vk::PhysicalDevice::null(),
+        device: vk::Device::null(),
+        queue_family_index: 0,
+        enabled_features: 0,
+    };
+    let info = EsRendererCreateInfo {
+        struct_size: std::mem::size_of::<EsRendererCreateInfo>() as u32,
+        device: &device,
+        target: &target,
+        allocator: std::ptr::null(),
+        settings,
+        frames_in_flight: 1,
+        pipeline_cache: vk::PipelineCache::null(),
+    };
+    let mut renderer: *mut EsRenderer = std::ptr::null_mut();
+    // SAFETY: valid structs; the null device is refused before any handle is used.
+    let status = unsafe { es_renderer_create(&info, &mut renderer) };
+    assert!(renderer.is_null());
+    (status, last_error())
+}
+
+#[test]
+fn settings_name_a_known_plan_mode_and_path() {
+    let mut settings = std::mem::MaybeUninit::<EsSettings>::uninit();
+    // SAFETY: a writable struct.
+    let status = unsafe { es_settings_default(settings.as_mut_ptr()) };
+    assert_eq!(status, EsStatus::Success);
+    // SAFETY: written by the successful call.
+    let defaults = unsafe { settings.assume_init() };
+    assert_eq!(
+        defaults.struct_size as usize,
+        std::mem::size_of::<EsSettings>()
+    );
+    assert_eq!(defaults.plan_mode, EsPlanMode::Measure as u32);
+    assert_eq!(defaults.fixed_path, EsPathKind::None as u32);
+
+    // Good settings pass, and the null device is what the call then names.
+    let (status, message) = create_with(&defaults);
+    assert_eq!(status, EsStatus::ErrorInvalidArgument);
+    assert!(message.contains("get_instance_proc_addr"), "{message}");
+
+    let cases = [
+        (
+            7,
+            EsPathKind::None as u32,
+            1,
+            "EsSettings.plan_mode: 7 is not an EsPlanMode",
+        ),
+        (
+            EsPlanMode::Fixed as u32,
+            EsPathKind::None as u32,
+            1,
+            "EsSettings.fixed_path",
+        ),
+        (
+            EsPlanMode::Fixed as u32,
+            42,
+            1,
+            "EsSettings.fixed_path: 42 is not an EsPathKind",
+        ),
+        (
+            EsPlanMode::Measure as u32,
+            42,
+            1,
+            "EsSettings.fixed_path: 42",
+        ),
+        (
+            EsPlanMode::Fixed as u32,
+            EsPathKind::Splat as u32,
+            0,
+            "EsSettings.compute_splat",
+        ),
+    ];
+    for (plan_mode, fixed_path, compute_splat, words) in cases {
+        let mut bad = defaults;
+        bad.plan_mode = plan_mode;
+        bad.fixed_path = fixed_path;
+        bad.compute_splat = compute_splat;
+        let (status, message) = create_with(&bad);
+        assert_eq!(status, EsStatus::ErrorInvalidArgument, "{message}");
+        assert!(
+            message.contains("es_renderer_create") && message.contains(words),
+            "{words}: {message}"
+        );
+    }
+
+    // A first-version struct (52 bytes) is read as such: what lies beyond it is not the
+    // host's and is never looked at.
+    let mut first = defaults;
+    first.struct_size = 52;
+    first.plan_mode = 0xdead_beef;
+    first.fixed_path = 0xdead_beef;
+    let (status, message) = create_with(&first);
+    assert_eq!(status, EsStatus::ErrorInvalidArgument);
+    assert!(message.contains("get_instance_proc_addr"), "{message}");
+    first.struct_size = 48;
+    let (_, message) = create_with(&first);
+    assert!(message.contains("struct_size is 48"), "{message}");
+}
+
+#[test]
+fn the_plan_and_wisdom_calls_refuse_a_null_renderer() {
+    let mut plan = std::mem::MaybeUninit::<EsFramePlan>::uninit();
+    let mut size = 0usize;
+    let bytes = [0u8; 8];
+    // SAFETY: each call refuses the null renderer before reading anything else.
+    let statuses = unsafe {
+        [
+            (
+                es_renderer_last_plan(std::ptr::null_mut(), plan.as_mut_ptr()),
+                "es_renderer_last_plan",
+            ),
+            (
+                es_renderer_plan_wisdom(std::ptr::null_mut(), std::ptr::null_mut(), &mut size),
+                "es_renderer_plan_wisdom",
+            ),
+            (
+                es_renderer_load_plan_wisdom(std::ptr::null_mut(), bytes.as_ptr(), bytes.len()),
+                "es_renderer_load_plan_wisdom",
+            ),
+            (
+                es_renderer_can_measure(std::ptr::null_mut(), std::ptr::null_mut()),
+                "es_renderer_can_measure",
+            ),
+        ]
+    };
+    for (status, function) in statuses {
+        assert_eq!(status, EsStatus::ErrorInvalidArgument, "{function}");
+    }
+    // The message is the last call's.
+    assert!(
+        last_error().contains("es_renderer_can_measure") && last_error().contains("null"),
+        "{}",
+        last_error()
+    );
+}

@@ -1,6 +1,12 @@
 //! Generated scenes, read from no file: the tensor-field demo (after Gumhold 2003's test
-//! scene), a random cloud of overlapping ellipsoids and a densely packed block, for tests,
-//! benches and demos. All are deterministic.
+//! scene), a random cloud of overlapping ellipsoids, a densely packed block and a snapshot of
+//! a liquid of rods and spheres ([`md_liquid`]), for tests, benches and demos. All are
+//! deterministic.
+
+mod contact;
+mod md_liquid;
+
+pub use md_liquid::{md_liquid, md_liquid_side, PACKING_FRACTION, ROD_COLOR, SPHERE_COLOR};
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 

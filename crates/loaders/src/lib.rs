@@ -15,8 +15,8 @@
 //! Once loaded, glyphs can be recoloured by shape, principal direction or uniformly
 //! ([`ColorMode`]; [`anisotropy`] gives the fractional anisotropy it weights by).
 //!
-//! Also [`generate`] (the tensor-field demo, random clouds and packed blocks, for tests, benches
-//! and demos) and [`Progress`], the progress bar large files and long sweeps show on a terminal.
+//! Also [`generate`] (the tensor-field demo, random clouds, packed blocks and a liquid of rods
+//! and spheres, for tests, benches and demos) and [`Progress`], the progress bar large files and long sweeps show on a terminal.
 //!
 //! # Diagnostics
 //!
@@ -42,7 +42,7 @@ pub use self::anisotropy::fractional_anisotropy;
 pub use self::color_mode::{principal_color, principal_direction, ColorMode, UNIFORM_GREY};
 pub use self::csv::{load_csv, parse_csv};
 pub use self::error::{Error, Result};
-pub use self::generate::{lattice, packed_block, random_cloud, tensor_field};
+pub use self::generate::{lattice, md_liquid, packed_block, random_cloud, tensor_field};
 pub use self::load::{load, LoadOptions, Loaded, Origins, TensorOrder};
 pub use self::nifti::{load_nifti, parse_nifti};
 pub use self::pdb::{load_structure, parse_structure};

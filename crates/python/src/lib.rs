@@ -10,6 +10,7 @@ mod errors;
 mod glyphs;
 mod images;
 mod load;
+mod plan;
 mod renderer;
 
 use pyo3::prelude::*;

@@ -10,10 +10,12 @@ use numpy::ndarray::Array;
 use numpy::{IntoPyArray, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
 
 use crate::camera::CameraArgs;
 use crate::errors::renderer_error;
 use crate::glyphs::GlyphArrays;
+use crate::plan::{plan_dict, plan_mode, plan_name};
 
 /// The renderer behind a raw pointer, so its work can run with the GIL released: the object
 /// is `unsendable` and borrowed mutably for the call, so no other thread touches it.
@@ -53,17 +55,21 @@ type FrameArrays<'py> = (
 #[pymethods]
 impl Renderer {
     #[new]
-    #[pyo3(signature = (validation=false, device=None))]
-    fn new(py: Python<'_>, validation: bool, device: Option<String>) -> PyResult<Self> {
+    #[pyo3(signature = (validation=false, device=None, plan="measure"))]
+    fn new(py: Python<'_>, validation: bool, device: Option<String>, plan: &str) -> PyResult<Self> {
+        let mode = plan_mode(plan)?;
         let mut options = if validation {
             ContextOptions::validated()
         } else {
             ContextOptions::default()
         };
         options.device = device;
-        let renderer = py
+        let mut renderer = py
             .allow_threads(|| OffscreenRenderer::new(&options))
             .map_err(renderer_error)?;
+        let mut settings = *renderer.settings();
+        settings.plan = mode;
+        renderer.set_settings(settings);
         Ok(Self {
             renderer,
             sphere: None,
@@ -189,6 +195,41 @@ impl Renderer {
             .context()
             .check_validation()
             .map_err(renderer_error)
+    }
+
+    /// How the frame plan chooses its path, by name (`plan_mode`'s names).
+    #[getter]
+    fn plan(&self) -> &'static str {
+        plan_name(self.renderer.settings().plan)
+    }
+
+    /// Sets how the frame plan chooses its path; an unknown name changes nothing.
+    #[setter]
+    fn set_plan(&mut self, plan: &str) -> PyResult<()> {
+        let mut settings = *self.renderer.settings();
+        settings.plan = plan_mode(plan)?;
+        self.renderer.set_settings(settings);
+        Ok(())
+    }
+
+    /// The plan of the last frame drawn, as a dict, or `None` before the first.
+    #[getter]
+    fn last_plan<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        self.renderer
+            .last_plan()
+            .map(|plan| plan_dict(py, plan))
+            .transpose()
+    }
+
+    /// What the plan learned on this device, as bytes.
+    fn plan_wisdom<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
+        PyBytes::new(py, &self.renderer.plan_wisdom())
+    }
+
+    /// Takes in what a renderer on the same device and driver learned; refused bytes raise
+    /// `ValueError` with the library's reason and change nothing.
+    fn load_plan_wisdom(&mut self, data: &[u8]) -> PyResult<()> {
+        self.renderer.load_plan_wisdom(data).map_err(renderer_error)
     }
 
     /// How many glyphs are uploaded.

@@ -216,3 +216,92 @@ def test_a_million_glyphs_render_and_the_binding_costs_little(renderer):
     assert len(shown) > 10_000 and shown.max() < n
     # Timing is the benchmark's (bench_overhead.py); here it is only reported.
     print(f"1M glyphs: {wall:.0f} ms in Python, {renderer.upload_ms + frame.render_ms:.0f} ms in Rust")
+
+
+def frame_bytes(frame):
+    return [frame.color.tobytes(), frame.depth.tobytes(), frame.normal.tobytes(),
+            frame.id.tobytes()]
+
+
+def test_every_plan_draws_the_same_picture_and_says_why():
+    r = es.Renderer(validation=True, plan="draw")
+    assert r.plan == "draw" and r.last_plan is None
+    centers, radii, q, colors = random_glyphs(300, seed=5)
+    camera = dict(eye=(0.0, 0.0, 9.0), target=(0.0, 0.0, 0.0), near=1.0, width=96, height=72)
+    r.upload(centers, radii, q, colors)
+    frames, plans = {}, {}
+    assert sorted(es.PLANS) == sorted(["draw", "splat", "visible-first", "estimate", "measure"])
+    for plan in ("draw", "splat", "visible-first", "estimate", "measure"):
+        r.plan = plan
+        # The camera holds still: the visible-first splat's first frame stamps what it shows,
+        # its second splats that first.
+        for stamping in (True, False):
+            frames[plan, stamping] = r.render_uploaded(**camera)
+            plans[plan, stamping] = r.last_plan
+        assert r.plan == plan
+    drawn = frames["draw", False]
+    assert (drawn.id != es.NO_GLYPH).sum() > 1000
+    if "llvmpipe" in r.device:  # bit for bit on lavapipe; other drivers round paths apart
+        for key, frame in frames.items():
+            assert frame_bytes(frame) == frame_bytes(drawn), key
+    draw = plans["draw", False]
+    assert draw["path"] == "draw" and draw["hidden"] is None
+    assert draw["reason_kind"] in ("fixed", "only") and draw["measured_ms"] is None
+    assert isinstance(draw["reason"], str) and draw["reason"]
+    if "splat" in draw["candidates"]:
+        assert draw["reason_kind"] == "fixed" and draw["reason"] == "fixed by the host"
+        splat = plans["splat", False]
+        assert (splat["path"], splat["hidden"], splat["reason_kind"]) == \
+            ("splat", "splat-all", "fixed")
+        assert (plans["visible-first", True]["path"], plans["visible-first", True]["hidden"]) \
+            == ("visible-first", "stamp-shown")
+        assert (plans["visible-first", False]["path"], plans["visible-first", False]["hidden"]) \
+            == ("visible-first", "visible-first")
+    assert plans["estimate", False]["reason_kind"] in ("estimated", "only")
+    # A name not among the plans is refused and changes nothing.
+    with pytest.raises(ValueError, match="'measure', 'estimate', 'draw', 'splat', 'visible-first'"):
+        r.plan = "fastest"
+    with pytest.raises(ValueError, match="plan"):
+        r.plan = None
+    assert r.plan == "measure"
+    with pytest.raises(ValueError, match="visible-first"):
+        es.Renderer(plan="quickest")
+
+
+def test_plan_wisdom_goes_to_a_second_renderer_and_bad_bytes_are_refused():
+    first = es.Renderer(validation=True)
+    second = es.Renderer(validation=True)
+    empty = second.plan_wisdom()
+    assert isinstance(empty, bytes) and len(empty) > 0
+    centers, radii, q, colors = random_glyphs(300, seed=8)
+    camera = dict(eye=(0.0, 1.0, 9.0), target=(0.0, 0.0, 0.0), near=1.0, width=96, height=72)
+    # The same camera until the plan settles its scene class (each trial is bounded).
+    frames = 0
+    while len(first.plan_wisdom()) == len(empty) and frames < 90:
+        first.render(centers, radii, q, colors, **camera)
+        frames += 1
+    wisdom = first.plan_wisdom()
+    assert len(wisdom) > len(empty), f"nothing settled in {frames} frames"
+    first.render(centers, radii, q, colors, **camera)
+    learned = first.last_plan
+    assert learned["reason_kind"] == "measured" and learned["measured_ms"] >= 0
+    assert learned["reason"].startswith("measured: ")
+    assert (learned["runner_up"] is None) == (learned["runner_up_ms"] is None)
+
+    second.load_plan_wisdom(wisdom)
+    assert second.plan_wisdom() == wisdom, "what a renderer loads it gives back"
+    # Its first frame's camera moves in (a class of its own); the next holds still and is
+    # planned as learned, without exploring.
+    second.render(centers, radii, q, colors, **camera)
+    second.render(centers, radii, q, colors, **camera)
+    assert second.last_plan["reason_kind"] == "measured"
+    assert second.last_plan["path"] == learned["path"]
+
+    damaged = bytearray(wisdom)
+    damaged[len(damaged) // 2] ^= 0x40
+    for bad in (b"these bytes are not plan wisdom", wisdom[:-1], bytes(damaged), b""):
+        with pytest.raises(ValueError, match="plan wisdom"):
+            second.load_plan_wisdom(bad)
+    with pytest.raises(TypeError):
+        second.load_plan_wisdom("not bytes")
+    second.load_plan_wisdom(memoryview(wisdom))  # any bytes-like object

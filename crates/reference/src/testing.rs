@@ -5,8 +5,9 @@
 use crate::compare::{compare, Bounds, ErrorStats};
 use crate::reference::render_reference;
 use crate::shading::compare_colors;
+use ellipsoid_splat::plan::{HiddenLayers, PathKind, PlanMode};
 use ellipsoid_splat::{Camera, Frame, InstanceFormat, OffscreenRenderer, Outputs, Scene};
-use ellipsoid_splat::{ContextOptions, Settings, NO_INSTANCE};
+use ellipsoid_splat::{ContextOptions, FramePlan, Settings, NO_INSTANCE};
 
 /// Prints the library's log on stderr, for runs that want each validation message as it
 /// arrives (`scripts/validation-modes.sh` sets `ELLIPSOID_SPLAT_PRINT_VALIDATION`).
@@ -248,4 +249,32 @@ pub fn assert_frames_agree(
         .filter(|(a, b)| a != b)
         .count();
     differ("colour", colors);
+}
+
+/// The shipped settings with the frame plan fixed on `kind` wherever it can serve a frame
+/// (tests that set paths side by side).
+pub fn fixed_path(kind: PathKind) -> Settings {
+    let mut settings = Settings::default();
+    settings.plan = PlanMode::Fixed(kind);
+    settings
+}
+
+/// Whether `plan`'s frame splats.
+pub fn splats(plan: &FramePlan) -> bool {
+    plan.path.splat().is_some()
+}
+
+/// Whether `plan`'s frame stamps the glyphs it shows (the visible-first splat's frames, and
+/// the first still frame before them).
+pub fn stamps(plan: &FramePlan) -> bool {
+    plan.path
+        .splat()
+        .is_some_and(|s| s.hidden != HiddenLayers::SplatAll)
+}
+
+/// Whether `plan`'s frame runs the visible-first splat.
+pub fn visible_first(plan: &FramePlan) -> bool {
+    plan.path
+        .splat()
+        .is_some_and(|s| matches!(s.hidden, HiddenLayers::VisibleFirst { .. }))
 }

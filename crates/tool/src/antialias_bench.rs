@@ -24,6 +24,7 @@ use std::path::Path;
 use ash::vk;
 
 use crate::error::Result;
+use ellipsoid_splat::plan::{PathKind, PlanMode};
 use ellipsoid_splat::ContextOptions;
 use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::{Outputs, Settings};
@@ -227,7 +228,12 @@ pub fn run(
         let these = {
             let mut settings = Settings::default();
             settings.per_sample_shading = variant.mode == Some(AntialiasMode::Msaa4PerSample);
-            settings.compute_splat = variant.compute_splat;
+            // Reproducible: the first guess, or the draw alone.
+            settings.plan = if variant.compute_splat {
+                PlanMode::Estimate
+            } else {
+                PlanMode::Fixed(PathKind::Draw)
+            };
             settings
         };
         renderer.set_settings(these);

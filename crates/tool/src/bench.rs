@@ -5,6 +5,18 @@
 //! also builds the pipeline and warms lavapipe's shader cache), two warm-up frames, then
 //! `frames` rounds in which the methods take turns (so drift hits all alike), each frame timed
 //! from submit to fence with GPU timestamps and fragment-shader-invocation counts beside it.
+//! A method whose plan measures first draws frames until the plan has timed its candidates
+//! (`impostor`: the plan as shipped, after it learned); `regret.rs` sets its time and the
+//! first guess's against the fastest fixed path's.
+//!
+//! - `user_scene.rs`: the scenes of `--scene`, loaded and framed as `render` does.
+//! - `regret.rs`: the plan's regret per scene.
+
+mod regret;
+mod user_scene;
+
+pub use regret::{plan_regrets, regret_table, PlanRegret};
+pub use user_scene::user_scenes;
 
 use std::path::Path;
 
@@ -12,22 +24,24 @@ use glam::DVec3;
 
 use crate::antialias_bench::AntialiasTiming;
 use crate::error::{Error, Result};
+use crate::plan::{self as plan_text, BENCH_LEARNING_FRAMES};
 use crate::report::{
     bar_chart, fmt_sci, format_table, line_chart, markdown_table, scatter_chart, write_csv, Axis,
     Series,
 };
 use ellipsoid_splat::camera::{Camera, Projection};
-use ellipsoid_splat::draw::{Geometry, Method};
+use ellipsoid_splat::plan::PlanMode;
+use ellipsoid_splat::research::{Geometry, Method};
 use ellipsoid_splat::FramePlan;
 use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::{Outputs, Scene, Settings};
-use ellipsoid_splat_loaders::{lattice, random_cloud, tensor_field, Progress};
+use ellipsoid_splat_loaders::{lattice, md_liquid, random_cloud, tensor_field, Progress};
 use ellipsoid_splat_reference::render_reference;
 use ellipsoid_splat_reference::{compare, Bounds, ErrorStats};
 
-/// Image size of every bench scene.
+/// Image width of every built-in bench scene (and the default of `--scene`'s).
 pub const WIDTH: u32 = 1920;
-/// Image height of every bench scene.
+/// Image height of every built-in bench scene (and the default of `--scene`'s).
 pub const HEIGHT: u32 = 1080;
 /// The deep scenes of medium glyphs whose hidden layers the shipped renderer should skip, with
 /// the shipped renderer's time as a share of the draw's measured on 2026-11-25 (`bench
@@ -65,6 +79,8 @@ pub const CSV_HEADER: &[&str] = &[
     "ray_casts_per_covered_centre",
     "device",
     "driver",
+    "plan_path",
+    "plan_regret",
 ];
 
 /// One scene of the benchmark.
@@ -73,7 +89,7 @@ pub struct BenchScene {
     pub name: String,
     /// The ellipsoids.
     pub scene: Scene,
-    /// The camera (1920x1080, perspective).
+    /// The camera (the built-in scenes: 1920x1080, perspective).
     pub camera: Camera,
     /// Projected size in pixels (0 for the tensor field, whose glyphs vary).
     pub size_px: f64,
@@ -88,6 +104,8 @@ pub struct BenchResult {
     pub scene: String,
     /// Ellipsoids in the scene.
     pub count: usize,
+    /// The image's width and height in pixels.
+    pub size: (u32, u32),
     /// Projected glyph size of the scene (0 = mixed).
     pub size_px: f64,
     /// Median submit-to-fence time.
@@ -110,6 +128,21 @@ pub struct BenchResult {
     pub silhouette_pixels: u64,
     /// Error against the reference.
     pub stats: ErrorStats,
+    /// The paths the timed frames took (`plan::path_name`), each once, in the order first
+    /// taken.
+    pub paths: Vec<&'static str>,
+    /// For a method whose plan measures: how its learning went before the timed rounds.
+    pub learning: Option<Learning>,
+}
+
+/// How the plan of a method that measures learned the scene before its timed rounds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Learning {
+    /// Frames drawn of the scene with the method before the timed rounds (warm-up included).
+    pub frames: usize,
+    /// Whether the plan had timed its candidates by then (else it was still exploring after
+    /// the most frames `bench` draws for it).
+    pub settled: bool,
 }
 
 impl BenchResult {
@@ -137,6 +170,11 @@ impl BenchResult {
         Some(self.ray_casts? as f64 / self.silhouette_pixels.max(1) as f64)
     }
 
+    /// The paths its timed frames took, `/` between them if several.
+    pub fn plan_path(&self) -> String {
+        self.paths.join("/")
+    }
+
     /// Pixels shaded per silhouette pixel (1 = no wasted fragment); from the exact count
     /// where there is one, else from pipeline statistics.
     pub fn fill_ratio(&self) -> f64 {
@@ -149,8 +187,8 @@ impl BenchResult {
             self.method.name(),
             self.scene.clone(),
             self.count.to_string(),
-            WIDTH.to_string(),
-            HEIGHT.to_string(),
+            self.size.0.to_string(),
+            self.size.1.to_string(),
             format!("{:.3}", self.wall_ms),
             format!("{:.3}", self.gpu_ms),
             self.fragments.to_string(),
@@ -234,6 +272,20 @@ pub fn lattice_scene() -> BenchScene {
     }
 }
 
+/// A liquid of 8,000 rods and spheres (`--scene md-liquid`), seen whole: the camera frames
+/// the box as the tensor field's does.
+pub fn md_liquid_scene() -> BenchScene {
+    let scene = md_liquid(crate::cli::MD_LIQUID_COUNT, crate::cli::MD_LIQUID_SEED);
+    let (c, r) = scene.bounding_sphere().expect("md-liquid is not empty");
+    let camera = Camera::framing(c, r, WIDTH, HEIGHT).expect("framing camera is valid");
+    BenchScene {
+        name: "md-liquid".into(),
+        scene,
+        camera,
+        size_px: 0.0,
+    }
+}
+
 /// Whether `method`'s fragment stage ray casts each pixel it shades (the flat fill and the
 /// meshes do not).
 fn fragments_ray_cast(method: Method) -> bool {
@@ -273,8 +325,8 @@ pub fn cloud_specs(quick: bool) -> Vec<(usize, f64)> {
 /// are not counted), the resolved footprint's otherwise.
 fn vertices_per_instance(method: Method, plan: &FramePlan) -> f64 {
     match method.config().geometry {
-        Geometry::Impostor if plan.compute_splat => 0.0,
-        Geometry::Impostor => plan.config.footprint.vertices() as f64,
+        Geometry::Impostor if plan.path.splat().is_some() => 0.0,
+        Geometry::Impostor => plan.footprint.vertices() as f64,
         Geometry::BoxProxy => 36.0,
         Geometry::Mesh(level) => 10.0 * 4f64.powi(level as i32) + 2.0,
     }
@@ -320,7 +372,7 @@ pub fn run(
                 }
             };
             // A floor replaces only a splatted frame: elsewhere it would time the draw.
-            if m.splat_floor() != 0 && !plan.compute_splat {
+            if m.splat_floor() != 0 && plan.path.splat().is_none() {
                 skipped.push(format!("{} on {} (not splatted)", m.name(), bench.name));
                 continue;
             }
@@ -350,6 +402,21 @@ pub fn run(
             for _ in 0..2 {
                 renderer.render_timed(&bench.camera, Outputs::COLOR_DEPTH)?;
             }
+            // A plan that measures learns the scene first, as it would over the first frames
+            // of a camera in an application: the frames read back and timed below are then
+            // of the path it settled on.
+            let learning = if method.settings().plan == PlanMode::Measure {
+                let mut frames = 2;
+                let mut settled = false;
+                while !settled && frames < 2 + BENCH_LEARNING_FRAMES {
+                    renderer.render_timed(&bench.camera, Outputs::COLOR_DEPTH)?;
+                    frames += 1;
+                    settled = plan_text::settled(renderer);
+                }
+                Some(Learning { frames, settled })
+            } else {
+                None
+            };
             if first_frame {
                 renderer.forget_shown();
             }
@@ -383,6 +450,8 @@ pub fn run(
                 ray_casts,
                 wall: Vec::new(),
                 gpu: Vec::new(),
+                paths: Vec::new(),
+                learning,
             });
         }
         let mut order = RoundOrder::new(measured.len());
@@ -400,6 +469,12 @@ pub fn run(
                 let timing = renderer.render_timed(&bench.camera, Outputs::COLOR_DEPTH)?;
                 entry.wall.push(timing.gpu_wall.as_secs_f64() * 1e3);
                 entry.gpu.push(timing.gpu.gpu_ms);
+                if let Some(plan) = renderer.last_plan() {
+                    let path = plan_text::path_name(&plan.path);
+                    if !entry.paths.contains(&path) {
+                        entry.paths.push(path);
+                    }
+                }
             }
         }
         for mut m in measured {
@@ -407,6 +482,7 @@ pub fn run(
                 method: m.method,
                 scene: bench.name.clone(),
                 count,
+                size: (bench.camera.width, bench.camera.height),
                 size_px: bench.size_px,
                 wall_quartiles_ms: (quantile(&mut m.wall, 0.25), quantile(&mut m.wall, 0.75)),
                 wall_ms: median(&mut m.wall),
@@ -416,6 +492,8 @@ pub fn run(
                 ray_casts: m.ray_casts,
                 silhouette_pixels,
                 stats: m.stats,
+                paths: m.paths,
+                learning: m.learning,
             });
         }
     }
@@ -432,6 +510,8 @@ struct Measured {
     ray_casts: Option<u64>,
     wall: Vec<f64>,
     gpu: Vec<f64>,
+    paths: Vec<&'static str>,
+    learning: Option<Learning>,
 }
 
 /// The order of the variants in each round of a timed comparison: a fresh shuffle each round
@@ -730,8 +810,20 @@ pub fn check_targets(results: &[BenchResult]) -> Vec<TargetCheck> {
     checks
 }
 
+/// What `bench` prints after its run.
+pub struct Summary {
+    /// Every result, one line each.
+    pub table: String,
+    /// The headline scene's ratios (Markdown).
+    pub markdown: String,
+    /// The plan's regret per scene (Markdown, with notes), see `regret.rs`.
+    pub regret: String,
+}
+
 /// Writes `results.csv`, `time_vs_error.png`, `fill_efficiency.png` and `scaling.png` into
-/// `dir` and returns the printed table and the Markdown table of headline ratios. The
+/// `dir` and returns what is printed: every result, the Markdown table of headline ratios and
+/// that of the plan's regret (also in `results.csv`: `plan_path`, the paths each method's
+/// timed frames took, and `plan_regret` on the `impostor` and `impostor-estimate` rows). The
 /// `antialiased` variants of the headline scene join its time-versus-error chart, each at its
 /// error at its own samples (they resolve several per pixel, so the pixel-centre comparison
 /// does not apply). Every row of `results.csv` names the `device` and its `driver`, so that
@@ -741,16 +833,22 @@ pub fn write_report(
     antialiased: &[AntialiasTiming],
     (device, driver): (&str, &str),
     dir: &Path,
-) -> Result<(String, String)> {
+) -> Result<Summary> {
     std::fs::create_dir_all(dir).map_err(|source| Error::Io {
         path: dir.to_path_buf(),
         source,
     })?;
+    let regrets = plan_regrets(results);
     let rows: Vec<Vec<String>> = results
         .iter()
         .map(|r| {
             let mut row = r.csv_row();
-            row.extend([device.to_string(), driver.to_string()]);
+            row.extend([
+                device.to_string(),
+                driver.to_string(),
+                r.plan_path(),
+                regret::regret_cell(&regrets, r),
+            ]);
             row
         })
         .collect();
@@ -804,8 +902,8 @@ pub fn write_report(
         &format!(
             "time versus error, {} ({}x{}, lavapipe)",
             headline.first().map_or("", |r| r.scene.as_str()),
-            WIDTH,
-            HEIGHT
+            headline.first().map_or(WIDTH, |r| r.size.0),
+            headline.first().map_or(HEIGHT, |r| r.size.1)
         ),
         &Axis::log("median frame time, submit to fence (ms)"),
         &Axis::log("worst error / strict bound (1 = within every bound)"),
@@ -903,7 +1001,11 @@ pub fn write_report(
         ],
         &headline_rows,
     );
-    Ok((format_table(&header, &table), markdown))
+    Ok(Summary {
+        table: format_table(&header, &table),
+        markdown,
+        regret: regret_table(&regrets),
+    })
 }
 
 /// Sets up `renderer` for `method`: its draw configuration and its settings (the scene is

@@ -15,6 +15,7 @@ use ellipsoid_splat::{Scene, NO_INSTANCE};
 use ellipsoid_splat_loaders as scene;
 
 use crate::output::{self, Image};
+use crate::plan::PlanArg;
 use ellipsoid_splat::Outputs;
 
 /// Exact ray-cast ellipsoid impostors on Vulkan.
@@ -36,7 +37,7 @@ pub enum Command {
     Stress(StressArgs),
     /// Run time against error: every drawing method on the same scenes, timed and compared
     /// with the float64 reference; writes results.csv and plots.
-    Bench(BenchArgs),
+    Bench(Box<BenchArgs>),
     /// Print the Vulkan device, driver and features used.
     Info(DeviceArgs),
     /// Check this device's driver against the float64 reference: the accuracy cases under the
@@ -56,7 +57,8 @@ pub enum Command {
 /// Arguments of `view`: `render`'s (scene, loading, camera, device) and the window's own.
 #[derive(Debug, Clone, Args)]
 pub struct ViewArgs {
-    /// The scene, as `--scene` takes it (a file, `tensor-field[:N]`, `lattice[:N]` or `random:COUNT`).
+    /// The scene, as `--scene` takes it (a file, `tensor-field[:N]`, `lattice[:N]`,
+    /// `md-liquid[:N]` or `random:COUNT`).
     #[arg(value_name = "SCENE")]
     pub scene_name: Option<String>,
     /// Everything `render` takes; the depth, normal and ID image flags do not apply.
@@ -162,13 +164,35 @@ pub struct BenchArgs {
     /// Comma-separated method names (default: all).
     #[arg(long, value_delimiter = ',')]
     pub methods: Vec<String>,
-    /// Only scenes whose name contains one of these comma-separated words (default: all).
+    /// Only built-in scenes whose name contains one of these comma-separated words (default:
+    /// all of them, or none when `--scene` is given).
     #[arg(long, value_delimiter = ',')]
     pub scenes: Vec<String>,
+    /// A scene of your own, as `render --scene` takes it: a file in any format `render`
+    /// reads, `tensor-field[:N]`, `lattice[:N]`, `md-liquid[:N]` or `random:COUNT`. Repeat it
+    /// for several; with `--scenes`, the built-in scenes it picks run too. Each is loaded,
+    /// and its camera set up, before the device is opened.
+    #[arg(long = "scene", value_name = "SCENE")]
+    pub scene: Vec<String>,
+    /// The camera of the `--scene` scenes, as `render` takes it (default: framing each).
+    #[command(flatten)]
+    pub camera: CameraArgs,
+    /// Image width of the `--scene` scenes in pixels, 1 to 16384 (default 1920).
+    #[arg(long, value_parser = parse_pixels, allow_negative_numbers = true)]
+    pub width: Option<u32>,
+    /// Image height of the `--scene` scenes in pixels, 1 to 16384 (default 1080).
+    #[arg(long, value_parser = parse_pixels, allow_negative_numbers = true)]
+    pub height: Option<u32>,
+    /// How the `--scene` scenes are read and coloured.
+    #[command(flatten)]
+    pub load: LoadArgs,
     /// Instead: measure each skippable piece of work on and off (culling, outputs, order);
     /// writes skip.csv and skip.png.
     #[arg(long, conflicts_with = "antialias")]
     pub skip: bool,
+    /// With `--skip`: only these comma-separated features (default: all of them).
+    #[arg(long, value_delimiter = ',', requires = "skip")]
+    pub features: Vec<String>,
     /// Instead: time antialiasing (one sample, 4x MSAA shaded per pixel and per sample, 2 x 2
     /// and 4 x 4 supersampling) on the tensor field and a cloud of 16 px glyphs, and report
     /// each way's area error and its error at its own samples (both measured at a quarter of
@@ -190,7 +214,7 @@ pub enum IntersectionArg {
     Textbook,
 }
 
-impl From<IntersectionArg> for ellipsoid_splat::draw::Intersection {
+impl From<IntersectionArg> for ellipsoid_splat::research::Intersection {
     fn from(value: IntersectionArg) -> Self {
         match value {
             IntersectionArg::Stable => Self::Stable,
@@ -280,6 +304,23 @@ pub struct LoadArgs {
 }
 
 impl LoadArgs {
+    /// The first of these flags given a value other than its default, if any.
+    pub fn given(&self) -> Option<&'static str> {
+        let defaults = scene::LoadOptions::default();
+        [
+            ("--color", self.color != ColorArg::File),
+            ("--skip-invalid", self.skip_invalid),
+            ("--sigma", self.sigma != defaults.sigma),
+            ("--min-opacity", self.min_opacity != defaults.min_opacity),
+            ("--tensor-order", self.tensor_order != TensorOrderArg::Fsl),
+            ("--min-fa", self.min_fa != defaults.min_fa),
+            ("--mask", self.mask.is_some()),
+            ("--glyph-scale", self.glyph_scale != defaults.glyph_scale),
+        ]
+        .into_iter()
+        .find_map(|(flag, given)| given.then_some(flag))
+    }
+
     /// The loader options these flags ask for.
     pub fn options(&self) -> scene::LoadOptions {
         scene::LoadOptions {
@@ -347,15 +388,74 @@ pub enum TensorOrderArg {
     Nifti,
 }
 
+/// The camera flags `render`, `view` and `bench --scene` share: where the camera is, where it
+/// looks and its projection (the defaults frame the scene, see [`camera_for`]).
+#[derive(Debug, Clone, Args)]
+pub struct CameraArgs {
+    /// Eye position `x,y,z` (default: frames the scene).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub eye: Option<DVec3>,
+    /// Point looked at `x,y,z` (default: the scene's centre).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub target: Option<DVec3>,
+    /// Up direction `x,y,z`.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, default_value = "0,1,0")]
+    pub up: DVec3,
+    /// Vertical field of view in degrees (perspective).
+    #[arg(
+        long,
+        default_value_t = DEFAULT_FOV_Y,
+        conflicts_with = "ortho",
+        value_parser = parse_number,
+        allow_hyphen_values = true
+    )]
+    pub fov_y: f64,
+    /// Orthographic projection with this view height.
+    #[arg(long, value_parser = parse_number, allow_hyphen_values = true)]
+    pub ortho: Option<f64>,
+    /// A pinhole camera's intrinsics `fx,fy,cx,cy` in pixels (OpenCV's; instead of --fov-y):
+    /// the ray through pixel centre (i + 0.5, j + 0.5), row 0 at the top, has the camera-frame
+    /// direction ((i + 0.5 - cx) / fx, (j + 0.5 - cy) / fy, 1), x right, y down, z forward.
+    /// Off-centre principal points, asymmetric frusta and non-square pixels. In the camera's
+    /// pixels (--viewport's size when given).
+    #[arg(
+        long,
+        value_parser = parse_intrinsics,
+        allow_hyphen_values = true,
+        conflicts_with_all = ["ortho", "fov_y"]
+    )]
+    pub intrinsics: Option<Intrinsics>,
+}
+
+impl CameraArgs {
+    /// The first of these flags given a value other than its default, if any.
+    pub fn given(&self) -> Option<&'static str> {
+        [
+            ("--eye", self.eye.is_some()),
+            ("--target", self.target.is_some()),
+            ("--up", self.up != DVec3::Y),
+            ("--fov-y", self.fov_y != DEFAULT_FOV_Y),
+            ("--ortho", self.ortho.is_some()),
+            ("--intrinsics", self.intrinsics.is_some()),
+        ]
+        .into_iter()
+        .find_map(|(flag, given)| given.then_some(flag))
+    }
+}
+
+/// The vertical field of view `--fov-y` defaults to, degrees.
+pub const DEFAULT_FOV_Y: f64 = 45.0;
+
 /// Arguments of `render`.
 #[derive(Debug, Clone, Args)]
 pub struct RenderArgs {
     /// A scene file -- Ellipsoid CSV (`.csv`), 3D Gaussian Splatting (`.ply`), diffusion tensor
     /// NIfTI (`.nii`, `.nii.gz`), PDB (`.pdb`, `.ent`) or mmCIF (`.cif`) with anisotropic
     /// displacements; other names are recognised by content -- or `tensor-field[:N]` (N^3
-    /// glyphs, default 40), `lattice[:N]` (N^3 randomly rotated ellipsoids, default 40) or
-    /// `random:COUNT`. At most 4294967295 ellipsoids (u32 instance
-    /// indices), and no more than the machine's memory can hold.
+    /// glyphs, default 40), `lattice[:N]` (N^3 randomly rotated ellipsoids, default 40),
+    /// `md-liquid[:N]` (a liquid of N rods and spheres, default 8000) or `random:COUNT`. At
+    /// most 4294967295 ellipsoids (u32 instance indices), and no more than the machine's
+    /// memory can hold.
     #[arg(long, default_value = "tensor-field")]
     pub scene: String,
     /// How the scene is read and coloured.
@@ -384,39 +484,9 @@ pub struct RenderArgs {
     /// sample count times the cost) instead of once per pixel.
     #[arg(long)]
     pub per_sample_shading: bool,
-    /// Eye position `x,y,z` (default: frames the scene).
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
-    pub eye: Option<DVec3>,
-    /// Point looked at `x,y,z` (default: the scene's centre).
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
-    pub target: Option<DVec3>,
-    /// Up direction `x,y,z`.
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, default_value = "0,1,0")]
-    pub up: DVec3,
-    /// Vertical field of view in degrees (perspective).
-    #[arg(
-        long,
-        default_value_t = 45.0,
-        conflicts_with = "ortho",
-        value_parser = parse_number,
-        allow_hyphen_values = true
-    )]
-    pub fov_y: f64,
-    /// Orthographic projection with this view height.
-    #[arg(long, value_parser = parse_number, allow_hyphen_values = true)]
-    pub ortho: Option<f64>,
-    /// A pinhole camera's intrinsics `fx,fy,cx,cy` in pixels (OpenCV's; instead of --fov-y):
-    /// the ray through pixel centre (i + 0.5, j + 0.5), row 0 at the top, has the camera-frame
-    /// direction ((i + 0.5 - cx) / fx, (j + 0.5 - cy) / fy, 1), x right, y down, z forward.
-    /// Off-centre principal points, asymmetric frusta and non-square pixels. In the camera's
-    /// pixels (--viewport's size when given).
-    #[arg(
-        long,
-        value_parser = parse_intrinsics,
-        allow_hyphen_values = true,
-        conflicts_with_all = ["ortho", "fov_y"]
-    )]
-    pub intrinsics: Option<Intrinsics>,
+    /// The camera: where it is, where it looks, its projection.
+    #[command(flatten)]
+    pub camera: CameraArgs,
     /// Sub-pixel jitter `dx,dy` in pixels (x right, y down): pixel (i, j) samples the
     /// unjittered image plane at (i + 0.5 + dx, j + 0.5 + dy), as a temporal antialiasing
     /// sequence does.
@@ -450,6 +520,13 @@ pub struct RenderArgs {
     /// `impostor-compact`.
     #[arg(long)]
     pub compact: bool,
+    /// How the frame plan picks the exact path (the paths draw the same picture): `measure`
+    /// times those that can serve the frame on frames of the same camera before the one
+    /// written (at most 40) and keeps the fastest; `estimate` takes the first guess from the
+    /// scene's size on screen; `draw`, `splat` and `visible-first` fix the path wherever it
+    /// can serve the frame. Prints the path taken and why.
+    #[arg(long, value_enum, value_name = "PLAN", default_value_t = PlanArg::Measure)]
+    pub plan: PlanArg,
     /// Device and validation.
     #[command(flatten)]
     pub device: DeviceArgs,
@@ -518,11 +595,7 @@ impl RenderArgs {
     /// size, output names and whether the output files can be written -- so that a mistake
     /// is reported before anything is loaded, allocated or drawn. Errors name the flag.
     pub fn check(&self) -> Result<RenderPlan> {
-        self.check_numbers()?;
-        let scene = SceneSpec::parse(&self.scene)?;
-        if let Some(count) = scene.generated_count() {
-            check_host_memory(&self.scene, count, self.instance_format(), machine_memory())?;
-        }
+        let scene = self.check_scene()?;
         let outputs = self.outputs();
         let files: Vec<(Image, &Path)> = Image::all_in(outputs)
             .filter_map(|image| Some((image, self.file(image)?)))
@@ -569,6 +642,17 @@ impl RenderArgs {
             }
         }
         Ok(RenderPlan { scene, outputs })
+    }
+
+    /// Checks the numbers and the scene's name and size (what [`RenderArgs::check`] checks
+    /// but the output files), naming the flag; the scene to load or generate.
+    pub fn check_scene(&self) -> Result<SceneSpec> {
+        self.check_numbers()?;
+        let scene = SceneSpec::parse(&self.scene)?;
+        if let Some(count) = scene.generated_count() {
+            check_host_memory(&self.scene, count, self.instance_format(), machine_memory())?;
+        }
+        Ok(scene)
     }
 
     /// The camera's image size: the --viewport rectangle's, or the whole output's.
@@ -658,10 +742,10 @@ impl RenderArgs {
         if let Some(near) = self.near {
             positive("--near", near)?;
         }
-        match self.ortho {
+        match self.camera.ortho {
             Some(height) => positive("--ortho", height)?,
             None => {
-                let fov = self.fov_y;
+                let fov = self.camera.fov_y;
                 if !(fov.is_finite() && fov > 0.0 && fov < 180.0) {
                     return Err(Error::invalid(
                         "--fov-y",
@@ -670,10 +754,10 @@ impl RenderArgs {
                 }
             }
         }
-        if self.up == DVec3::ZERO {
+        if self.camera.up == DVec3::ZERO {
             return Err(Error::invalid("--up", "must not be 0,0,0"));
         }
-        if let (Some(eye), Some(target)) = (self.eye, self.target) {
+        if let (Some(eye), Some(target)) = (self.camera.eye, self.camera.target) {
             if eye == target {
                 return Err(Error::invalid(
                     "--target",
@@ -785,6 +869,12 @@ pub const MAX_ELLIPSOIDS: u64 = NO_INSTANCE as u64;
 /// The seed of `--scene lattice[:N]` (the benchmark's `lattice` scene).
 pub const LATTICE_SEED: u64 = 1;
 
+/// The seed of `--scene md-liquid[:N]` (the benchmark's `md-liquid` scene).
+pub const MD_LIQUID_SEED: u64 = 1;
+
+/// The particles of `--scene md-liquid` without a count (the benchmark's `md-liquid`).
+pub const MD_LIQUID_COUNT: usize = 8000;
+
 /// The side of the largest `tensor-field:N` or `lattice:N`: the largest N with N^3 <=
 /// [`MAX_ELLIPSOIDS`].
 pub const MAX_TENSOR_FIELD_SIDE: u64 = 1625;
@@ -855,6 +945,8 @@ pub enum SceneSpec {
     /// `lattice[:N]`: N x N x N randomly rotated ellipsoids, semi-axes 0.1 to 0.45 (the
     /// benchmark's `lattice`, seed 1).
     Lattice(usize),
+    /// `md-liquid[:N]`: a liquid of N rods and spheres (half each), seed [`MD_LIQUID_SEED`].
+    MdLiquid(usize),
     /// `random:COUNT`: a random cloud.
     Random(usize),
     /// A scene file.
@@ -912,6 +1004,19 @@ impl SceneSpec {
                 return Ok(make(n as usize));
             }
         }
+        if spec == "md-liquid" {
+            return Ok(SceneSpec::MdLiquid(MD_LIQUID_COUNT));
+        }
+        if let Some(text) = spec.strip_prefix("md-liquid:") {
+            let n = count(text, "md-liquid:N", false)?;
+            if n == 0 {
+                return Err(invalid("md-liquid:N needs N >= 1".to_string()));
+            }
+            if n > MAX_ELLIPSOIDS {
+                return Err(too_many(n.to_string(), ""));
+            }
+            return Ok(SceneSpec::MdLiquid(n as usize));
+        }
         if let Some(text) = spec.strip_prefix("random:") {
             let n = count(text, "random:COUNT", false)?;
             if n == 0 {
@@ -929,7 +1034,7 @@ impl SceneSpec {
     pub fn generated_count(&self) -> Option<u64> {
         match *self {
             SceneSpec::TensorField(n) | SceneSpec::Lattice(n) => Some((n as u64).pow(3)),
-            SceneSpec::Random(n) => Some(n as u64),
+            SceneSpec::MdLiquid(n) | SceneSpec::Random(n) => Some(n as u64),
             SceneSpec::File(_) => None,
         }
     }
@@ -943,6 +1048,7 @@ impl SceneSpec {
         match self {
             SceneSpec::TensorField(n) => Ok(generated(scene::tensor_field(*n))),
             SceneSpec::Lattice(n) => Ok(generated(scene::lattice(*n, LATTICE_SEED))),
+            SceneSpec::MdLiquid(n) => Ok(generated(scene::md_liquid(*n, MD_LIQUID_SEED))),
             SceneSpec::Random(n) => {
                 let extent = (*n as f64).cbrt() * 2.0;
                 Ok(generated(scene::random_cloud(*n, 1, extent, 1.0)))
@@ -968,11 +1074,11 @@ pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
     let (center, radius) = scene
         .bounding_sphere()
         .ok_or_else(|| Error::invalid("--scene", "has no ellipsoids"))?;
-    let projection = match (args.ortho, args.intrinsics) {
+    let projection = match (args.camera.ortho, args.camera.intrinsics) {
         (Some(height), _) => Projection::Orthographic { height },
         (None, Some(intrinsics)) => Projection::PerspectiveIntrinsics(intrinsics),
         (None, None) => Projection::Perspective {
-            fov_y_deg: args.fov_y,
+            fov_y_deg: args.camera.fov_y,
         },
     };
     let (width, height) = args.camera_size();
@@ -982,19 +1088,19 @@ pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
     if let Some([x, y, _, _]) = args.viewport {
         camera.viewport_origin = [x, y];
     }
-    camera.up = args.up;
-    if let Some(target) = args.target {
+    camera.up = args.camera.up;
+    if let Some(target) = args.camera.target {
         camera.target = target;
     }
-    if let Some(eye) = args.eye {
+    if let Some(eye) = args.camera.eye {
         camera.eye = eye;
-        if args.target.is_none() {
+        if args.camera.target.is_none() {
             camera.target = center;
         }
     }
     let view = camera.target - camera.eye;
     if view.length() <= 1e-12 * camera.eye.length().max(1.0) {
-        let (flag, what) = if args.eye.is_some() && args.target.is_none() {
+        let (flag, what) = if args.camera.eye.is_some() && args.camera.target.is_none() {
             (
                 "--eye",
                 "is the scene's centre, which the camera looks at without --target",
@@ -1010,12 +1116,12 @@ pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
             ),
         ));
     }
-    if view.normalize().cross(args.up.normalize()).length() < 1e-9 {
+    if view.normalize().cross(args.camera.up.normalize()).length() < 1e-9 {
         return Err(Error::invalid(
             "--up",
             format!(
                 "{} is parallel to the view direction (from {} to {}); give an --up across it",
-                xyz(args.up),
+                xyz(args.camera.up),
                 xyz(camera.eye),
                 xyz(camera.target)
             ),
@@ -1036,7 +1142,9 @@ pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
     camera.validate().map_err(|e| match e {
         ellipsoid_splat::Error::Invalid { what, reason } if what.starts_with("camera ") => {
             let flag = match what.as_str() {
-                "camera intrinsics" | "camera principal point" if args.intrinsics.is_some() => {
+                "camera intrinsics" | "camera principal point"
+                    if args.camera.intrinsics.is_some() =>
+                {
                     "--intrinsics"
                 }
                 "camera principal point" | "camera jitter" => "--jitter",
@@ -1210,6 +1318,48 @@ mod tests {
         assert!(e.contains("lattice:N needs N >= 1"), "{e}");
         let e = SceneSpec::parse("random:12x").unwrap_err().to_string();
         assert!(e.contains("needs a whole number, got '12x'"), "{e}");
+    }
+
+    #[test]
+    fn md_liquid_takes_a_particle_count() {
+        assert_eq!(
+            SceneSpec::parse("md-liquid").unwrap(),
+            SceneSpec::MdLiquid(MD_LIQUID_COUNT)
+        );
+        let spec = SceneSpec::parse("md-liquid:300").unwrap();
+        assert_eq!(spec, SceneSpec::MdLiquid(300));
+        assert_eq!(spec.generated_count(), Some(300));
+        let scene = spec.load(&scene::LoadOptions::default()).unwrap().scene;
+        assert_eq!(scene.len(), 300);
+        for (text, reason) in [
+            ("md-liquid:0", "md-liquid:N needs N >= 1"),
+            ("md-liquid:many", "needs a whole number, got 'many'"),
+            ("md-liquid:4294967296", "4294967295"),
+        ] {
+            let e = SceneSpec::parse(text).unwrap_err().to_string();
+            assert!(e.contains("--scene") && e.contains(reason), "{text}: {e}");
+        }
+    }
+
+    #[test]
+    fn plan_values_parse_and_flags_left_at_their_defaults_count_as_not_given() {
+        use ellipsoid_splat::plan::{PathKind, PlanMode};
+        let args = render_args(&[]);
+        assert_eq!(args.plan.mode(), PlanMode::Measure);
+        assert_eq!(args.camera.given(), None);
+        assert_eq!(
+            args.load.given(),
+            None,
+            "the flags' defaults are the loaders'"
+        );
+        let fixed = render_args(&["--plan", "visible-first"]);
+        assert_eq!(fixed.plan.mode(), PlanMode::Fixed(PathKind::VisibleFirst));
+        assert_eq!(render_args(&["--up", "0,0,1"]).camera.given(), Some("--up"));
+        assert_eq!(
+            render_args(&["--fov-y", "30"]).camera.given(),
+            Some("--fov-y")
+        );
+        assert_eq!(render_args(&["--sigma", "3"]).load.given(), Some("--sigma"));
     }
 
     #[test]

@@ -9,7 +9,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use ash::vk;
-use ellipsoid_splat::draw::{DrawConfig, Method};
+use ellipsoid_splat::plan::{PathKind, PlanMode};
+use ellipsoid_splat::research::{DrawConfig, Method};
 use ellipsoid_splat::{
     Camera, ContextOptions, DepthConvention, Ellipsoid, Intrinsics, Material, OffscreenRenderer,
     Outputs, Projection, Scene, Settings,
@@ -192,10 +193,12 @@ fn cases(quick: bool) -> Vec<Case> {
 
 fn settings(path: Path_) -> Settings {
     let mut settings = Settings::default();
+    // Conformance runs are reproducible: no path is explored.
+    settings.plan = PlanMode::Estimate;
     match path {
         Path_::Shipped => {}
-        Path_::Draw | Path_::Ties => settings.compute_splat = false,
-        Path_::Splat => settings.compute_splat_min_glyphs = 1,
+        Path_::Draw | Path_::Ties => settings.plan = PlanMode::Fixed(PathKind::Draw),
+        Path_::Splat => settings.plan = PlanMode::Fixed(PathKind::Splat),
         Path_::Msaa4 => settings.material = Material::unlit(),
     }
     settings

@@ -10,6 +10,7 @@ pub mod cli;
 pub mod conformance;
 pub mod error;
 pub mod output;
+pub mod plan;
 pub mod report;
 pub mod skip;
 pub mod stress;

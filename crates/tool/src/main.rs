@@ -5,11 +5,11 @@ use std::time::Instant;
 
 use clap::Parser;
 
-use ellipsoid_splat::draw::Intersection;
-use ellipsoid_splat::draw::Method;
+use ellipsoid_splat::research::Intersection;
+use ellipsoid_splat::research::Method;
 use ellipsoid_splat::supersample;
 use ellipsoid_splat::OffscreenRenderer;
-use ellipsoid_splat::{draw::DrawConfig, Settings};
+use ellipsoid_splat::{research::DrawConfig, Settings};
 use ellipsoid_splat::{Context, ContextOptions};
 use ellipsoid_splat_loaders::Progress;
 use ellipsoid_splat_tool::antialias_bench;
@@ -22,6 +22,7 @@ use ellipsoid_splat_tool::cli::{
 };
 use ellipsoid_splat_tool::error::{Error, Result};
 use ellipsoid_splat_tool::output::{self, Image};
+use ellipsoid_splat_tool::plan;
 use ellipsoid_splat_tool::skip;
 use ellipsoid_splat_tool::stress::{run_point, sweep_points, write_report, Extent, StressResult};
 
@@ -78,6 +79,7 @@ fn render(args: &RenderArgs) -> Result<()> {
         let mut settings = Settings::default();
         settings.instance_format = args.instance_format();
         settings.per_sample_shading = args.per_sample_shading;
+        settings.plan = args.plan.mode();
         settings
     });
     let samples = ash::vk::SampleCountFlags::from_raw(args.samples);
@@ -103,8 +105,26 @@ fn render(args: &RenderArgs) -> Result<()> {
     let outputs = plan.outputs;
     let k = args.supersample;
     let drawn = supersample::supersampled_camera(&camera, k)?;
-    let (frame, timing) =
-        renderer.render_views(args.width * k, args.height * k, &[drawn], outputs)?;
+    // The frame written comes after those the plan needs with its camera: where it measures,
+    // it times the candidates first (as FFTW_MEASURE plans).
+    let extent = ash::vk::Extent2D {
+        width: args.width * k,
+        height: args.height * k,
+    };
+    let warm = plan::warm_up(&mut renderer, &drawn, extent, outputs, args.plan)?;
+    let (frame, timing) = renderer.render_views(extent.width, extent.height, &[drawn], outputs)?;
+    let plan_line = renderer.last_plan().map(|last| {
+        let note = if warm.settled {
+            ""
+        } else {
+            " (the plan had not settled: no more frames are drawn first)"
+        };
+        format!(
+            "plan: {}; frame {} of its camera{note}",
+            plan::describe(last),
+            warm.frames + 1
+        )
+    });
     renderer.context().check_validation()?;
     let frame = if k > 1 {
         supersample::box_filter(&frame, k)?
@@ -135,6 +155,9 @@ fn render(args: &RenderArgs) -> Result<()> {
         memory as f64 / (1 << 20) as f64,
         memory as f64 / scene.len().max(1) as f64,
     );
+    if let Some(line) = plan_line {
+        println!("{line}");
+    }
     Ok(())
 }
 
@@ -242,13 +265,14 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         return Err(Error::invalid("--frames", "must be at least 1"));
     }
     if args.skip || args.antialias {
-        if !args.methods.is_empty() || !args.scenes.is_empty() {
+        let given = [
+            ("--methods", !args.methods.is_empty()),
+            ("--scenes", !args.scenes.is_empty()),
+            ("--scene", !args.scene.is_empty()),
+        ];
+        if let Some((flag, _)) = given.into_iter().find(|(_, given)| *given) {
             return Err(Error::invalid(
-                if args.methods.is_empty() {
-                    "--scenes"
-                } else {
-                    "--methods"
-                },
+                flag,
                 "does not apply to --skip or --antialias, which measure their own methods and \
                  scenes",
             ));
@@ -288,18 +312,45 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
             })
             .collect::<Result<_>>()?
     };
-    let wanted = |name: &str| {
-        args.scenes.is_empty() || args.scenes.iter().any(|s| name.contains(s.as_str()))
+    // The camera and loader flags are for the user's scenes: the built-in ones have theirs.
+    if args.scene.is_empty() {
+        let flag = args
+            .camera
+            .given()
+            .or(args.width.map(|_| "--width"))
+            .or(args.height.map(|_| "--height"))
+            .or(args.load.given());
+        if let Some(flag) = flag {
+            return Err(Error::invalid(
+                flag,
+                "applies to the scenes of --scene; the built-in scenes have their own cameras \
+                 and loading",
+            ));
+        }
+    }
+    // With --scene alone, only the user's scenes run; --scenes picks built-in ones besides.
+    let builtin = |name: &str| {
+        if args.scenes.is_empty() {
+            args.scene.is_empty()
+        } else {
+            args.scenes.iter().any(|s| name.contains(s.as_str()))
+        }
     };
     let specs: Vec<(usize, f64)> = bench::cloud_specs(args.quick)
         .into_iter()
-        .filter(|&(_, size)| wanted(&format!("cloud-{size}px")))
+        .filter(|&(_, size)| builtin(&format!("cloud-{size}px")))
         .collect();
-    let with_field = wanted("tensor-field");
-    let with_lattice = wanted("lattice");
-    let scene_count = specs.len() + with_field as usize + with_lattice as usize;
-    if scene_count == 0 {
-        let mut names = vec!["tensor-field".to_string(), "lattice".to_string()];
+    let with_field = builtin("tensor-field");
+    let with_lattice = builtin("lattice");
+    let with_liquid = builtin("md-liquid");
+    let builtin_count =
+        specs.len() + with_field as usize + with_lattice as usize + with_liquid as usize;
+    if builtin_count == 0 && !args.scenes.is_empty() {
+        let mut names = vec![
+            "tensor-field".to_string(),
+            "lattice".to_string(),
+            "md-liquid".to_string(),
+        ];
         for (_, size) in bench::cloud_specs(args.quick) {
             let name = format!("cloud-{size}px");
             if !names.contains(&name) {
@@ -316,15 +367,28 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         ));
     }
     output::check_output_dir("--out", &args.out, "results.csv")?;
+    // The user's scenes are read (and a bad file or flag reported) before the device opens.
+    let taken: Vec<String> = ["tensor-field", "lattice", "md-liquid"]
+        .into_iter()
+        .map(String::from)
+        .chain(specs.iter().map(|(_, size)| format!("cloud-{size}px")))
+        .collect();
+    let (user_scenes, messages) = bench::user_scenes(args, &taken)?;
+    for message in &messages {
+        eprintln!("{message}");
+    }
+    let scene_count = builtin_count + user_scenes.len();
     let mut scenes = with_field
         .then(bench::tensor_field_scene)
         .into_iter()
         .chain(with_lattice.then(bench::lattice_scene))
+        .chain(with_liquid.then(bench::md_liquid_scene))
         .chain(
             specs
                 .into_iter()
                 .map(|(count, size)| bench::frustum_cloud(count, size, 1)),
-        );
+        )
+        .chain(user_scenes);
     let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
     let mut skipped = Vec::new();
     let started = std::time::Instant::now();
@@ -359,9 +423,8 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         }
         Vec::new()
     };
-    let (table, markdown) =
-        bench::write_report(&results, &antialiased, (&device, &driver), &args.out)?;
-    println!("{table}");
+    let summary = bench::write_report(&results, &antialiased, (&device, &driver), &args.out)?;
+    println!("{}", summary.table);
     if !antialiased.is_empty() {
         println!("antialiased (tensor field; antialias.csv):");
         println!(
@@ -369,7 +432,12 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
             antialias_bench::write_report(&antialiased, &args.out)?
         );
     }
-    println!("headline scene (Markdown):\n{markdown}");
+    println!("headline scene (Markdown):\n{}", summary.markdown);
+    println!(
+        "plan regret (time / fastest fixed path's; first guess: impostor-estimate, learned: \
+         impostor):\n{}",
+        summary.regret
+    );
     if !skipped.is_empty() {
         // Over-budget entries give the glyph count, the others their reason.
         println!(
@@ -406,12 +474,13 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
 fn run_skip(args: &BenchArgs) -> Result<bool> {
     let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
     let started = std::time::Instant::now();
-    let results = skip::run(&mut renderer, args.quick, args.frames)?;
+    let features = skip::Feature::parse_list(&args.features)?;
+    let results = skip::run(&mut renderer, args.quick, args.frames, &features)?;
     renderer.context().check_validation()?;
     renderer.finish()?;
     let table = skip::write_report(&results, &args.out)?;
     println!("{table}");
-    let features_meeting_both = skip::Feature::ALL
+    let features_meeting_both = features
         .iter()
         .filter(|&&f| {
             let mut measured = results.iter().filter(|r| r.feature == f).peekable();
@@ -420,7 +489,7 @@ fn run_skip(args: &BenchArgs) -> Result<bool> {
         .count();
     println!(
         "{features_meeting_both} of {} features meet both targets (need 4); {:.0} s; wrote {}/skip.csv and skip.png",
-        skip::Feature::ALL.len(),
+        features.len(),
         started.elapsed().as_secs_f64(),
         args.out.display()
     );

@@ -10,7 +10,8 @@ use crate::bench::{frustum_cloud, median, HEIGHT, WIDTH};
 use crate::error::{Error, Result};
 use crate::report::{bar_chart, format_table, write_csv, Axis};
 use ellipsoid_splat::camera::Camera;
-use ellipsoid_splat::draw::{DrawConfig, Method};
+use ellipsoid_splat::plan::{PathKind, PlanMode};
+use ellipsoid_splat::research::{DrawConfig, Method};
 use ellipsoid_splat::Frame;
 use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::Scene;
@@ -76,6 +77,32 @@ impl Feature {
         Feature::VisibilityBuffer,
     ];
 
+    /// The features named in `names` (every one when it is empty), or an error naming the
+    /// first unknown name and the choices.
+    pub fn parse_list(names: &[String]) -> Result<Vec<Feature>> {
+        if names.is_empty() {
+            return Ok(Feature::ALL.to_vec());
+        }
+        names
+            .iter()
+            .map(|name| {
+                Feature::ALL
+                    .into_iter()
+                    .find(|f| f.name() == name.trim())
+                    .ok_or_else(|| {
+                        let choices: Vec<&str> = Feature::ALL.iter().map(|f| f.name()).collect();
+                        Error::Invalid {
+                            what: "--features".into(),
+                            reason: format!(
+                                "unknown feature '{name}' (choices: {})",
+                                choices.join(", ")
+                            ),
+                        }
+                    })
+            })
+            .collect()
+    }
+
     /// Name in the `feature` column.
     pub fn name(self) -> &'static str {
         match self {
@@ -126,7 +153,7 @@ impl Feature {
     fn apply(self, renderer: &mut OffscreenRenderer, on: bool) -> Outputs {
         // The draw's features are measured on the draw: the splat would take their frames.
         let mut settings = Settings::default();
-        settings.compute_splat = false;
+        settings.plan = PlanMode::Fixed(PathKind::Draw);
 
         let mut timed = Outputs::COLOR_DEPTH;
         match self {
@@ -137,7 +164,8 @@ impl Feature {
             Feature::SpherePath => settings.sphere_path = on,
             Feature::CapFreePath => settings.cap_free_path = on,
             Feature::SmallGlyphTriangles => settings.small_glyph_triangles = on,
-            Feature::ComputeSplat => settings.compute_splat = on,
+            Feature::ComputeSplat if on => settings.plan = PlanMode::Estimate,
+            Feature::ComputeSplat => {}
             Feature::AuxOutputsOnDemand if !on => timed = Outputs::ALL,
             Feature::AuxOutputsOnDemand | Feature::FrontToBack | Feature::VisibilityBuffer => {}
         }
@@ -309,12 +337,13 @@ pub fn run(
     renderer: &mut OffscreenRenderer,
     quick: bool,
     frames: usize,
+    features: &[Feature],
 ) -> Result<Vec<SkipResult>> {
     let scenes = scenes(quick);
-    let progress = Progress::new((Feature::ALL.len() * 2) as u64, "skip");
+    let progress = Progress::new((features.len() * 2) as u64, "skip");
     let mut results = Vec::new();
     let splat_capable = renderer.context().info().compute_splat;
-    for feature in Feature::ALL {
+    for &feature in features {
         // Both need the splat's 64-bit atomics (without them the compute splat is never
         // planned, and the visibility-buffer draw cannot be).
         if matches!(feature, Feature::ComputeSplat | Feature::VisibilityBuffer) && !splat_capable {

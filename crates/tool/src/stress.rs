@@ -6,7 +6,7 @@ use glam::{DQuat, DVec3, EulerRot};
 
 use crate::error::Result;
 use ellipsoid_splat::camera::{Camera, Projection};
-use ellipsoid_splat::draw::{DrawConfig, Intersection};
+use ellipsoid_splat::research::{DrawConfig, Intersection};
 use ellipsoid_splat::Ellipsoid;
 use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::{Outputs, Scene};

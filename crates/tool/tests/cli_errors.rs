@@ -627,3 +627,73 @@ fn bad_camera_flags_are_named() {
         assert_names(&error, &[flag, reason], &what);
     }
 }
+
+/// `--plan` takes only the plans there are, and says which.
+#[test]
+fn an_unknown_plan_is_named_with_the_choices() {
+    let output = render_args(&["--scene", "random:5", "--plan", "fastest"]);
+    let error = error_line(&output, 2, "--plan fastest");
+    assert_names(&error, &["--plan", "'fastest'"], "--plan fastest");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("measure, estimate, draw, splat, visible-first"),
+        "the plans are listed: {stderr}"
+    );
+    // Each known one gets as far as looking for the (missing) device.
+    for plan in ["measure", "estimate", "draw", "splat", "visible-first"] {
+        let output = render_args(&["--scene", "random:5", "--plan", plan]);
+        let error = error_line(&output, 1, plan);
+        assert_names(&error, &["no-such-device"], plan);
+    }
+}
+
+/// `bench --scene`: the scene, its camera and loading flags are checked (and the scene read)
+/// before the device is looked for; `bench` exits 2 on an error.
+#[test]
+fn bench_scene_mistakes_are_named_before_running() {
+    let dir = scratch_dir("bench-scene");
+    let missing = dir.join("missing.csv");
+    let missing = missing.to_str().unwrap();
+    let bad = scratch(
+        "bench-bad.csv",
+        b"x,y,z,rx,ry,rz,qw,qx,qy,qz\n0,0,0,1,1,-1,1,0,0,0\n",
+    );
+    let bad = bad.to_str().unwrap();
+    let cases: [(&[&str], &[&str]); 7] = [
+        (
+            &["--scene", missing],
+            &["--scene", "missing.csv", "No such file"],
+        ),
+        (&["--scene", bad], &["bench-bad.csv:2:rz"]),
+        (
+            &["--scene", "md-liquid:0"],
+            &["--scene", "md-liquid:N needs N >= 1"],
+        ),
+        (
+            &["--scene", "random:10", "--width", "0"],
+            &["--width", "outside 1..=16384"],
+        ),
+        (
+            &["--eye", "1,2,3"],
+            &["--eye", "applies to the scenes of --scene"],
+        ),
+        (
+            &["--sigma", "3"],
+            &["--sigma", "applies to the scenes of --scene"],
+        ),
+        (
+            &["--skip", "--scene", "random:10"],
+            &["--scene", "does not apply to --skip"],
+        ),
+    ];
+    for (args, expected) in cases {
+        let mut all = vec!["bench", "--quick", "--device", "no-such-device", "--out"];
+        let out = dir.join("out");
+        all.push(out.to_str().unwrap());
+        all.extend(args);
+        let what = args.join(" ");
+        let error = error_line(&run(&all), 2, &what);
+        assert_names(&error, expected, &what);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

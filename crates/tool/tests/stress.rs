@@ -4,7 +4,7 @@
 
 use ellipsoid_splat_reference::testing as common;
 
-use ellipsoid_splat::draw::Intersection;
+use ellipsoid_splat::research::Intersection;
 use ellipsoid_splat_reference::compare::Bounds;
 use ellipsoid_splat_tool::stress::{run_point, sweep_points, Extent};
 

@@ -2,6 +2,7 @@
  * VMA-style allocator, and one frame of a jittered camera from the engine's own matrices. */
 #include <ellipsoid_splat.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 /* The engine's allocator: here plain Vulkan calls; with VMA, vmaCreateBuffer/vmaDestroyBuffer. */
 typedef struct Engine {
@@ -62,6 +63,23 @@ int engine_record_frame(EsRenderer *renderer, VkCommandBuffer cmd, uint32_t slot
     if (failed(es_renderer_record(renderer, cmd, &camera), "draw")) return 1;
     end_pass(cmd); /* the engine rebinds its own state for what it draws next */
     return 0;
+}
+
+/* The frame plan times the exact paths on the engine's own frames and keeps the fastest. What
+ * it learned, saved at exit and loaded into the next run's renderer, spares it the exploring
+ * (bytes from another device or driver are refused, and the plan learns anew). */
+int engine_save_plan_wisdom(EsRenderer *renderer, FILE *file) {
+    size_t size = 0;
+    if (failed(es_renderer_plan_wisdom(renderer, NULL, &size), "wisdom size")) return 1;
+    uint8_t *bytes = malloc(size);
+    int bad = !bytes || failed(es_renderer_plan_wisdom(renderer, bytes, &size), "wisdom") ||
+              fwrite(bytes, 1, size, file) != size;
+    free(bytes);
+    return bad;
+}
+
+void engine_load_plan_wisdom(EsRenderer *renderer, const uint8_t *bytes, size_t size) {
+    failed(es_renderer_load_plan_wisdom(renderer, bytes, size), "wisdom (learning anew)");
 }
 
 /* Once the GPU is idle: everything the renderer made goes back to the engine's allocator. */

@@ -3,11 +3,14 @@
 // offscreen render pass in which it draws a mesh plane, the ellipsoids cutting it (a jittered
 // projection from its own matrices) and a Dear ImGui window, then reads colour and depth back.
 //
-//   cpp_host GLYPHS.bin OUT_PREFIX full|imgui
+//   cpp_host GLYPHS.bin OUT_PREFIX full|imgui|plan
 //
-// GLYPHS.bin holds EsGlyph records. Writes OUT_PREFIX.rgba (R8G8B8A8), OUT_PREFIX.depth
-// (float32) and OUT_PREFIX.camera (the EsCamera the library made of the matrices, as text).
-// Exits 0 only if nothing failed and the validation layer said nothing.
+// GLYPHS.bin holds EsGlyph records. `full` and `imgui` write OUT_PREFIX.rgba (R8G8B8A8),
+// OUT_PREFIX.depth (float32) and OUT_PREFIX.camera (the EsCamera the library made of the
+// matrices, as text). `plan` checks the frame plan through the C ABI: the paths a host fixes
+// draw the same picture, the plan that measures settles, its wisdom goes to a second renderer,
+// and bad settings and bytes are refused. Exits 0 only if nothing failed and the validation
+// layer said nothing.
 #include <ellipsoid_splat.h>
 
 #include <imgui.h>
@@ -57,6 +60,27 @@ void check(EsStatus status, const char* what) {
 }
 
 void check_imgui(VkResult result) { check(result, "ImGui Vulkan backend"); }
+
+void expect(bool ok, const std::string& what) {
+    if (!ok) throw std::runtime_error(what);
+}
+
+// A call that must fail with `status` and a message holding `words`.
+void refused(EsStatus got, EsStatus want, const char* words, const std::string& what) {
+    if (got != want || std::strstr(es_last_error(), words) == nullptr)
+        throw std::runtime_error(what + " was not refused as expected (status " +
+                                 std::to_string(got) + "): " + es_last_error());
+}
+
+const char* path_name(uint32_t kind) {
+    switch (kind) {
+        case ES_PATH_KIND_NONE: return "none";
+        case ES_PATH_KIND_DRAW: return "draw";
+        case ES_PATH_KIND_SPLAT: return "splat";
+        case ES_PATH_KIND_VISIBLE_FIRST: return "visible-first";
+        default: return "?";
+    }
+}
 
 // Column-major 4x4 matrices, as GLSL and most engines keep them.
 struct Mat4 {
@@ -183,8 +207,14 @@ class Host {
     Host();
     ~Host();
     void run(const std::vector<EsGlyph>& glyphs, const std::string& out, bool full);
+    void plans(const std::vector<EsGlyph>& glyphs);
 
   private:
+    // A frame's colour and depth as read back.
+    struct Pixels {
+        std::vector<uint8_t> rgba;
+        std::vector<float> depth;
+    };
     void create_device();
     Owned image(VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect);
     Owned readback(VkDeviceSize size);
@@ -193,6 +223,11 @@ class Host {
     void init_imgui();
     VkCommandBuffer begin();
     void submit(VkCommandBuffer cmd);
+    EsRenderer* make_renderer(const EsSettings* settings);
+    EsCamera make_camera(Mat4* clip_from_world) const;
+    Pixels frame(EsRenderer* renderer, const std::vector<EsGlyph>* upload,
+                 const EsCamera& camera, const Mat4& clip_from_world, bool imgui);
+    void same(const Pixels& a, const Pixels& b, const char* what) const;
 
     VkInstance instance_ = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
@@ -200,6 +235,8 @@ class Host {
     VkDevice device_ = VK_NULL_HANDLE;
     uint32_t family_ = 0;
     uint32_t features_ = 0;
+    bool splat_ = false;     // the compute splat's features are enabled
+    bool lavapipe_ = false;  // Mesa's CPU driver: every path's frame is the same bit for bit
     VkQueue queue_ = VK_NULL_HANDLE;
     VkCommandPool pool_ = VK_NULL_HANDLE;
     HostAllocator allocator_;
@@ -257,6 +294,9 @@ void Host::create_device() {
     std::vector<VkPhysicalDevice> devices(count);
     vkEnumeratePhysicalDevices(instance_, &count, devices.data());
     physical_ = devices[0];
+    VkPhysicalDeviceProperties properties;
+    vkGetPhysicalDeviceProperties(physical_, &properties);
+    lavapipe_ = std::strncmp(properties.deviceName, "llvmpipe", 8) == 0;
     vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, nullptr);
     std::vector<VkQueueFamilyProperties> families(count);
     vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, families.data());
@@ -284,6 +324,7 @@ void Host::create_device() {
     vkGetPhysicalDeviceFeatures2(physical_, &has);
     bool splat = has.features.shaderInt64 && has12.shaderBufferInt64Atomics;
     if (splat) features_ |= ES_FEATURE_SHADER_INT64 | ES_FEATURE_SHADER_BUFFER_INT64_ATOMICS;
+    splat_ = splat;
 
     VkPhysicalDeviceVulkan13Features on13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
     on13.maintenance4 = (features_ & ES_FEATURE_MAINTENANCE4) != 0;
@@ -552,9 +593,8 @@ void Host::init_imgui() {
     ImGui_ImplVulkan_DestroyFontUploadObjects();
 }
 
-void Host::run(const std::vector<EsGlyph>& glyphs, const std::string& out, bool full) {
-    init_imgui();
-    // The renderer, on the host's device, in the host's render pass, on the host's memory.
+// The renderer, on the host's device, in the host's render pass, on the host's memory.
+EsRenderer* Host::make_renderer(const EsSettings* settings) {
     EsDeviceInfo device{sizeof(EsDeviceInfo)};
     device.get_instance_proc_addr = vkGetInstanceProcAddr;
     device.instance = instance_;
@@ -572,19 +612,19 @@ void Host::run(const std::vector<EsGlyph>& glyphs, const std::string& out, bool 
     callbacks.user_data = &allocator_;
     callbacks.create_buffer = HostAllocator::create;
     callbacks.destroy_buffer = HostAllocator::destroy;
-    EsSettings settings;
-    check(es_settings_default(&settings), "es_settings_default");
-    settings.material.specular = 0.0f;
     EsRendererCreateInfo create{sizeof(EsRendererCreateInfo)};
     create.device = &device;
     create.target = &target;
     create.allocator = &callbacks;
-    create.settings = &settings;
+    create.settings = settings;
     create.frames_in_flight = 1;
     EsRenderer* renderer = nullptr;
     check(es_renderer_create(&create, &renderer), "es_renderer_create");
+    return renderer;
+}
 
-    // The host's camera: its own view and a jittered reversed-Z projection.
+// The host's camera: its own view and a jittered reversed-Z projection.
+EsCamera Host::make_camera(Mat4* clip_from_world) const {
     const float eye[3] = {3.0f, 4.0f, 9.0f}, centre[3] = {0.0f, 0.0f, 0.0f}, up[3] = {0, 1, 0};
     Mat4 view = look_at(eye, centre, up);
     Mat4 projection = jittered_projection(0.8f, 0.37f, -0.21f);
@@ -592,24 +632,21 @@ void Host::run(const std::vector<EsGlyph>& glyphs, const std::string& out, bool 
     check(es_camera_from_matrices(view.m, projection.m, EsViewport{0, 0, kWidth, kHeight},
                                   &camera),
           "es_camera_from_matrices");
-    Mat4 clip_from_world = multiply(projection, view);
+    *clip_from_world = multiply(projection, view);
+    return camera;
+}
 
-    ImGui_ImplVulkan_NewFrame();
-    ImGui::NewFrame();
-    ImGui::SetNextWindowPos(ImVec2(kWindowX, kWindowY));
-    ImGui::SetNextWindowSize(ImVec2(kWindowW, kWindowH));
-    ImGui::Begin("ellipsoid-splat", nullptr,
-                 ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
-                     ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings);
-    ImGui::Text("%zu glyphs", glyphs.size());
-    ImGui::End();
-    ImGui::Render();
-
+// One frame, submitted and waited for: with a renderer, its pre-pass (after uploading
+// `upload`, if given) outside the pass and, in the pass, the plane and the ellipsoids; then
+// ImGui's window if asked; colour and depth read back.
+Host::Pixels Host::frame(EsRenderer* renderer, const std::vector<EsGlyph>* upload,
+                         const EsCamera& camera, const Mat4& clip_from_world, bool imgui) {
     VkCommandBuffer cmd = begin();
-    if (full) {
+    if (renderer) {
         check(es_renderer_begin_frame(renderer, 0), "es_renderer_begin_frame");
-        check(es_renderer_upload(renderer, cmd, glyphs.data(), glyphs.size()),
-              "es_renderer_upload");
+        if (upload)
+            check(es_renderer_upload(renderer, cmd, upload->data(), upload->size()),
+                  "es_renderer_upload");
         check(es_renderer_record_prepass(renderer, cmd, &camera), "es_renderer_record_prepass");
     }
     VkClearValue clears[2] = {};
@@ -622,7 +659,7 @@ void Host::run(const std::vector<EsGlyph>& glyphs, const std::string& out, bool 
     begin_pass.clearValueCount = 2;
     begin_pass.pClearValues = clears;
     vkCmdBeginRenderPass(cmd, &begin_pass, VK_SUBPASS_CONTENTS_INLINE);
-    if (full) {
+    if (renderer) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, plane_);
         VkViewport viewport{0, 0, float(kWidth), float(kHeight), 0, 1};
         VkRect2D scissor{{0, 0}, {kWidth, kHeight}};
@@ -636,7 +673,7 @@ void Host::run(const std::vector<EsGlyph>& glyphs, const std::string& out, bool 
         check(es_renderer_record(renderer, cmd, &camera), "es_renderer_record");
     }
     // ImGui binds its own state, after the renderer's, as the header says a host must.
-    ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), cmd);
+    if (imgui) ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), cmd);
     vkCmdEndRenderPass(cmd);
     VkBufferImageCopy copy{};
     copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
@@ -653,11 +690,42 @@ void Host::run(const std::vector<EsGlyph>& glyphs, const std::string& out, bool 
                          &to_host, 0, nullptr, 0, nullptr);
     submit(cmd);
 
-    size_t bytes = 4ull * kWidth * kHeight;
+    size_t pixels = size_t(kWidth) * kHeight;
+    Pixels out;
+    const auto* rgba = static_cast<const uint8_t*>(color_read_.mapped);
+    const auto* depth = static_cast<const float*>(depth_read_.mapped);
+    out.rgba.assign(rgba, rgba + 4 * pixels);
+    out.depth.assign(depth, depth + pixels);
+    return out;
+}
+
+void Host::run(const std::vector<EsGlyph>& glyphs, const std::string& out, bool full) {
+    init_imgui();
+    EsSettings settings;
+    check(es_settings_default(&settings), "es_settings_default");
+    settings.material.specular = 0.0f;
+    EsRenderer* renderer = make_renderer(&settings);
+    Mat4 clip_from_world;
+    EsCamera camera = make_camera(&clip_from_world);
+
+    ImGui_ImplVulkan_NewFrame();
+    ImGui::NewFrame();
+    ImGui::SetNextWindowPos(ImVec2(kWindowX, kWindowY));
+    ImGui::SetNextWindowSize(ImVec2(kWindowW, kWindowH));
+    ImGui::Begin("ellipsoid-splat", nullptr,
+                 ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
+                     ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings);
+    ImGui::Text("%zu glyphs", glyphs.size());
+    ImGui::End();
+    ImGui::Render();
+
+    Pixels pixels = frame(full ? renderer : nullptr, &glyphs, camera, clip_from_world, true);
     std::ofstream(out + ".rgba", std::ios::binary)
-        .write(static_cast<const char*>(color_read_.mapped), std::streamsize(bytes));
+        .write(reinterpret_cast<const char*>(pixels.rgba.data()),
+               std::streamsize(pixels.rgba.size()));
     std::ofstream(out + ".depth", std::ios::binary)
-        .write(static_cast<const char*>(depth_read_.mapped), std::streamsize(bytes));
+        .write(reinterpret_cast<const char*>(pixels.depth.data()),
+               std::streamsize(pixels.depth.size() * sizeof(float)));
     std::FILE* text = std::fopen((out + ".camera").c_str(), "w");
     if (!text) throw std::runtime_error("cannot write " + out + ".camera");
     std::fprintf(text,
@@ -680,9 +748,181 @@ void Host::run(const std::vector<EsGlyph>& glyphs, const std::string& out, bool 
         throw std::runtime_error("the renderer left " + std::to_string(allocator_.live) +
                                  " buffers allocated");
     // The library refuses what it cannot use, with a message, and never crashes.
-    if (es_renderer_record(nullptr, cmd, &camera) != ES_STATUS_ERROR_INVALID_ARGUMENT ||
+    if (es_renderer_record(nullptr, VK_NULL_HANDLE, &camera) != ES_STATUS_ERROR_INVALID_ARGUMENT ||
         std::strstr(es_last_error(), "renderer") == nullptr)
         throw std::runtime_error("a null renderer was not refused");
+}
+
+// Two frames of paths that must agree: bit for bit on lavapipe; elsewhere the differing
+// pixels are counted and printed (a driver may round the paths' stages differently).
+void Host::same(const Pixels& a, const Pixels& b, const char* what) const {
+    size_t differ = 0, first = SIZE_MAX;
+    for (size_t k = 0; k < a.depth.size(); ++k) {
+        bool same_pixel = std::memcmp(&a.rgba[4 * k], &b.rgba[4 * k], 4) == 0 &&
+                          std::memcmp(&a.depth[k], &b.depth[k], sizeof(float)) == 0;
+        if (!same_pixel && differ++ == 0) first = k;
+    }
+    std::printf("%s: %zu pixels differ from the draw's\n", what, differ);
+    if (lavapipe_ && differ != 0)
+        throw std::runtime_error(std::string(what) + ": " + std::to_string(differ) +
+                                 " pixels differ from the draw's, the first at (" +
+                                 std::to_string(first % kWidth) + ", " +
+                                 std::to_string(first / kWidth) + ")");
+}
+
+void Host::plans(const std::vector<EsGlyph>& glyphs) {
+    EsSettings settings;
+    check(es_settings_default(&settings), "es_settings_default");
+    expect(settings.struct_size == sizeof(EsSettings) &&
+               settings.plan_mode == ES_PLAN_MODE_MEASURE &&
+               settings.fixed_path == ES_PATH_KIND_NONE && settings.compute_splat == 1,
+           "the default settings measure");
+    settings.plan_mode = ES_PLAN_MODE_FIXED;
+    settings.fixed_path = ES_PATH_KIND_DRAW;
+    EsRenderer* renderer = make_renderer(&settings);
+    EsFramePlan plan;
+    refused(es_renderer_last_plan(renderer, &plan), ES_STATUS_ERROR_INVALID_ARGUMENT,
+            "no frame", "a last plan before any frame");
+    uint32_t can_measure = 0;
+    check(es_renderer_can_measure(renderer, &can_measure), "es_renderer_can_measure");
+    Mat4 clip_from_world;
+    EsCamera camera = make_camera(&clip_from_world);
+
+    // Each path a host fixes draws the same picture.
+    Pixels drawn = frame(renderer, &glyphs, camera, clip_from_world, false);
+    check(es_renderer_last_plan(renderer, &plan), "es_renderer_last_plan");
+    expect(plan.struct_size == sizeof(EsFramePlan) && plan.path == ES_PATH_KIND_DRAW &&
+               plan.hidden_layers == ES_HIDDEN_LAYERS_NONE && plan.compute_splat == 0 &&
+               plan.measured_ms < 0 && plan.runner_up == ES_PATH_KIND_NONE,
+           "the fixed draw's plan");
+    expect(splat_ ? plan.reason == ES_PLAN_REASON_KIND_FIXED && plan.drawn_because == nullptr
+                  : plan.reason == ES_PLAN_REASON_KIND_ONLY && plan.drawn_because != nullptr,
+           "the fixed draw's reason");
+    if (splat_) {
+        settings.fixed_path = ES_PATH_KIND_SPLAT;
+        check(es_renderer_set_settings(renderer, &settings), "es_renderer_set_settings");
+        Pixels splatted = frame(renderer, nullptr, camera, clip_from_world, false);
+        check(es_renderer_last_plan(renderer, &plan), "es_renderer_last_plan");
+        expect(plan.path == ES_PATH_KIND_SPLAT && plan.compute_splat == 1 &&
+                   plan.hidden_layers == ES_HIDDEN_LAYERS_SPLAT_ALL &&
+                   plan.reason == ES_PLAN_REASON_KIND_FIXED && plan.prepass == 1,
+               "the fixed splat's plan");
+        same(drawn, splatted, "the splat");
+        // The visible-first splat: its first still frame stamps what it shows, the next
+        // splats that first.
+        settings.fixed_path = ES_PATH_KIND_VISIBLE_FIRST;
+        check(es_renderer_set_settings(renderer, &settings), "es_renderer_set_settings");
+        const uint32_t layers[2] = {ES_HIDDEN_LAYERS_STAMP_SHOWN, ES_HIDDEN_LAYERS_VISIBLE_FIRST};
+        for (uint32_t want : layers) {
+            Pixels pixels = frame(renderer, nullptr, camera, clip_from_world, false);
+            check(es_renderer_last_plan(renderer, &plan), "es_renderer_last_plan");
+            expect(plan.path == ES_PATH_KIND_VISIBLE_FIRST && plan.hidden_layers == want &&
+                       plan.visible_first == (want == ES_HIDDEN_LAYERS_VISIBLE_FIRST),
+                   "the fixed visible-first splat's plan (hidden layers " +
+                       std::to_string(plan.hidden_layers) + ")");
+            same(drawn, pixels,
+                 want == ES_HIDDEN_LAYERS_STAMP_SHOWN ? "the stamping splat"
+                                                      : "the visible-first splat");
+        }
+    }
+
+    // The plan that measures: the same camera until its scene class settles, which puts the
+    // class in the plan's wisdom (every trial is bounded, so a device with timestamps
+    // settles within a few dozen frames). A fresh renderer's wisdom holds nothing.
+    EsRenderer* second = make_renderer(nullptr);
+    size_t empty = 0, size = 0;
+    check(es_renderer_plan_wisdom(second, nullptr, &empty), "es_renderer_plan_wisdom");
+    settings.plan_mode = ES_PLAN_MODE_MEASURE;
+    settings.fixed_path = ES_PATH_KIND_NONE;
+    check(es_renderer_set_settings(renderer, &settings), "es_renderer_set_settings");
+    int frames = 0;
+    bool settled = false;
+    while (frames < 90 && !settled) {
+        frame(renderer, nullptr, camera, clip_from_world, false);
+        ++frames;
+        check(es_renderer_plan_wisdom(renderer, nullptr, &size), "es_renderer_plan_wisdom");
+        settled = size > empty;
+    }
+    expect(settled || !can_measure, "the plan has timestamps but settled nothing in 90 frames");
+    // The frame after settling is planned as measured.
+    same(drawn, frame(renderer, nullptr, camera, clip_from_world, false), "the measured path");
+    check(es_renderer_last_plan(renderer, &plan), "es_renderer_last_plan");
+    const uint32_t learned = plan.path;
+    if (settled) {
+        std::printf("settled after %d frames: %s %.3f ms, runner-up %s %.3f ms\n", frames,
+                    path_name(plan.path), plan.measured_ms, path_name(plan.runner_up),
+                    plan.runner_up_ms);
+        expect(plan.reason == ES_PLAN_REASON_KIND_MEASURED && plan.measured_ms >= 0 &&
+                   (plan.runner_up == ES_PATH_KIND_NONE) == (plan.runner_up_ms < 0),
+               "the measured plan: reason " + std::to_string(plan.reason));
+    } else {
+        std::printf("no timestamps: the plan estimated (%s)\n", path_name(plan.path));
+    }
+
+    // Its wisdom, in two calls; a buffer too small is refused with the size it needs.
+    check(es_renderer_plan_wisdom(renderer, nullptr, &size), "es_renderer_plan_wisdom");
+    std::vector<uint8_t> wisdom(size);
+    size_t room = size - 1;
+    refused(es_renderer_plan_wisdom(renderer, wisdom.data(), &room),
+            ES_STATUS_ERROR_INVALID_ARGUMENT, std::to_string(size).c_str(),
+            "a wisdom buffer one byte short");
+    expect(room == size, "the size needed after a short buffer");
+    check(es_renderer_plan_wisdom(renderer, wisdom.data(), &room), "es_renderer_plan_wisdom");
+    std::printf("plan wisdom: %zu bytes (%zu with nothing learned)\n", size, empty);
+
+    // The second renderer, on the same device, takes it in and gives the same bytes back;
+    // its frames of the learned class take the learned path without exploring.
+    check(es_renderer_load_plan_wisdom(second, wisdom.data(), wisdom.size()),
+          "es_renderer_load_plan_wisdom");
+    std::vector<uint8_t> again(size + 16);
+    room = again.size();
+    check(es_renderer_plan_wisdom(second, again.data(), &room), "es_renderer_plan_wisdom");
+    again.resize(room);
+    expect(again == wisdom, "the second renderer's wisdom differs from what it loaded");
+    frame(second, &glyphs, camera, clip_from_world, false);  // a moving camera's class
+    Pixels learned_frame = frame(second, nullptr, camera, clip_from_world, false);
+    check(es_renderer_last_plan(second, &plan), "es_renderer_last_plan");
+    if (settled)
+        expect(plan.reason == ES_PLAN_REASON_KIND_MEASURED && plan.path == learned,
+               "the loaded wisdom's plan: " + std::string(path_name(plan.path)) + ", reason " +
+                   std::to_string(plan.reason));
+    same(drawn, learned_frame, "the loaded path");
+
+    // Bytes that are not wisdom, cut short or damaged are refused and change nothing.
+    const char garbage[] = "these bytes are not what a renderer learned";
+    refused(es_renderer_load_plan_wisdom(second, reinterpret_cast<const uint8_t*>(garbage),
+                                         sizeof(garbage)),
+            ES_STATUS_ERROR_INVALID_ARGUMENT, "plan wisdom", "garbage wisdom");
+    refused(es_renderer_load_plan_wisdom(second, wisdom.data(), wisdom.size() - 1),
+            ES_STATUS_ERROR_INVALID_ARGUMENT, "plan wisdom", "truncated wisdom");
+    std::vector<uint8_t> damaged = wisdom;
+    damaged[damaged.size() / 2] ^= 0x40;
+    refused(es_renderer_load_plan_wisdom(second, damaged.data(), damaged.size()),
+            ES_STATUS_ERROR_INVALID_ARGUMENT, "plan wisdom", "damaged wisdom");
+    refused(es_renderer_load_plan_wisdom(second, nullptr, 8), ES_STATUS_ERROR_INVALID_ARGUMENT,
+            "bytes", "null wisdom bytes");
+
+    // Settings naming no mode or path are refused and change nothing.
+    EsSettings bad = settings;
+    bad.plan_mode = 7;
+    refused(es_renderer_set_settings(second, &bad), ES_STATUS_ERROR_INVALID_ARGUMENT,
+            "plan_mode", "plan_mode 7");
+    bad.plan_mode = ES_PLAN_MODE_FIXED;
+    bad.fixed_path = ES_PATH_KIND_NONE;
+    refused(es_renderer_set_settings(second, &bad), ES_STATUS_ERROR_INVALID_ARGUMENT,
+            "fixed_path", "ES_PLAN_MODE_FIXED without a path");
+    bad.fixed_path = 42;
+    refused(es_renderer_set_settings(second, &bad), ES_STATUS_ERROR_INVALID_ARGUMENT,
+            "fixed_path", "fixed_path 42");
+    frame(second, nullptr, camera, clip_from_world, false);
+    check(es_renderer_last_plan(second, &plan), "es_renderer_last_plan");
+    expect(plan.reason != ES_PLAN_REASON_KIND_FIXED, "a refused setting changed the plan");
+
+    check(es_renderer_destroy(second), "es_renderer_destroy");
+    check(es_renderer_destroy(renderer), "es_renderer_destroy");
+    if (allocator_.live != 0)
+        throw std::runtime_error("the renderers left " + std::to_string(allocator_.live) +
+                                 " buffers allocated");
 }
 
 Host::~Host() {
@@ -718,8 +958,9 @@ Host::~Host() {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 4 || (std::string(argv[3]) != "full" && std::string(argv[3]) != "imgui")) {
-        std::fprintf(stderr, "usage: %s GLYPHS.bin OUT_PREFIX full|imgui\n", argv[0]);
+    const std::string mode = argc == 4 ? argv[3] : "";
+    if (mode != "full" && mode != "imgui" && mode != "plan") {
+        std::fprintf(stderr, "usage: %s GLYPHS.bin OUT_PREFIX full|imgui|plan\n", argv[0]);
         return 2;
     }
     if (es_abi_version() != ES_ABI_VERSION) {
@@ -736,7 +977,10 @@ int main(int argc, char** argv) {
     file.read(reinterpret_cast<char*>(glyphs.data()), std::streamsize(glyphs.size() * sizeof(EsGlyph)));
     try {
         Host host;
-        host.run(glyphs, argv[2], std::string(argv[3]) == "full");
+        if (mode == "plan")
+            host.plans(glyphs);
+        else
+            host.run(glyphs, argv[2], mode == "full");
     } catch (const std::exception& e) {
         std::fprintf(stderr, "cpp_host: %s\n", e.what());
         return 1;

@@ -8,6 +8,10 @@
     frame.normal  # (H, W, 3) float32 world-space unit normal, 0 where nothing is hit
     frame.id      # (H, W) uint32 glyph index, 0xFFFFFFFF where nothing is hit
 
+Each frame takes one of several exact paths (the draw, the compute splat, the visible-first
+splat), which draw the same picture at different costs; by default the renderer times them on
+its own frames and keeps the fastest (``plan``, ``last_plan``, ``plan_wisdom``).
+
 A thin layer over the Rust library (the native module ``_native``): this file checks and
 shapes the arguments, the library renders (with the GIL released). Errors: ``ValueError`` for
 shapes, dtypes and values (naming the argument), ``OSError`` for files, ``DeviceError`` (a
@@ -24,10 +28,21 @@ import numpy as np
 from . import _native
 from ._native import DeviceError
 
-__all__ = ["Renderer", "Frame", "load", "DeviceError", "NO_GLYPH"]
+__all__ = ["Renderer", "Frame", "load", "DeviceError", "NO_GLYPH", "PLANS"]
 
 #: The ``id`` of a pixel where no glyph is hit.
 NO_GLYPH = 0xFFFFFFFF
+
+#: How a renderer's frame plan may choose its path (``Renderer(plan=...)``): ``measure`` times
+#: the paths that can serve a frame and keeps the fastest, ``estimate`` takes the first guess
+#: from the scene's size on screen, and a path's name fixes that path wherever it can serve.
+PLANS = ("measure", "estimate", "draw", "splat", "visible-first")
+
+
+def _plan(value: Any) -> str:
+    if not isinstance(value, str) or value not in PLANS:
+        raise ValueError(f"plan must be one of {', '.join(map(repr, PLANS))}, got {value!r}")
+    return value
 
 
 def _matrix(value: Any, name: str, cols: Optional[int], dims: int = 2) -> np.ndarray:
@@ -112,10 +127,13 @@ class Renderer:
 
     ``validation`` turns on the Khronos validation layer: any message it reports makes the
     upload or render that caused it raise ``DeviceError``. ``device`` picks a device by index
-    or name (default: a real GPU, else lavapipe)."""
+    or name (default: a real GPU, else lavapipe). ``plan`` is how each frame's path is chosen
+    (one of ``PLANS``; every path draws the same picture)."""
 
-    def __init__(self, validation: bool = False, device: Optional[str | int] = None) -> None:
-        self._native = _native.Renderer(validation, None if device is None else str(device))
+    def __init__(self, validation: bool = False, device: Optional[str | int] = None, *,
+                 plan: str = "measure") -> None:
+        self._native = _native.Renderer(validation, None if device is None else str(device),
+                                        _plan(plan))
         self._last: Optional[list] = None
         self._given: Optional[list] = None
         #: The Rust library's time for the last upload (building and uploading the glyphs), ms.
@@ -125,6 +143,50 @@ class Renderer:
     def device(self) -> str:
         """The Vulkan device's name."""
         return self._native.device
+
+    @property
+    def plan(self) -> str:
+        """How each frame's path is chosen: one of ``PLANS``. Setting it keeps what the plan
+        learned; a name not in ``PLANS`` raises ``ValueError`` and changes nothing."""
+        return self._native.plan
+
+    @plan.setter
+    def plan(self, value: str) -> None:
+        self._native.plan = _plan(value)
+
+    @property
+    def last_plan(self) -> Optional[dict]:
+        """The plan of the last frame drawn (``None`` before the first), a dict:
+
+        - ``path``: ``"draw"``, ``"splat"`` or ``"visible-first"``;
+        - ``hidden``: what a splatted frame does about hidden glyphs -- ``"splat-all"``,
+          ``"stamp-shown"`` (the visible-first splat's first still frame, which stamps the
+          glyphs it shows) or ``"visible-first"`` (those first, then the rest they do not
+          hide); ``None`` for the draw;
+        - ``reason``: why, as the library's sentence (``"measured: X ms against splat Y ms"``);
+        - ``reason_kind``: ``"only"`` (no other path can serve the frame), ``"fixed"``,
+          ``"estimated"``, ``"exploring"`` (a candidate being timed) or ``"measured"``;
+        - ``measured_ms``: the path's median GPU time in milliseconds where measured, else
+          ``None``; ``runner_up``, ``runner_up_ms``: the next fastest path and its time, or
+          ``None``;
+        - ``candidates``: the paths that could serve the frame."""
+        return self._native.last_plan
+
+    def plan_wisdom(self) -> bytes:
+        """What the plan learned on this device: for each scene class it settled, the path
+        it chose and the paths' times, keyed by the device, its driver build and pipeline-cache
+        UUID. Save it and give it to ``load_plan_wisdom`` of a later renderer on the same
+        device to skip the exploring."""
+        return self._native.plan_wisdom()
+
+    def load_plan_wisdom(self, data: "bytes | bytearray | memoryview") -> None:
+        """Takes in ``plan_wisdom`` bytes of a renderer on the same device and driver build:
+        the scene classes it settled are then planned as learned. Bytes from another device
+        or driver, cut short or damaged raise ``ValueError`` saying which, and change
+        nothing."""
+        if not isinstance(data, (bytes, bytearray, memoryview)):
+            raise TypeError(f"data must be bytes, not {type(data).__name__}")
+        self._native.load_plan_wisdom(bytes(data))
 
     def upload(self, centers: Any, radii: Any = None, rotations: Any = None,
                colors: Any = None, *, tensors: Any = None) -> int:

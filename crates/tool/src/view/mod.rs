@@ -101,6 +101,9 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let settings = {
         let mut settings = Settings::default();
         settings.instance_format = render.instance_format();
+        // `measure` (the default) learns as the frames go: the moving frames' class while
+        // the camera moves, the still frames' each time it stops.
+        settings.plan = render.plan.mode();
         settings
     };
     let mut app = App {
@@ -339,6 +342,9 @@ impl App {
         self.viewer = None;
         self.window = None;
         println!("{}", self.stats.summary());
+        if let Some(plan) = &self.stats.plan {
+            println!("plan of the last frame: {plan}");
+        }
         if let Some(e) = self.error {
             return Err(e);
         }
@@ -437,6 +443,7 @@ impl App {
             return Ok(());
         }
         self.stats.presented += 1;
+        self.stats.plan = viewer.last_plan().map(|p| crate::plan::describe(&p));
         self.pending.clear();
         self.last_moving = moving;
         if let Some(clicked) = self.pick_shown.take() {
@@ -469,8 +476,9 @@ impl App {
             let time = self
                 .last_gpu
                 .map_or("-".into(), |t| format!("{:.1} ms", t.as_secs_f64() * 1e3));
+            let plan = self.stats.plan.as_deref().unwrap_or("-");
             window.set_title(&format!(
-                "ellipsoid-splat view: {} | {drawn} | {time} GPU per frame",
+                "ellipsoid-splat view: {} | {drawn} | {time} GPU per frame | {plan}",
                 self.render.scene
             ));
         }

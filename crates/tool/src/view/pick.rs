@@ -1,6 +1,6 @@
 //! What a click reports: the glyph under the cursor (read from the renderer's ID output), its
 //! centre, semi-axes and colour, and what it came from: the lattice cell or cloud index of a
-//! generated scene, and for a file the record the loader kept for it (`Origins`: CSV line,
+//! generated scene (the particle index of the liquid), and for a file the record the loader kept for it (`Origins`: CSV line,
 //! PLY vertex, NIfTI voxel, PDB/mmCIF atom with its name and residue).
 
 use ellipsoid_splat::Ellipsoid;
@@ -26,6 +26,7 @@ pub fn source(spec: &SceneSpec, index: u32, origins: &Origins) -> String {
             format!("{name} cell (i, j, k) = ({i}, {j}, {k})")
         }
         SceneSpec::Random(_) => format!("random cloud glyph {index}"),
+        SceneSpec::MdLiquid(_) => format!("md-liquid particle {index}"),
         SceneSpec::File(path) => match origins.describe(index as usize) {
             Some(record) => format!("{record} of {}", path.display()),
             None => format!("glyph {index} of {}", path.display()),

@@ -1,5 +1,5 @@
 //! What the viewer measures: GPU time of moving and still frames, frames skipped while
-//! minimised, and the host's resident memory.
+//! minimised, the path the frame plan took and why, and the host's resident memory.
 
 use std::time::Duration;
 
@@ -14,6 +14,8 @@ pub struct FrameStats {
     pub skipped: u64,
     /// Frames presented.
     pub presented: u64,
+    /// The last presented frame's path and why the plan took it (`plan::describe`).
+    pub plan: Option<String>,
 }
 
 impl FrameStats {
@@ -27,15 +29,22 @@ impl FrameStats {
             ms.sort_by(f64::total_cmp);
             format!("{:.1} ms", ms[ms.len() / 2])
         };
+        let total: f64 = self
+            .moving
+            .iter()
+            .chain(&self.still)
+            .map(|t| t.as_secs_f64() * 1e3)
+            .sum();
         format!(
             "frames: {} presented, {} skipped while minimised; GPU time per frame (median): \
-             moving {} ({} frames), still {} ({} frames)",
+             moving {} ({} frames), still {} ({} frames); all frames {:.1} ms",
             self.presented,
             self.skipped,
             median(&self.moving),
             self.moving.len(),
             median(&self.still),
-            self.still.len()
+            self.still.len(),
+            total
         )
     }
 }

@@ -14,8 +14,8 @@ use ash::vk;
 use winit::window::Window;
 
 use ellipsoid_splat::{
-    Camera, Ellipsoid, EllipsoidRenderer, Pass, RendererOptions, Scene, Settings, Target,
-    ID_FORMAT, NORMAL_FORMAT,
+    Camera, Ellipsoid, EllipsoidRenderer, FramePlan, Pass, RendererOptions, Scene, Settings,
+    Target, ID_FORMAT, NORMAL_FORMAT,
 };
 
 use super::device::Gpu;
@@ -470,6 +470,13 @@ impl Viewer {
     /// The store of validation messages (it outlives the viewer, to hold those of teardown).
     pub fn message_log(&self) -> ellipsoid_splat::internals::validation::MessageLog {
         self.gpu.message_log()
+    }
+
+    /// The plan of the last frame drawn (the moving sample's renderer's, if it drew that).
+    pub fn last_plan(&self) -> Option<FramePlan> {
+        let (_, sample) = self.last?;
+        let drawn = if sample { &self.moving } else { &self.full };
+        drawn.as_ref()?.renderer.last_plan().copied()
     }
 
     /// The camera of the last frame drawn.

@@ -1,30 +1,123 @@
-//! The benchmark's side of the renderer (feature `research`): drawing with a baseline
-//! configuration, icosphere meshes, and counting shaded pixels.
+//! The renderer's research state and the benchmark's measuring aids: which baseline it
+//! draws, the compute splat's floors, and the exact counts of shaded pixels and ray casts.
 
-use crate::allocator::MemoryAllocator;
-use crate::allocator::MemoryUse;
 use ash::vk;
 
+use crate::allocator::MemoryAllocator;
 use crate::barriers;
-use crate::draw::{DrawConfig, Geometry};
 use crate::error::{Error, Result};
-use crate::gpu::GpuBuffer;
-use crate::icosphere::icosphere;
+use crate::footprint::Footprint as ShippedFootprint;
+use crate::renderer::{Binding, EllipsoidRenderer, FramePlan};
 
-use super::buffers::Binding;
-use super::EllipsoidRenderer;
+use super::baseline::{Baseline, DrawConfig, Geometry};
+use super::meshes::Meshes;
+
+/// What a renderer holds for the benchmark.
+#[derive(Default)]
+pub(crate) struct Research {
+    /// How the glyphs are drawn: the shipped impostor unless a baseline was chosen.
+    config: DrawConfig,
+    /// Fragment shaders count shaded pixels (and the splat its ray casts).
+    count_fragments: bool,
+    /// The compute splat's floor the frames measure (0: the splat itself).
+    splat_floor: u32,
+    /// The icosphere baselines' buffers.
+    meshes: Meshes,
+    /// The glyph count the visible-pixel floor's lists were made for.
+    floor_pixels_for: Option<u32>,
+    /// The offscreen renderer's read-back frames count (`set_count_fragments` there).
+    pub count_read_back: bool,
+}
+
+impl Research {
+    /// The baseline drawn, if any.
+    pub fn baseline(&self) -> Option<Baseline> {
+        self.config.baseline()
+    }
+
+    /// Whether frames count shaded pixels and ray casts.
+    pub fn count_fragments(&self) -> bool {
+        self.count_fragments
+    }
+
+    /// The compute splat's floor (0: the splat itself).
+    pub fn splat_floor(&self) -> u32 {
+        self.splat_floor
+    }
+
+    /// A new scene was uploaded: the floor's lists are for the old one.
+    pub fn forget_upload(&mut self) {
+        self.floor_pixels_for = None;
+    }
+
+    /// Makes what `plan`'s baseline draws with (an icosphere's buffers).
+    pub fn prepare(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut dyn MemoryAllocator,
+        plan: &FramePlan,
+    ) -> Result<()> {
+        match plan.baseline.map(|b| b.geometry) {
+            Some(Geometry::Mesh(level)) => self.meshes.ensure(device, allocator, level),
+            _ => Ok(()),
+        }
+    }
+
+    /// Records the draw of `count` instances of `baseline` (`indirect`: the pre-pass's
+    /// command at this offset; `footprint`: the polygon the plan chose).
+    ///
+    /// # Safety
+    /// `cmd` records inside the pass with the baseline's pipeline, descriptor set and push
+    /// constants bound; the buffers outlive its execution.
+    pub unsafe fn record_draw(
+        &self,
+        device: &ash::Device,
+        cmd: vk::CommandBuffer,
+        baseline: Baseline,
+        indirect: Option<(vk::Buffer, u64)>,
+        count: u32,
+        footprint: ShippedFootprint,
+    ) {
+        let stride = size_of::<vk::DrawIndirectCommand>() as u32;
+        // SAFETY: caller contract.
+        unsafe {
+            match (baseline.geometry, indirect) {
+                (Geometry::Impostor, Some((buffer, offset))) => {
+                    device.cmd_draw_indirect(cmd, buffer, offset, 1, stride)
+                }
+                (Geometry::Impostor, None) => {
+                    device.cmd_draw(cmd, baseline.vertices(footprint), count, 0, 0)
+                }
+                (Geometry::BoxProxy, _) => device.cmd_draw(cmd, 36, count, 0, 0),
+                (Geometry::Mesh(level), _) => {
+                    self.meshes.bind(device, cmd, level);
+                    device.cmd_draw_indexed(cmd, self.meshes.index_count(level), count, 0, 0, 0)
+                }
+            }
+        }
+    }
+
+    /// Destroys the meshes.
+    ///
+    /// # Safety
+    /// No pending work uses them.
+    pub unsafe fn destroy(&mut self, device: &ash::Device, allocator: &mut dyn MemoryAllocator) {
+        // SAFETY: caller contract.
+        unsafe { self.meshes.destroy(device, allocator) };
+    }
+}
 
 impl EllipsoidRenderer {
     /// Draws with `config` from the next frame on (a baseline of the benchmark; the shipped
     /// renderer is `DrawConfig::default()`). Builds that configuration's pipelines on first
     /// use.
     pub fn set_draw_config(&mut self, config: DrawConfig) {
-        self.config = config;
+        self.research.config = config;
     }
 
     /// The configuration frames are drawn with.
     pub fn draw_config(&self) -> DrawConfig {
-        self.config
+        self.research.config
     }
 
     /// Replaces the compute splat by one of its floors, for the benchmark's roofline: 1 reads
@@ -33,7 +126,7 @@ impl EllipsoidRenderer {
     /// uploaded scene; a frame without them is an error), and none resolves; 0 is the splat
     /// itself. Frames that do not splat are unchanged.
     pub fn set_splat_floor(&mut self, floor: u32) {
-        self.splat_floor = floor.min(3);
+        self.research.splat_floor = floor.min(3);
     }
 
     /// Forgets which glyphs the last frame showed, so that the next frame is drawn as a first
@@ -70,16 +163,16 @@ impl EllipsoidRenderer {
             4 * lists.len().max(2) as u64,
         )?;
         buffer.write(bytemuck::cast_slice(&lists))?;
-        self.floor_pixels_for = Some(self.scene.count);
+        self.research.floor_pixels_for = Some(self.scene.count);
         Ok(())
     }
 
     /// Checks that a frame with `plan` can draw the visible-pixel floor: its lists were made
     /// for the uploaded scene.
-    pub(crate) fn check_floor_pixels(&self, plan: &crate::FramePlan) -> Result<()> {
-        if self.splat_floor == 3
-            && plan.compute_splat
-            && self.floor_pixels_for != Some(self.scene.count)
+    pub(crate) fn check_floor_pixels(&self, plan: &FramePlan) -> Result<()> {
+        if self.research.splat_floor == 3
+            && plan.path.splat().is_some()
+            && self.research.floor_pixels_for != Some(self.scene.count)
         {
             return Err(Error::invalid(
                 "visible-pixel floor",
@@ -93,7 +186,7 @@ impl EllipsoidRenderer {
     /// `fragmentStoresAndAtomics`); their arithmetic may round differently from the shipped
     /// ones.
     pub fn set_count_fragments(&mut self, on: bool) {
-        self.count_fragments = on;
+        self.research.count_fragments = on;
     }
 
     /// Zeroes the fragment and ray-cast counters; call before submitting a counting frame.
@@ -164,124 +257,6 @@ fn floor_pixel_lists(count: u32, ids: &[u32], width: u32) -> Result<Vec<u32>> {
         }
     }
     Ok([&[count][..], &offsets, &pixels].concat())
-}
-
-/// One icosphere level on the GPU.
-struct MeshBuffers {
-    level: u32,
-    vertices: GpuBuffer,
-    indices: GpuBuffer,
-    index_count: u32,
-}
-
-/// The icosphere levels uploaded so far.
-#[derive(Default)]
-pub(crate) struct Meshes {
-    levels: Vec<MeshBuffers>,
-}
-
-impl Meshes {
-    /// Uploads icosphere `level` if it is not on the GPU yet.
-    pub fn ensure(
-        &mut self,
-        device: &ash::Device,
-        allocator: &mut dyn MemoryAllocator,
-        level: u32,
-    ) -> Result<()> {
-        if level > 4 {
-            return Err(Error::invalid(
-                "mesh level",
-                format!("{level} is outside 0..=4"),
-            ));
-        }
-        if self.levels.iter().any(|m| m.level == level) {
-            return Ok(());
-        }
-        let mesh = icosphere(level);
-        let vertex_bytes: &[u8] = bytemuck::cast_slice(&mesh.positions);
-        let index_bytes: &[u8] = bytemuck::cast_slice(&mesh.indices);
-        let upload = |allocator: &mut dyn MemoryAllocator, name, bytes: &[u8], usage| {
-            let mut buffer = GpuBuffer::new(
-                device,
-                allocator,
-                name,
-                bytes.len() as u64,
-                usage,
-                MemoryUse::Upload,
-            )?;
-            if let Err(e) = buffer.write(bytes) {
-                // SAFETY: just made, never used.
-                unsafe { buffer.destroy(device, allocator) };
-                return Err(e);
-            }
-            Ok(buffer)
-        };
-        let vertices = upload(
-            allocator,
-            "icosphere vertices",
-            vertex_bytes,
-            vk::BufferUsageFlags::VERTEX_BUFFER,
-        )?;
-        let indices = match upload(
-            allocator,
-            "icosphere indices",
-            index_bytes,
-            vk::BufferUsageFlags::INDEX_BUFFER,
-        ) {
-            Ok(b) => b,
-            Err(e) => {
-                // SAFETY: just made, never used.
-                unsafe { vertices.destroy(device, allocator) };
-                return Err(e);
-            }
-        };
-        self.levels.push(MeshBuffers {
-            level,
-            vertices,
-            indices,
-            index_count: mesh.indices.len() as u32,
-        });
-        Ok(())
-    }
-
-    /// Indices of icosphere `level` (0 if it was never uploaded).
-    pub fn index_count(&self, level: u32) -> u32 {
-        self.levels
-            .iter()
-            .find(|m| m.level == level)
-            .map_or(0, |m| m.index_count)
-    }
-
-    /// Binds the vertex and index buffers of `geometry`'s mesh, if it is one.
-    ///
-    /// # Safety
-    /// `cmd` is recording; the buffers outlive its execution.
-    pub unsafe fn bind(&self, device: &ash::Device, cmd: vk::CommandBuffer, geometry: Geometry) {
-        let Geometry::Mesh(level) = geometry else {
-            return;
-        };
-        if let Some(mesh) = self.levels.iter().find(|m| m.level == level) {
-            // SAFETY: caller contract; the buffers are live.
-            unsafe {
-                device.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.handle()], &[0]);
-                device.cmd_bind_index_buffer(cmd, mesh.indices.handle(), 0, vk::IndexType::UINT32);
-            }
-        }
-    }
-
-    /// Destroys every mesh.
-    ///
-    /// # Safety
-    /// No pending work uses them.
-    pub unsafe fn destroy(&mut self, device: &ash::Device, allocator: &mut dyn MemoryAllocator) {
-        for mesh in self.levels.drain(..) {
-            // SAFETY: caller contract.
-            unsafe {
-                mesh.vertices.destroy(device, allocator);
-                mesh.indices.destroy(device, allocator);
-            }
-        }
-    }
 }
 
 #[cfg(test)]

@@ -11,37 +11,23 @@ use ash::vk;
 
 use crate::barriers;
 use crate::camera::Camera;
-use crate::gpu_layout::visibility_bytes;
-use crate::target::{Pass, Target};
-
-use super::buffers::Binding;
-use super::pipelines::DRAW_PUSH_STAGES;
-use super::plan::FramePlan;
-use super::push::push_constants;
-use super::EllipsoidRenderer;
 use crate::error::Result;
-
-/// The target the visibility-buffer draw's pipeline is built for: no attachments at all.
-pub(crate) fn no_attachments() -> Target {
-    Target {
-        pass: Pass::Dynamic {
-            color_formats: Vec::new(),
-            depth_format: vk::Format::UNDEFINED,
-        },
-        samples: vk::SampleCountFlags::TYPE_1,
-        aux_outputs: false,
-    }
-}
+use crate::gpu_layout::visibility_bytes;
+use crate::renderer::pipelines::DRAW_PUSH_STAGES;
+use crate::renderer::push::push_constants;
+use crate::renderer::viewport::viewport_and_scissor;
+use crate::renderer::{Binding, EllipsoidRenderer, FramePlan};
 
 impl EllipsoidRenderer {
     /// Records the visibility-buffer draw of a frame with `camera` and `plan` into `cmd`,
-    /// with `pipeline` (built for [`no_attachments`]): the buffer's clear, the draw of every
-    /// chunk, and the barriers before the clear and after the draw.
+    /// with `pipeline` (built for the baseline's own pass, which has no attachments): the
+    /// buffer's clear, the draw of every chunk, and the barriers before the clear and after
+    /// the draw.
     ///
     /// # Safety
     /// As [`EllipsoidRenderer::record_prepass`]: `cmd` records outside any pass; the
     /// visibility buffer is sized for `camera`.
-    pub(super) unsafe fn record_visibility_draw(
+    pub(crate) unsafe fn record_visibility_draw(
         &mut self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
@@ -54,12 +40,12 @@ impl EllipsoidRenderer {
         let sets = self.descriptor_sets(device, view)?;
         let empty = if plan.reversed_z { 0 } else { u32::MAX };
         // The pass has no attachments: its area is the camera's rectangle.
-        let (viewport, area) = super::draw::viewport_and_scissor(camera);
+        let (viewport, area) = viewport_and_scissor(camera);
         let rendering = vk::RenderingInfo::default()
             .render_area(area)
             .layer_count(1);
         let layout = self.pipelines.draw_layout;
-        let vertices = plan.config.footprint.vertices();
+        let vertices = plan.footprint.vertices();
         // SAFETY: `cmd` records outside any pass (caller contract); every handle is owned by
         // `self` and outlives the submission; the fill covers the buffer's image part.
         unsafe {

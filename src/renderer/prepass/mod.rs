@@ -1,21 +1,27 @@
-//! Recording the culling pre-pass of a frame: one per chunk, sharing the occlusion tiles.
+//! The pre-pass of a frame, outside the host's pass: the culling steps before the draw, or
+//! the compute splat (plain or visible-first) and the compaction of what it leaves to the
+//! draw; one per chunk, sharing the occlusion tiles.
+
+mod record;
+pub(crate) mod steps;
 
 use crate::allocator::MemoryAllocator;
 use ash::vk;
 
 use crate::camera::Camera;
-use crate::culling::{
-    self, CullSelect, CullStep, Culling, Dispatch, DispatchSize, Prepass, PrepassBuffers,
-};
+use crate::culling::Culling;
 use crate::error::Result;
 use crate::gpu_layout::{glyph_stamps_bytes, resolve_tiles, visibility_bytes, IndirectDraw};
-use crate::pipeline::{CullKey, SplatKey};
+use crate::path::{FramePath, HiddenLayers};
 
 use super::buffers::Binding;
 use super::chunks::SLICE_ALIGN;
+use super::pipelines::keys::{CullKey, SplatKey};
 use super::plan::FramePlan;
 use super::push::push_constants;
 use super::EllipsoidRenderer;
+use record::{Dispatch, DispatchSize, Prepass, PrepassBuffers};
+use steps::{CullSelect, CullStep};
 
 impl EllipsoidRenderer {
     /// Records the pre-pass of a frame with `camera` (when its plan has one) into `cmd`,
@@ -53,21 +59,58 @@ impl EllipsoidRenderer {
         let view = self.take_next_view()?;
         let plan = self.plan_for_view(view, camera)?;
         self.views[view].last_camera = Some(*camera);
+        self.last_plan = Some(plan);
+        // The plan that measures notes what this frame runs; its timestamps say how long.
+        let token = plan.class.and_then(|class| {
+            let candidates = plan.candidates();
+            let ran = plan.path.timed_kind();
+            self.learning.commit(class, &candidates, plan.chosen, ran)
+        });
+        // SAFETY: caller contract: `cmd` records outside a pass for the current slot.
+        unsafe {
+            self.timer
+                .prepass_start(device, cmd, self.slot, view, token)
+        };
         // Every pre-pass has a stamp of its own (never 0); the glyphs the view's last stamping
         // frame showed (of this scene) go first, whatever frames came between.
         self.frame_stamp = self.frame_stamp.checked_add(1).unwrap_or(1);
         let shown = self.views[view].shown_stamped.map(|(stamp, _)| stamp);
-        if !plan.prepass {
-            // Nothing to record, but the draw keeps this plan (and so the target current
-            // now), as a view with a pre-pass does.
-            self.views[view].prepared = Some((*camera, plan));
-            return Ok(());
-        }
-        #[cfg(feature = "research")]
-        self.check_floor_pixels(&plan)?;
-        let (pipeline, _) = self.prepare(device, allocator, &plan)?;
-        let marks = plan.mark_shown && self.splat_floor == 0;
-        let extent = if plan.culling.occlusion || plan.resolve {
+        let recorded = if plan.prepass() {
+            // SAFETY: forwarded caller contract.
+            unsafe { self.record_prepass_of(device, allocator, cmd, view, camera, &plan, shown) }
+        } else {
+            Ok(())
+        };
+        // SAFETY: as above, after the pre-pass's commands.
+        unsafe { self.timer.prepass_end(device, cmd, self.slot, view) };
+        recorded?;
+        // The draw keeps this plan (and so the target current now).
+        self.views[view].prepared = Some((*camera, plan));
+        Ok(())
+    }
+
+    /// Records the pre-pass `plan` has, for `view`.
+    ///
+    /// # Safety
+    /// As [`EllipsoidRenderer::record_prepass`].
+    #[allow(clippy::too_many_arguments)]
+    unsafe fn record_prepass_of(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut dyn MemoryAllocator,
+        cmd: vk::CommandBuffer,
+        view: usize,
+        camera: &Camera,
+        plan: &FramePlan,
+        shown: Option<u32>,
+    ) -> Result<()> {
+        self.check_floor_pixels(plan)?;
+        let (pipeline, _) = self.prepare(device, allocator, plan)?;
+        let marks = matches!(
+            plan.path,
+            FramePath::Splat(s) if s.hidden != HiddenLayers::SplatAll
+        );
+        let extent = if plan.culling().occlusion || plan.resolves() {
             (camera.width, camera.height)
         } else {
             (1, 1)
@@ -78,19 +121,16 @@ impl EllipsoidRenderer {
             view,
             self.scene.count,
             extent,
-            plan.resolve,
+            plan.resolves(),
             marks,
         )?;
-        #[cfg(feature = "research")]
-        if plan.visibility_draw {
+        if plan.visibility_draw() {
             // SAFETY: caller contract; the visibility buffer was sized for `camera` above.
-            unsafe { self.record_visibility_draw(device, cmd, view, camera, &plan, pipeline)? };
-            self.views[view].prepared = Some((*camera, plan));
-            return Ok(());
+            return unsafe {
+                self.record_visibility_draw(device, cmd, view, camera, plan, pipeline)
+            };
         }
-        #[cfg(not(feature = "research"))]
-        let _ = pipeline;
-        let dispatches = self.prepass_dispatches(device, &plan, camera, marks)?;
+        let dispatches = self.prepass_dispatches(device, plan, camera)?;
         let own = &self.views[view].buffers;
         let buffers = PrepassBuffers {
             indirect: own.handle(Binding::IndirectDraw)?,
@@ -107,7 +147,7 @@ impl EllipsoidRenderer {
         let chunks: Vec<(u32, u32)> = chunking.chunks().collect();
         for (k, ((first, count), set)) in chunks.into_iter().zip(sets).enumerate() {
             let mut fills = Vec::new();
-            if plan.compute_splat {
+            if plan.path.splat().is_some() {
                 if k == 0 {
                     // Nothing hit yet: every 64-bit key of the image holds the empty value.
                     let empty = if plan.reversed_z { 0 } else { u32::MAX };
@@ -115,7 +155,7 @@ impl EllipsoidRenderer {
                     fills.push((visibility, 0, bytes, empty));
                 }
                 // The keep bits of the glyphs the splat leaves to the draw.
-                let bytes = culling::groups_bytes(count);
+                let bytes = steps::groups_bytes(count);
                 fills.push((groups, k as u64 * groups_slice, bytes, 0));
                 if marks && shown.is_none() {
                     // A new scene: no glyph shown yet, none left to the draw.
@@ -133,7 +173,7 @@ impl EllipsoidRenderer {
                     first,
                 ),
                 command: IndirectDraw {
-                    vertex_count: plan.config.footprint.vertices(),
+                    vertex_count: plan.vertices(),
                     instance_count: 0,
                     first_vertex: 0,
                     first_instance: 0,
@@ -145,7 +185,7 @@ impl EllipsoidRenderer {
                     dispatch_z: 1,
                 },
                 indirect_offset: k as u64 * SLICE_ALIGN,
-                clear_tiles: plan.culling.occlusion && k == 0,
+                clear_tiles: plan.culling().occlusion && k == 0,
                 buffers: PrepassBuffers { ..buffers },
                 fills,
                 dispatches: dispatches
@@ -160,31 +200,32 @@ impl EllipsoidRenderer {
         if marks {
             self.views[view].shown_stamped = Some((self.frame_stamp, *camera));
         }
-        self.views[view].prepared = Some((*camera, plan));
         Ok(())
     }
 }
-
 impl EllipsoidRenderer {
     /// The pipelines of the pre-pass `plan` asks for, in order, each with its size: the
-    /// culling steps; or the compute splat and the compaction of what it leaves to the draw;
-    /// or the visible-first splat's two passes (with `marks`, the frame stamps what it shows).
+    /// culling steps; or the compute splat and the compaction of what it leaves to the draw
+    /// (stamping what the frame shows where the path asks); or the visible-first splat's two
+    /// passes.
     fn prepass_dispatches(
         &mut self,
         device: &ash::Device,
         plan: &FramePlan,
         camera: &Camera,
-        marks: bool,
     ) -> Result<Vec<(vk::Pipeline, DispatchSize)>> {
-        if !plan.compute_splat {
-            return culling::steps(plan.culling)
-                .into_iter()
-                .map(|step| self.cull_step(device, plan, step, CullSelect::All, plan.culling))
-                .collect();
-        }
+        let splat_path = match plan.path {
+            FramePath::Draw(draw) => {
+                return steps::steps(draw.culling)
+                    .into_iter()
+                    .map(|step| self.cull_step(device, plan, step, CullSelect::All, draw.culling))
+                    .collect();
+            }
+            FramePath::Splat(splat) => splat,
+        };
         let (w, h) = (camera.width, camera.height);
         let grid = |groups| {
-            let (x, y) = culling::dispatch_grid(groups);
+            let (x, y) = steps::dispatch_grid(groups);
             DispatchSize::Grid(x, y)
         };
         let off = Culling::OFF;
@@ -192,36 +233,35 @@ impl EllipsoidRenderer {
             self.cull_pipeline(device, plan, CullStep::MarkShown, CullSelect::All, off)?,
             grid(resolve_tiles(w, h)),
         );
-        let splat = SplatKey {
-            floor: self.splat_floor,
-            ..SplatKey::of(plan)
-        };
+        let splat = SplatKey::of(plan, &self.research);
         let mut dispatches = Vec::new();
-        if plan.visible_first && self.splat_floor == 0 {
-            let list = SplatKey {
-                list: true,
-                ..splat
-            };
-            let pass = (self.pipelines.splat(device, list)?, DispatchSize::Indirect);
-            let key_tiles = (
-                self.cull_pipeline(device, plan, CullStep::KeyTiles, CullSelect::All, off)?,
-                grid(culling::tiles_count(w, h).div_ceil(culling::GROUP_SIZE as u32)),
-            );
-            let rest = plan.rest_culling;
-            dispatches.extend(self.list_steps(device, plan, CullSelect::Shown, off)?);
-            dispatches.push(pass);
-            dispatches.push(key_tiles);
-            dispatches.extend(self.list_steps(device, plan, CullSelect::Rest, rest)?);
-            dispatches.push(pass);
-            dispatches.push(mark_shown);
-            dispatches.extend(self.list_steps(device, plan, CullSelect::Drawn, off)?);
-        } else {
-            dispatches.push((self.pipelines.splat(device, splat)?, DispatchSize::Splat));
-            if marks {
+        match splat_path.hidden {
+            HiddenLayers::VisibleFirst { rest } => {
+                let list = SplatKey {
+                    list: true,
+                    ..splat
+                };
+                let pass = (self.pipelines.splat(device, list)?, DispatchSize::Indirect);
+                let key_tiles = (
+                    self.cull_pipeline(device, plan, CullStep::KeyTiles, CullSelect::All, off)?,
+                    grid(steps::tiles_count(w, h).div_ceil(steps::GROUP_SIZE as u32)),
+                );
+                dispatches.extend(self.list_steps(device, plan, CullSelect::Shown, off)?);
+                dispatches.push(pass);
+                dispatches.push(key_tiles);
+                dispatches.extend(self.list_steps(device, plan, CullSelect::Rest, rest)?);
+                dispatches.push(pass);
                 dispatches.push(mark_shown);
+                dispatches.extend(self.list_steps(device, plan, CullSelect::Drawn, off)?);
             }
-            for step in culling::SPLAT_STEPS {
-                dispatches.push(self.cull_step(device, plan, step, CullSelect::All, off)?);
+            hidden => {
+                dispatches.push((self.pipelines.splat(device, splat)?, DispatchSize::Splat));
+                if hidden == HiddenLayers::StampShown {
+                    dispatches.push(mark_shown);
+                }
+                for step in steps::SPLAT_STEPS {
+                    dispatches.push(self.cull_step(device, plan, step, CullSelect::All, off)?);
+                }
             }
         }
         Ok(dispatches)
@@ -271,11 +311,7 @@ impl EllipsoidRenderer {
         select: CullSelect,
         culling: Culling,
     ) -> Result<vk::Pipeline> {
-        let key = CullKey {
-            select,
-            culling,
-            ..CullKey::of(plan, step)
-        };
-        self.pipelines.cull(device, key)
+        self.pipelines
+            .cull(device, CullKey::of(plan, step, select, culling))
     }
 }

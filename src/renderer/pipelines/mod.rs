@@ -1,15 +1,22 @@
-//! The renderer's layouts and its pipelines, each built on first use and kept.
+//! The renderer's pipelines: what each is specialised for (`keys.rs`, derived from the
+//! frame plan), how one is created (`create.rs`, with the fixed-function state of
+//! `raster.rs`), and here the layouts and the cache of every pipeline built so far, each on
+//! first use.
+
+mod create;
+pub(crate) mod keys;
+pub(crate) mod raster;
 
 use ash::vk;
 
 use crate::error::{Result, VkCall};
 use crate::gpu_layout::PushConstants;
-use crate::pipeline::{
-    create_cull_pipeline, create_pipeline, create_splat_pipeline, CullKey, PipelineKey, SplatKey,
-};
 use crate::target::Target;
 
 use super::descriptors::create_set_layout;
+pub(crate) use create::create_compute_pipeline;
+use create::{create_cull_pipeline, create_pipeline, create_splat_pipeline};
+use keys::{CullKey, PipelineKey, SplatKey};
 
 /// Graphics stages that read the push constants. The pre-pass has a layout of its own with a
 /// compute-only range: lavapipe 22.3.6 crashes dispatching with a range shared between

@@ -1,0 +1,491 @@
+//! The plan that measures: per scene class, the candidate paths are timed on frames the
+//! renderer draws anyway, and the fastest is kept (as FFTW's planner times its candidates and
+//! keeps "wisdom"). The first guess (`estimate.rs`) runs first; then each other candidate
+//! gets a short trial, with frames of the best so far between trials. A kind's first frame in
+//! the renderer's life warms up (its pipelines are built, and lavapipe bakes the values that
+//! steer branches into its shaders) and is not timed; after that every frame of a kind counts.
+//! A candidate whose median is far above the best's is dropped at once, so a much slower path
+//! costs a frame or two per class. Once no candidate is left to time the class is settled.
+//! Every candidate is exact, so exploring changes no pixel beyond what each path's exactness
+//! allows.
+
+use crate::path::PathKind;
+
+use super::plan_reason::{Measured, PlanReason};
+
+/// Timed frames a candidate needs before its median counts as measured.
+const SAMPLES: usize = 3;
+/// Frames of the best so far between two trials: exploring is spread out.
+const GAP: u32 = 4;
+/// A candidate whose median takes this many times the best's is dropped.
+const REJECT: f64 = 1.3;
+/// The most recent timed frames kept per candidate.
+const KEPT: usize = 8;
+/// Frames a trial may run without a timed frame arriving before its candidate is dropped
+/// (a host that never lets the renderer's timestamps complete must not explore forever).
+const MAX_TRIAL: u32 = 8;
+/// The most classes remembered; the least recently used goes first.
+const MAX_CLASSES: usize = 256;
+
+/// Frames alike enough to share a fastest path: the scene's glyph count, the glyphs' size
+/// on screen and the layers they lie in (each in octaves), the image's pixels (octaves),
+/// the samples per pixel and whether the camera holds still.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct SceneClass {
+    /// `ceil(log2(glyphs + 1))`.
+    pub glyphs: u8,
+    /// `round(log2(mean projected area in px^2))`, clamped to an `i8`.
+    pub area: i8,
+    /// `round(log2(depth complexity))`, at least 0.
+    pub layers: i8,
+    /// `round(log2(width x height))`.
+    pub pixels: u8,
+    /// Samples per pixel of the target.
+    pub samples: u8,
+    /// The camera is the view's last pre-pass's.
+    pub still: bool,
+}
+
+impl SceneClass {
+    /// The class of a frame.
+    pub fn new(
+        glyphs: u32,
+        mean_area_px: f64,
+        depth_complexity: f64,
+        pixels: u64,
+        samples: u32,
+        still: bool,
+    ) -> Self {
+        let octave = |x: f64| x.max(1e-30).log2().round().clamp(-128.0, 127.0) as i8;
+        Self {
+            glyphs: (32 - glyphs.leading_zeros()) as u8,
+            area: octave(mean_area_px),
+            layers: octave(depth_complexity).max(0),
+            pixels: octave(pixels as f64).max(0) as u8,
+            samples: samples.min(255) as u8,
+            still,
+        }
+    }
+
+    /// Its bytes in learned data (`wisdom.rs`).
+    pub fn to_bytes(self) -> [u8; 8] {
+        [
+            self.glyphs,
+            self.area as u8,
+            self.layers as u8,
+            self.pixels,
+            self.samples,
+            self.still as u8,
+            0,
+            0,
+        ]
+    }
+
+    /// The class of `bytes` from [`SceneClass::to_bytes`], if they are one.
+    pub fn from_bytes(bytes: [u8; 8]) -> Option<Self> {
+        (bytes[5] <= 1 && bytes[6] == 0 && bytes[7] == 0).then_some(Self {
+            glyphs: bytes[0],
+            area: bytes[1] as i8,
+            layers: bytes[2] as i8,
+            pixels: bytes[3],
+            samples: bytes[4],
+            still: bytes[5] == 1,
+        })
+    }
+}
+
+/// What one frame's timestamps will be recorded against: its class, the kind chosen and
+/// the kind it ran, and whether its time counts (a candidate's first frame in a row warms
+/// up and does not).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct FrameToken {
+    pub class: SceneClass,
+    pub ran: PathKind,
+    pub timed: bool,
+}
+
+/// What is known of one class.
+#[derive(Clone, Debug)]
+struct ClassRecord {
+    class: SceneClass,
+    /// The candidates of its last frame.
+    candidates: Vec<PathKind>,
+    /// Timed frames per kind (milliseconds), the most recent last.
+    times: [Vec<f64>; 3],
+    /// Kinds dropped: far slower than the best, or a trial that never got a time.
+    dropped: [bool; 3],
+    /// The kind chosen last and for how many frames in a row.
+    chosen: (PathKind, u32),
+    /// Frames of the best so far since the last trial.
+    since_trial: u32,
+    /// Every candidate was timed: the fastest, for good.
+    settled: Option<PathKind>,
+    /// The frame counter when this class was last used (for forgetting the oldest).
+    last_used: u64,
+}
+
+impl ClassRecord {
+    fn new(class: SceneClass) -> Self {
+        Self {
+            class,
+            candidates: Vec::new(),
+            times: Default::default(),
+            dropped: [false; 3],
+            chosen: (PathKind::Draw, 0),
+            since_trial: 0,
+            settled: None,
+            last_used: 0,
+        }
+    }
+
+    fn median(&self, kind: PathKind) -> Option<f64> {
+        let mut times = self.times[kind.index()].clone();
+        if times.is_empty() {
+            return None;
+        }
+        times.sort_by(f64::total_cmp);
+        Some(times[times.len() / 2])
+    }
+
+    /// Whether `kind` still needs timed frames.
+    fn pending(&self, kind: PathKind) -> bool {
+        !self.dropped[kind.index()] && self.times[kind.index()].len() < SAMPLES
+    }
+
+    /// The fastest of `candidates` timed so far (dropped ones aside).
+    fn best(&self, candidates: &[PathKind]) -> Option<(PathKind, f64)> {
+        candidates
+            .iter()
+            .filter(|&&k| !self.dropped[k.index()])
+            .filter_map(|&k| Some((k, self.median(k)?)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// Drops every candidate whose median is far above the best's.
+    fn drop_the_slow(&mut self, candidates: &[PathKind]) {
+        let Some((best, best_ms)) = self.best(candidates) else {
+            return;
+        };
+        for &kind in candidates {
+            if kind != best && self.median(kind).is_some_and(|ms| ms > REJECT * best_ms) {
+                self.dropped[kind.index()] = true;
+            }
+        }
+    }
+
+    /// What `best` measured against the next fastest candidate.
+    fn measured(&self, best: PathKind, candidates: &[PathKind]) -> PlanReason {
+        let runner_up = candidates
+            .iter()
+            .filter(|&&k| k != best)
+            .filter_map(|&k| Some((k, self.median(k)?)))
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        PlanReason::Measured(Measured {
+            ms: self.median(best).unwrap_or(f64::NAN),
+            runner_up,
+        })
+    }
+}
+
+/// The classes learned by one renderer: its choices, and the frames' times they rest on.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct PlanLearning {
+    classes: Vec<ClassRecord>,
+    /// Kinds that have run in this renderer: their pipelines exist, their frames count.
+    warmed: [bool; 3],
+    /// Frames committed (a clock for forgetting the least recently used class).
+    clock: u64,
+}
+
+impl PlanLearning {
+    fn find(&self, class: &SceneClass) -> Option<&ClassRecord> {
+        self.classes.iter().find(|r| r.class == *class)
+    }
+
+    /// The kind a frame of `class` takes among `candidates` (two or more, the first guess
+    /// `guess` among them), and why; changes nothing.
+    pub fn choose(
+        &self,
+        class: &SceneClass,
+        candidates: &[PathKind],
+        guess: (PathKind, PlanReason),
+    ) -> (PathKind, PlanReason) {
+        let Some(record) = self.find(class) else {
+            return guess;
+        };
+        if let Some(best) = record.settled.filter(|k| candidates.contains(k)) {
+            return (best, record.measured(best, candidates));
+        }
+        // The first guess is timed first.
+        if record.times[guess.0.index()].is_empty() && !record.dropped[guess.0.index()] {
+            return guess;
+        }
+        let (best, _) = record.best(candidates).unwrap_or((guess.0, f64::INFINITY));
+        // Candidates never timed go before those that need more frames.
+        let mut pending: Vec<PathKind> = candidates
+            .iter()
+            .copied()
+            .filter(|&k| k != best && record.pending(k))
+            .collect();
+        pending.sort_by_key(|&k| !record.times[k.index()].is_empty());
+        let Some(&next) = pending.first() else {
+            if record.pending(best) {
+                // Only the best is short of frames: it gets them as it runs.
+                return (best, PlanReason::Exploring);
+            }
+            // Every candidate timed (the record settles with the next time it takes in).
+            return (best, record.measured(best, candidates));
+        };
+        let (chosen, run) = record.chosen;
+        if chosen != best && pending.contains(&chosen) && run < MAX_TRIAL {
+            return (chosen, PlanReason::Exploring); // a trial under way goes on
+        }
+        // Until the class settles, the frames between trials are part of exploring too.
+        if record.since_trial < GAP {
+            return (best, PlanReason::Exploring);
+        }
+        (next, PlanReason::Exploring)
+    }
+
+    /// Notes that a frame of `class` chose `chosen` among `candidates` and ran `ran` (`None`:
+    /// a frame that only stamps what it shows); returns what its time will be recorded
+    /// against (untimed: the kind's first frame in this renderer).
+    pub fn commit(
+        &mut self,
+        class: SceneClass,
+        candidates: &[PathKind],
+        chosen: PathKind,
+        ran: Option<PathKind>,
+    ) -> Option<FrameToken> {
+        self.clock += 1;
+        let clock = self.clock;
+        let record = match self.classes.iter().position(|r| r.class == class) {
+            Some(k) => &mut self.classes[k],
+            None => {
+                if self.classes.len() >= MAX_CLASSES {
+                    let oldest = (0..self.classes.len())
+                        .min_by_key(|&k| self.classes[k].last_used)
+                        .unwrap_or(0);
+                    self.classes.swap_remove(oldest);
+                }
+                self.classes.push(ClassRecord::new(class));
+                self.classes.last_mut().expect("just pushed")
+            }
+        };
+        record.last_used = clock;
+        record.candidates = candidates.to_vec();
+        let best = record.best(candidates).map(|(k, _)| k);
+        if record.chosen.0 == chosen {
+            record.chosen.1 += 1;
+        } else {
+            record.chosen = (chosen, 1);
+        }
+        if Some(chosen) == best || best.is_none() {
+            record.since_trial += 1;
+        } else {
+            record.since_trial = 0;
+            // A trial that ran long without a timed frame: drop the candidate.
+            if record.chosen.1 >= MAX_TRIAL && record.pending(chosen) {
+                record.dropped[chosen.index()] = true;
+                Self::settle(record, candidates);
+            }
+        }
+        let ran = ran?;
+        let warmed = std::mem::replace(&mut self.warmed[ran.index()], true);
+        Some(FrameToken {
+            class,
+            ran,
+            timed: warmed,
+        })
+    }
+
+    /// Records the GPU time of a frame committed with `token`.
+    pub fn record(&mut self, token: FrameToken, ms: f64) {
+        if !token.timed || !ms.is_finite() || ms < 0.0 {
+            return;
+        }
+        let Some(record) = self.classes.iter_mut().find(|r| r.class == token.class) else {
+            return;
+        };
+        let times = &mut record.times[token.ran.index()];
+        times.push(ms);
+        if times.len() > KEPT {
+            times.remove(0);
+        }
+        if record.settled.is_none() {
+            let candidates = std::mem::take(&mut record.candidates);
+            record.drop_the_slow(&candidates);
+            Self::settle(record, &candidates);
+            record.candidates = candidates;
+        }
+    }
+
+    /// Settles `record` on the fastest candidate once none is left to time.
+    fn settle(record: &mut ClassRecord, candidates: &[PathKind]) {
+        if record.settled.is_none() && candidates.iter().all(|&k| !record.pending(k)) {
+            record.settled = record.best(candidates).map(|(k, _)| k);
+        }
+    }
+
+    /// The settled classes: each class, its choice and the medians of every kind timed.
+    pub fn settled(&self) -> Vec<(SceneClass, PathKind, [f64; 3])> {
+        self.classes
+            .iter()
+            .filter_map(|r| {
+                let best = r.settled?;
+                let medians = PathKind::ALL.map(|k| r.median(k).unwrap_or(f64::NAN));
+                Some((r.class, best, medians))
+            })
+            .collect()
+    }
+
+    /// Takes in a settled class from learned data, replacing what is known of it.
+    pub fn insert_settled(&mut self, class: SceneClass, best: PathKind, medians: [f64; 3]) {
+        self.classes.retain(|r| r.class != class);
+        let mut record = ClassRecord::new(class);
+        for kind in PathKind::ALL {
+            let ms = medians[kind.index()];
+            if ms.is_finite() {
+                record.times[kind.index()].push(ms);
+            }
+        }
+        record.settled = Some(best);
+        if self.classes.len() >= MAX_CLASSES {
+            self.classes.remove(0);
+        }
+        self.classes.push(record);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::renderer::plan_reason::Guess;
+
+    const ALL: [PathKind; 3] = PathKind::ALL;
+
+    fn class() -> SceneClass {
+        SceneClass::new(8000, 380.0, 4.3, 1920 * 1080, 1, true)
+    }
+
+    /// Runs `frames` frames with the given true time per kind (the visible-first splat's
+    /// first frame of a run only stamps); returns the kinds chosen.
+    fn run(
+        learning: &mut PlanLearning,
+        frames: usize,
+        cost: impl Fn(PathKind) -> f64,
+    ) -> Vec<PathKind> {
+        let guess = (PathKind::Draw, PlanReason::Estimated(Guess::FewGlyphs));
+        let mut chosen = Vec::new();
+        let mut last = None;
+        for _ in 0..frames {
+            let (kind, _) = learning.choose(&class(), &ALL, guess);
+            // The visible-first splat stamps on the first frame of a run.
+            let ran = match kind {
+                PathKind::VisibleFirst if last != Some(kind) => None,
+                k => Some(k),
+            };
+            last = Some(kind);
+            if let Some(token) = learning.commit(class(), &ALL, kind, ran) {
+                learning.record(token, cost(token.ran));
+            }
+            chosen.push(kind);
+        }
+        chosen
+    }
+
+    #[test]
+    fn it_settles_on_the_fastest_candidate_and_explores_few_frames() {
+        let mut learning = PlanLearning::default();
+        let cost = |k| match k {
+            PathKind::Draw => 60.0,
+            PathKind::Splat => 35.0,
+            PathKind::VisibleFirst => 40.0,
+        };
+        let chosen = run(&mut learning, 100, cost);
+        assert_eq!(chosen[0], PathKind::Draw, "the first guess first");
+        assert!(
+            chosen[60..].iter().all(|&k| k == PathKind::Splat),
+            "{chosen:?}"
+        );
+        let settled = learning.settled();
+        assert_eq!(settled.len(), 1);
+        assert_eq!(settled[0].1, PathKind::Splat);
+        // Frames on a slower path than the best: the guess's, and the trials'.
+        let slow = chosen.iter().filter(|&&k| k != PathKind::Splat).count();
+        assert!(slow <= 12, "{slow} frames off the best: {chosen:?}");
+    }
+
+    #[test]
+    fn a_far_slower_candidate_is_dropped_after_one_timed_frame() {
+        let mut learning = PlanLearning::default();
+        let cost = |k| match k {
+            PathKind::Draw => 10.0,
+            PathKind::Splat => 30.0,
+            PathKind::VisibleFirst => 25.0,
+        };
+        let chosen = run(&mut learning, 60, cost);
+        let splat = chosen.iter().filter(|&&k| k == PathKind::Splat).count();
+        let visible_first = chosen
+            .iter()
+            .filter(|&&k| k == PathKind::VisibleFirst)
+            .count();
+        assert_eq!(splat, 2, "a warm-up frame and one timed: {chosen:?}");
+        assert_eq!(visible_first, 3, "stamping, warm-up, one timed: {chosen:?}");
+        assert_eq!(learning.settled()[0].1, PathKind::Draw);
+    }
+
+    #[test]
+    fn a_second_class_explores_with_warm_pipelines() {
+        let mut learning = PlanLearning::default();
+        let cost = |k| match k {
+            PathKind::Draw => 60.0,
+            PathKind::Splat => 20.0,
+            PathKind::VisibleFirst => 40.0,
+        };
+        run(&mut learning, 60, cost);
+        // Another class of the same scene: every kind has run, so every frame counts.
+        let other = SceneClass::new(8000, 2000.0, 4.3, 1920 * 1080, 1, true);
+        let guess = (PathKind::Draw, PlanReason::Estimated(Guess::FewGlyphs));
+        let mut slow = 0;
+        for _ in 0..60 {
+            let (kind, _) = learning.choose(&other, &ALL, guess);
+            if let Some(token) = learning.commit(other, &ALL, kind, Some(kind)) {
+                learning.record(token, cost(token.ran));
+            }
+            slow += (kind != PathKind::Splat) as usize;
+        }
+        assert!(slow <= 6, "{slow} frames off the best");
+        assert_eq!(learning.settled().len(), 2, "{learning:?}");
+    }
+
+    #[test]
+    fn an_untimed_trial_ends() {
+        let mut learning = PlanLearning::default();
+        let guess = (PathKind::Draw, PlanReason::Estimated(Guess::FewGlyphs));
+        let mut kinds = Vec::new();
+        for _ in 0..60 {
+            let (kind, _) = learning.choose(&class(), &ALL, guess);
+            // Only the draw's frames ever report a time.
+            if let Some(token) = learning.commit(class(), &ALL, kind, Some(kind)) {
+                if kind == PathKind::Draw {
+                    learning.record(token, 10.0);
+                }
+            }
+            kinds.push(kind);
+        }
+        assert!(
+            kinds[40..].iter().all(|&k| k == PathKind::Draw),
+            "{kinds:?}"
+        );
+    }
+
+    #[test]
+    fn classes_round_trip_through_bytes() {
+        let c = SceneClass::new(64_000, 0.7, 8.0, 1920 * 1080, 4, false);
+        assert_eq!(SceneClass::from_bytes(c.to_bytes()), Some(c));
+        assert_eq!(c.area, -1);
+        assert_eq!(c.layers, 3);
+        assert_eq!(SceneClass::from_bytes([0, 0, 0, 0, 0, 2, 0, 0]), None);
+    }
+}

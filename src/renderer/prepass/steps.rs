@@ -1,0 +1,111 @@
+//! The pre-pass's steps (`CULL_STEP` and `CULL_SELECT` of `glsl/cull.comp`), their
+//! workgroup counts and the sizes of the buffers they fill.
+
+use crate::culling::Culling;
+
+/// One dispatch of the pre-pass (`CULL_STEP` in the shader).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) enum CullStep {
+    /// Lower the occlusion tiles each ellipsoid's inscribed sphere covers.
+    Occluders = 0,
+    /// Keep bits and a count per group of instances.
+    Classify = 1,
+    /// Counts to first output slots, and the draw's instance count.
+    Scan = 2,
+    /// Kept instance indices to their slots.
+    Scatter = 3,
+    /// The visible-first splat: each occlusion tile takes the farthest depth the first
+    /// pass left over its pixels.
+    KeyTiles = 4,
+    /// The visible-first splat: the glyphs the finished frame shows are stamped.
+    MarkShown = 5,
+}
+
+/// Which glyphs the CLASSIFY step lists (`CULL_SELECT`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub(crate) enum CullSelect {
+    /// Every glyph the culling keeps.
+    #[default]
+    All = 0,
+    /// The glyphs the last stamping frame showed (a still camera's): the visible-first
+    /// splat's first pass.
+    Shown = 1,
+    /// The others the culling keeps, where the first pass's hits do not hide them: its
+    /// second pass.
+    Rest = 2,
+    /// Those a splat pass of this frame left to the draw.
+    Drawn = 3,
+}
+
+/// Instances per workgroup (`local_size_x` of `cull.comp`).
+pub(crate) const GROUP_SIZE: u64 = 256;
+/// Instances per workgroup of the compute splat (`local_size_x` of `splat.comp`).
+pub(crate) const SPLAT_GROUP_SIZE: u32 = 64;
+/// Occlusion tile edge in pixels (`TILE`).
+const TILE: u64 = 4;
+/// Most workgroups in one dimension of a dispatch that every device supports.
+const MAX_GROUPS_X: u32 = 65_535;
+
+/// Workgroups over `count` instances.
+pub(crate) fn group_count(count: u32) -> u32 {
+    (count as u64).div_ceil(GROUP_SIZE) as u32
+}
+
+/// Bytes of the groups buffer: 8 words of keep bits and one count per group.
+pub(crate) fn groups_bytes(count: u32) -> u64 {
+    4 * 9 * group_count(count).max(1) as u64
+}
+
+/// Occlusion tiles of a `width` x `height` image.
+pub(crate) fn tiles_count(width: u32, height: u32) -> u32 {
+    (width as u64).div_ceil(TILE) as u32 * (height as u64).div_ceil(TILE) as u32
+}
+
+/// Bytes of the occlusion tiles of a `width` x `height` image.
+pub(crate) fn tiles_bytes(width: u32, height: u32) -> u64 {
+    4 * tiles_count(width, height) as u64
+}
+
+/// The dispatch grid for `groups` workgroups: x up to the guaranteed limit, then rows.
+pub(crate) fn dispatch_grid(groups: u32) -> (u32, u32) {
+    let x = groups.clamp(1, MAX_GROUPS_X);
+    (x, groups.div_ceil(x).max(1))
+}
+
+/// The steps after the compute splat: it writes the keep bits and counts of the glyphs it
+/// leaves to the draw, and these compact them in instance order.
+pub(crate) const SPLAT_STEPS: [CullStep; 2] = [CullStep::Scan, CullStep::Scatter];
+
+/// The steps a culling frame runs, in order.
+pub(crate) fn steps(culling: Culling) -> Vec<CullStep> {
+    let mut steps = Vec::with_capacity(4);
+    if culling.occlusion {
+        steps.push(CullStep::Occluders);
+    }
+    steps.extend([CullStep::Classify, CullStep::Scan, CullStep::Scatter]);
+    steps
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_cover_every_instance_and_pixel() {
+        assert_eq!(group_count(0), 0);
+        assert_eq!(group_count(256), 1);
+        assert_eq!(group_count(257), 2);
+        assert_eq!(groups_bytes(0), 36);
+        assert_eq!(groups_bytes(1_000_000), 4 * 9 * 3907);
+        assert_eq!(tiles_bytes(1920, 1080), 4 * 480 * 270);
+        assert_eq!(tiles_bytes(161, 121), 4 * 41 * 31);
+    }
+
+    #[test]
+    fn dispatch_grid_covers_all_groups() {
+        assert_eq!(dispatch_grid(0), (1, 1));
+        assert_eq!(dispatch_grid(3907), (3907, 1));
+        let (x, y) = dispatch_grid(200_000);
+        assert!(x <= MAX_GROUPS_X && x as u64 * y as u64 >= 200_000);
+    }
+}
