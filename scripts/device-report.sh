@@ -40,17 +40,23 @@ if [ -n "$prepare" ]; then
   mkdir -p "$prepare"
   cargo build --release -q -p ellipsoid-splat-tool
   cp target/release/ellipsoid-splat "$prepare/"
-  # Each test executable, by its test's name (cargo's names carry a hash).
+  # Each test executable that draws, by its test's name (cargo's names carry a hash); the
+  # minimal host's test runs the example beside it, in ../examples.
   cargo test "${test_args[@]}" --no-run --message-format=json 2>/dev/null \
     | python3 -c '
 import json, shutil, sys, os
 dest = sys.argv[1]
+skip = {"public_surface", "committed_spirv"}  # they read the sources, draw nothing
 for line in sys.stdin:
     message = json.loads(line)
     if message.get("reason") == "compiler-artifact" and message.get("executable") \
-            and message["target"]["kind"] == ["test"]:
+            and message["target"]["kind"] == ["test"] and message["target"]["name"] not in skip:
         shutil.copy(message["executable"], os.path.join(dest, "test-" + message["target"]["name"]))
 ' "$prepare"
+  mkdir -p "$prepare/../examples"
+  cp target/release/examples/minimal "$prepare/../examples/"
+  # Smaller to carry; the tests need no symbols.
+  strip "$prepare"/* "$prepare/../examples/minimal" 2>/dev/null || true
   echo "device-report: $(ls "$prepare" | wc -l) executables in $prepare"
   exit 0
 fi
