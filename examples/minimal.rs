@@ -29,21 +29,17 @@ unsafe extern "system" fn on_message(_: vk::DebugUtilsMessageSeverityFlagsEXT, _
     vk::FALSE
 }
 
-/// An image of the frame's size with memory and view; colour is linear and host-visible, so the
-/// frame is read straight from it. # Safety: `alloc` allocates from `device`; the caller frees all.
+/// An image of the frame's size with memory and view. # Safety: `alloc` allocates from `device`; the caller frees all.
 #[rustfmt::skip]
 unsafe fn image(device: &ash::Device, alloc: &mut Allocator, format: vk::Format, usage: vk::ImageUsageFlags,
     aspect: vk::ImageAspectFlags) -> Result<(vk::Image, Allocation, vk::ImageView)> {
-    let linear = aspect == vk::ImageAspectFlags::COLOR;
     let info = vk::ImageCreateInfo::default().image_type(vk::ImageType::TYPE_2D).format(format).extent(SIZE.into())
-        .mip_levels(1).array_layers(1).samples(vk::SampleCountFlags::TYPE_1).usage(usage)
-        .tiling(if linear { vk::ImageTiling::LINEAR } else { vk::ImageTiling::OPTIMAL });
+        .mip_levels(1).array_layers(1).samples(vk::SampleCountFlags::TYPE_1).usage(usage).tiling(vk::ImageTiling::OPTIMAL);
     // SAFETY: a valid create info; the memory is made for the image's requirements.
     unsafe {
         let image = device.create_image(&info, None)?;
         let requirements = device.get_image_memory_requirements(image);
-        let location = if linear { MemoryLocation::GpuToCpu } else { MemoryLocation::GpuOnly };
-        let memory = alloc.allocate(&AllocationCreateDesc { name: "image", requirements, location, linear, allocation_scheme: AllocationScheme::GpuAllocatorManaged })?;
+        let memory = alloc.allocate(&AllocationCreateDesc { name: "image", requirements, location: MemoryLocation::GpuOnly, linear: false, allocation_scheme: AllocationScheme::GpuAllocatorManaged })?;
         device.bind_image_memory(image, memory.memory(), memory.offset())?;
         let range = vk::ImageSubresourceRange::default().aspect_mask(aspect).level_count(1).layer_count(1);
         let view = vk::ImageViewCreateInfo::default().image(image).format(format).view_type(vk::ImageViewType::TYPE_2D).subresource_range(range);
@@ -91,7 +87,7 @@ fn main() -> Result<()> {
     let host = HostDevice::new(&instance, physical, &device, family, target.required_features());
     // SAFETY: `alloc` allocates from `device`, which enables what `host` says; all goes in step 5.
     let (color, depth, pool, cmd, mut renderer) = unsafe {
-        let color = image(&device, &mut alloc, COLOR, vk::ImageUsageFlags::COLOR_ATTACHMENT, vk::ImageAspectFlags::COLOR)?;
+        let color = image(&device, &mut alloc, COLOR, vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC, vk::ImageAspectFlags::COLOR)?;
         let depth = image(&device, &mut alloc, DEPTH, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT, vk::ImageAspectFlags::DEPTH)?;
         let pool = device.create_command_pool(&vk::CommandPoolCreateInfo::default().queue_family_index(family), None)?;
         let cmd = device.allocate_command_buffers(&vk::CommandBufferAllocateInfo::default().command_pool(pool).command_buffer_count(1))?[0];
@@ -103,18 +99,24 @@ fn main() -> Result<()> {
     let (centre, radius) = scene.bounding_sphere().ok_or("empty scene")?;
     let camera = Camera::framing(centre, radius, SIZE.width, SIZE.height)?;
 
-    // 4. One frame: upload and pre-pass outside the pass, the draw inside, then host-visible.
+    // 4. One frame: upload and pre-pass outside the pass, the draw inside, then a copy to a host-visible buffer.
+    let info = vk::BufferCreateInfo::default().size(4 * (SIZE.width * SIZE.height) as u64).usage(vk::BufferUsageFlags::TRANSFER_DST);
+    // SAFETY: a valid create info; bound to memory made for it, freed in step 5.
+    let (readback, pixels) = unsafe { let buffer = device.create_buffer(&info, None)?; let requirements = device.get_buffer_memory_requirements(buffer);
+        let memory = alloc.allocate(&AllocationCreateDesc { name: "readback", requirements, location: MemoryLocation::GpuToCpu, linear: true, allocation_scheme: AllocationScheme::GpuAllocatorManaged })?;
+        device.bind_buffer_memory(buffer, memory.memory(), memory.offset()).map(|_| (buffer, memory))? };
     let barrier = |image, aspect, new, access| vk::ImageMemoryBarrier::default().image(image).old_layout(Layout::UNDEFINED)
         .new_layout(new).dst_access_mask(access).subresource_range(vk::ImageSubresourceRange::default().aspect_mask(aspect).level_count(1).layer_count(1));
-    let to_attachments = [barrier(color.0, vk::ImageAspectFlags::COLOR, Layout::GENERAL, vk::AccessFlags::COLOR_ATTACHMENT_WRITE),
+    let to_attachments = [barrier(color.0, vk::ImageAspectFlags::COLOR, Layout::COLOR_ATTACHMENT_OPTIMAL, vk::AccessFlags::COLOR_ATTACHMENT_WRITE),
         barrier(depth.0, vk::ImageAspectFlags::DEPTH, Layout::DEPTH_ATTACHMENT_OPTIMAL,
             vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_READ | vk::AccessFlags::DEPTH_STENCIL_ATTACHMENT_WRITE)];
     let clear = |value| vk::RenderingAttachmentInfo::default().load_op(vk::AttachmentLoadOp::CLEAR).store_op(vk::AttachmentStoreOp::STORE).clear_value(value);
-    let colors = [clear(vk::ClearValue::default()).image_view(color.2).image_layout(Layout::GENERAL)];
+    let colors = [clear(vk::ClearValue::default()).image_view(color.2).image_layout(Layout::COLOR_ATTACHMENT_OPTIMAL)];
     let far = vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: camera.depth.clear_value(), stencil: 0 } }; // reversed Z
     let depth_target = clear(far).image_view(depth.2).image_layout(Layout::DEPTH_ATTACHMENT_OPTIMAL);
     let rendering = vk::RenderingInfo::default().render_area(SIZE.into()).layer_count(1).color_attachments(&colors).depth_attachment(&depth_target);
-    let to_host = [vk::MemoryBarrier::default().src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE).dst_access_mask(vk::AccessFlags::HOST_READ)];
+    let to_copy = [barrier(color.0, vk::ImageAspectFlags::COLOR, Layout::TRANSFER_SRC_OPTIMAL, vk::AccessFlags::TRANSFER_READ).old_layout(Layout::COLOR_ATTACHMENT_OPTIMAL).src_access_mask(vk::AccessFlags::COLOR_ATTACHMENT_WRITE)];
+    let copy = vk::BufferImageCopy::default().image_extent(SIZE.into()).image_subresource(vk::ImageSubresourceLayers::default().aspect_mask(vk::ImageAspectFlags::COLOR).layer_count(1)); let to_host = [vk::MemoryBarrier::default().src_access_mask(vk::AccessFlags::TRANSFER_WRITE).dst_access_mask(vk::AccessFlags::HOST_READ)];
     let (stage, early, none) = (vk::PipelineStageFlags::COLOR_ATTACHMENT_OUTPUT, vk::PipelineStageFlags::EARLY_FRAGMENT_TESTS, vk::DependencyFlags::empty());
     // SAFETY: the renderer draws inside the pass into attachments matching its target; the queue is waited for.
     unsafe {
@@ -126,22 +128,20 @@ fn main() -> Result<()> {
         device.cmd_begin_rendering(cmd, &rendering);
         renderer.record(&device, &mut alloc, cmd, &camera)?;
         device.cmd_end_rendering(cmd);
-        device.cmd_pipeline_barrier(cmd, stage, vk::PipelineStageFlags::HOST, none, &to_host, &[], &[]);
+        device.cmd_pipeline_barrier(cmd, stage, vk::PipelineStageFlags::TRANSFER, none, &[], &[], &to_copy);
+        device.cmd_copy_image_to_buffer(cmd, color.0, Layout::TRANSFER_SRC_OPTIMAL, readback, &[copy]);
+        device.cmd_pipeline_barrier(cmd, vk::PipelineStageFlags::TRANSFER, vk::PipelineStageFlags::HOST, none, &to_host, &[], &[]);
         device.end_command_buffer(cmd)?;
         device.queue_submit(queue, &[vk::SubmitInfo::default().command_buffers(&[cmd])], vk::Fence::null())?;
         device.queue_wait_idle(queue)?;
     }
 
     // 5. The pixels the ellipsoids cover (the background stays black), then teardown.
-    // SAFETY: a query about a live linear image.
-    let layout = unsafe { device.get_image_subresource_layout(color.0, vk::ImageSubresource::default().aspect_mask(vk::ImageAspectFlags::COLOR)) };
-    let bytes = color.1.mapped_slice().ok_or("the colour image is not mapped")?;
-    let rows = bytes[layout.offset as usize..].chunks(layout.row_pitch as usize).take(SIZE.height as usize);
-    let covered: usize = rows.map(|row| row[..4 * SIZE.width as usize].chunks(4).filter(|p| p[..3] != [0, 0, 0]).count()).sum();
+    let covered = pixels.mapped_slice().ok_or("not mapped")?[..4 * (SIZE.width * SIZE.height) as usize].chunks(4).filter(|p| p[..3] != [0, 0, 0]).count();
     println!("{} ellipsoids cover {covered} of {} pixels", scene.len(), SIZE.width * SIZE.height);
     // SAFETY: the queue is idle; each object goes once, after everything made from it.
     unsafe {
-        renderer.destroy(&device, &mut alloc); device.destroy_command_pool(pool, None);
+        renderer.destroy(&device, &mut alloc); device.destroy_command_pool(pool, None); device.destroy_buffer(readback, None); alloc.free(pixels)?;
         for (image, memory, view) in [color, depth] { device.destroy_image_view(view, None); device.destroy_image(image, None); alloc.free(memory)?; }
         drop(alloc); device.destroy_device(None); // The allocator's blocks go back before the device.
         utils.destroy_debug_utils_messenger(messenger, None); instance.destroy_instance(None);

@@ -90,9 +90,11 @@ echo "$status" > "$out/conformance.status"
 echo "== the tests that draw"
 : > "$out/tests.txt"
 if [ -n "$tests" ]; then
+  # Each under a time limit: a test that loses the device may leave the next ones hanging.
   for exe in "$tests"/test-*; do
     echo "-- ${exe##*/}" >> "$out/tests.txt"
-    "$exe" --test-threads 1 >> "$out/tests.txt" 2>&1 || true
+    timeout 300 "$exe" --test-threads 1 >> "$out/tests.txt" 2>&1 \
+      || echo "-- ${exe##*/} exited $?" >> "$out/tests.txt"
   done
 else
   cargo test "${test_args[@]}" --no-fail-fast -- --test-threads 1 >> "$out/tests.txt" 2>&1 || true
