@@ -228,8 +228,6 @@ pub struct SpecConstants {
     pub cull_occlusion: vk::Bool32,
     /// `CULL_SETUP` (11): the pre-pass writes set-up records.
     pub cull_setup: vk::Bool32,
-    /// `SPHERES` (13).
-    pub spheres: vk::Bool32,
     /// `NO_CAPS` (14).
     pub no_caps: vk::Bool32,
     /// `COMPACT` (15).
@@ -275,7 +273,6 @@ impl Default for SpecConstants {
             cull_step: 1,
             cull_occlusion: 0,
             cull_setup: 0,
-            spheres: 0,
             no_caps: 0,
             compact: 0,
             reversed_z: 1,
@@ -293,7 +290,7 @@ impl Default for SpecConstants {
 
 impl SpecConstants {
     /// `(constant_id, byte offset)` of every field.
-    pub const IDS: [(u32, usize); 23] = [
+    pub const IDS: [(u32, usize); 22] = [
         (0, offset_of!(SpecConstants, orthographic)),
         (2, offset_of!(SpecConstants, textbook)),
         (3, offset_of!(SpecConstants, bounds)),
@@ -305,7 +302,6 @@ impl SpecConstants {
         (9, offset_of!(SpecConstants, cull_step)),
         (10, offset_of!(SpecConstants, cull_occlusion)),
         (11, offset_of!(SpecConstants, cull_setup)),
-        (13, offset_of!(SpecConstants, spheres)),
         (14, offset_of!(SpecConstants, no_caps)),
         (15, offset_of!(SpecConstants, compact)),
         (16, offset_of!(SpecConstants, reversed_z)),
@@ -321,7 +317,7 @@ impl SpecConstants {
 
     /// The map entries of [`SpecConstants::IDS`], for a `VkSpecializationInfo` over
     /// `bytemuck::bytes_of(self)`.
-    pub fn map_entries() -> [vk::SpecializationMapEntry; 23] {
+    pub fn map_entries() -> [vk::SpecializationMapEntry; 22] {
         Self::IDS.map(|(constant_id, offset)| vk::SpecializationMapEntry {
             constant_id,
             offset: offset as u32,
@@ -359,5 +355,5 @@ const _: () = {
     assert!(offset_of!(ShadingRecord, ray_c) == 48);
     assert!(offset_of!(ShadingRecord, depth_gradient) == 64);
     assert!(offset_of!(ShadingRecord, to_normal_x) == 80);
-    assert!(size_of::<SpecConstants>() == 92);
+    assert!(size_of::<SpecConstants>() == 88);
 };

@@ -81,10 +81,6 @@ pub struct PackedInstances {
     pub origin: DVec3,
     /// One record per ellipsoid, in scene order.
     pub records: Records,
-    /// Every instance is a sphere (equal float32 semi-axes): the shaders may take the sphere
-    /// path. Spheres are stored with the identity rotation, so both paths compute the same
-    /// bits.
-    pub all_spheres: bool,
     /// Corners of a box holding every ellipsoid whole (centre +- largest semi-axis), in world
     /// coordinates; `None` for an empty scene.
     pub extent: Option<(DVec3, DVec3)>,
@@ -153,14 +149,12 @@ pub fn pack_relative(
         InstanceFormat::Full => Records::Full(Vec::with_capacity(ellipsoids.len())),
         InstanceFormat::Compact => Records::Compact(Vec::with_capacity(ellipsoids.len())),
     };
-    let mut all_spheres = true;
     let mut extent: Option<(DVec3, DVec3)> = None;
     for (k, e) in ellipsoids.iter().enumerate() {
         let index = first + k;
         let c = (e.center - origin).as_vec3();
         let r = e.radii.as_vec3();
         let sphere = r.x == r.y && r.y == r.z;
-        all_spheres &= sphere;
         // A sphere's orientation changes nothing but rounding: store none.
         let q = if sphere {
             glam::Quat::IDENTITY
@@ -219,7 +213,6 @@ pub fn pack_relative(
     Ok(PackedInstances {
         origin,
         records,
-        all_spheres: all_spheres && !ellipsoids.is_empty(),
         extent,
         radius_scale,
     })

@@ -62,8 +62,6 @@ pub struct Settings {
     /// For glyphs of a few pixels, compute each impostor's set-up once in the pre-pass
     /// instead of in each of its vertices (on by default).
     pub setup_once: bool,
-    /// Take the sphere path when every instance uploaded is a sphere (on by default).
-    pub sphere_path: bool,
     /// Leave out the near-plane cap code when no ellipsoid reaches in front of the near
     /// plane (on by default).
     pub cap_free_path: bool,
@@ -109,7 +107,6 @@ impl Default for Settings {
             material: Material::default(),
             culling: Culling::default(),
             setup_once: true,
-            sphere_path: true,
             cap_free_path: true,
             small_glyph_triangles: false,
             plan: PlanMode::Measure,

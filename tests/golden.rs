@@ -262,7 +262,6 @@ struct CaseSettings {
     culling: Culling,
     setup_once: bool,
     small_glyph_triangles: bool,
-    sphere_path: bool,
     cap_free_path: bool,
     max_chunk_instances: u32,
     plan: PlanMode,
@@ -277,7 +276,6 @@ impl CaseSettings {
             culling: Culling::ON,
             setup_once: true,
             small_glyph_triangles: false,
-            sphere_path: true,
             cap_free_path: true,
             max_chunk_instances: u32::MAX,
             plan: PlanMode::Fixed(PathKind::Draw),
@@ -301,7 +299,6 @@ impl CaseSettings {
             settings.culling = self.culling;
             settings.setup_once = self.setup_once;
             settings.small_glyph_triangles = self.small_glyph_triangles;
-            settings.sphere_path = self.sphere_path;
             settings.cap_free_path = self.cap_free_path;
             settings.max_chunk_instances = self.max_chunk_instances;
             settings.plan = self.plan;
@@ -315,8 +312,8 @@ impl CaseSettings {
 struct Expect {
     /// `FramePlan::setup_once` after the upload.
     setup_once: Option<bool>,
-    /// `FramePlan::spheres` and `FramePlan::no_caps`.
-    variants: Option<(bool, bool)>,
+    /// `FramePlan::no_caps`.
+    cap_free: Option<bool>,
 }
 
 /// Builds a scene and the camera it is seen with.
@@ -350,9 +347,9 @@ fn setup_once(on: bool) -> Expect {
     }
 }
 
-fn variants(sphere: bool, cap_free: bool) -> Expect {
+fn cap_free(on: bool) -> Expect {
     Expect {
-        variants: Some((sphere, cap_free)),
+        cap_free: Some(on),
         ..Expect::default()
     }
 }
@@ -363,20 +360,10 @@ fn cases() -> Vec<Case> {
     let none = Expect::default();
     let mut list = vec![
         // Scenes with the shipped renderer.
-        case(
-            "tensor-field-6",
-            tensor_field_6,
-            shipped,
-            variants(false, true),
-        ),
-        case("cloud-300", cloud_300, shipped, variants(false, true)),
-        case("ortho-200", ortho_200, shipped, variants(false, true)),
-        case(
-            "inside-cloud",
-            inside_cloud,
-            shipped,
-            variants(false, false),
-        ),
+        case("tensor-field-6", tensor_field_6, shipped, cap_free(true)),
+        case("cloud-300", cloud_300, shipped, cap_free(true)),
+        case("ortho-200", ortho_200, shipped, cap_free(true)),
+        case("inside-cloud", inside_cloud, shipped, cap_free(false)),
         case("tiny-glyphs", tiny_glyphs, shipped, setup_once(true)),
         case(
             "tiny-glyphs-ortho",
@@ -405,29 +392,18 @@ fn cases() -> Vec<Case> {
             },
             setup_once(false),
         ),
-        case("spheres", spheres, shipped, variants(true, true)),
-        case(
-            "spheres-ortho",
-            spheres_ortho,
-            shipped,
-            variants(true, true),
-        ),
-        case(
-            "spheres-inside",
-            spheres_inside,
-            shipped,
-            variants(true, false),
-        ),
-        // Shader variants switched off: the general shaders on spheres.
+        case("spheres", spheres, shipped, cap_free(true)),
+        case("spheres-ortho", spheres_ortho, shipped, cap_free(true)),
+        case("spheres-inside", spheres_inside, shipped, cap_free(false)),
+        // The cap-free variant switched off: the general shaders on spheres.
         case(
             "spheres-general",
             spheres,
             CaseSettings {
-                sphere_path: false,
                 cap_free_path: false,
                 ..shipped
             },
-            variants(false, false),
+            cap_free(false),
         ),
         // Compact instances.
         case(
@@ -590,14 +566,11 @@ fn render_case(renderer: &mut OffscreenRenderer, case: &Case) -> Frame {
             case.name
         );
     }
-    if let Some(want) = case.expect.variants {
+    if let Some(want) = case.expect.cap_free {
         assert_eq!(
-            {
-                let plan = renderer.plan(&camera).expect("plan");
-                (plan.spheres, plan.no_caps)
-            },
+            renderer.plan(&camera).expect("plan").no_caps,
             want,
-            "{}: shader variants (sphere path, cap-free)",
+            "{}: the cap-free shader variant",
             case.name
         );
     }

@@ -96,10 +96,10 @@ mat3 quat_to_mat3(vec4 q) {
 
 // The instance's rotation and semi-axes, as the set-up uses them.
 mat3 instance_rotation(Instance inst) {
-    return SPHERES ? mat3(1.0) : quat_to_mat3(inst.rotation);
+    return quat_to_mat3(inst.rotation);
 }
 vec3 instance_radii(Instance inst) {
-    return SPHERES ? vec3(inst.radii.x) : inst.radii.xyz;
+    return inst.radii.xyz;
 }
 
 // sRGB transfer function, decoded: instance colours are display (sRGB) values, shading is linear.

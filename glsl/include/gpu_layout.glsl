@@ -96,9 +96,6 @@ layout(constant_id = 8) const bool CULLED = false;
 layout(constant_id = 9) const int CULL_STEP = 1;
 layout(constant_id = 10) const bool CULL_OCCLUSION = false;
 layout(constant_id = 11) const bool CULL_SETUP = false;    // the pre-pass writes set-up records
-// Every instance is a sphere, stored with the identity rotation: rotation and per-axis radii
-// drop out of the set-up (same bits as the general path, less work).
-layout(constant_id = 13) const bool SPHERES = false;
 layout(constant_id = 14) const bool NO_CAPS = false;       // nothing reaches the near plane
 layout(constant_id = 15) const bool COMPACT = false;       // instances are CompactInstance
 layout(constant_id = 16) const bool REVERSED_Z = true;     // larger depth is nearer

@@ -249,7 +249,8 @@ impl PlanLearning {
 
     /// Notes that a frame of `class` chose `chosen` among `candidates` and ran `ran` (`None`:
     /// a frame that only stamps what it shows); returns what its time will be recorded
-    /// against (untimed: the kind's first frame in this renderer).
+    /// against (untimed: the kind's first frame in this renderer); `None` for a frame with
+    /// nothing to time (a stamping frame, or a settled class's).
     pub fn commit(
         &mut self,
         class: SceneClass,
@@ -292,6 +293,11 @@ impl PlanLearning {
         }
         let ran = ran?;
         let warmed = std::mem::replace(&mut self.warmed[ran.index()], true);
+        if record.settled == Some(chosen) {
+            // Nothing left to learn: the frame writes no timestamps (they cost a driver that
+            // flushes its rasterizer at each a few percent of a small frame).
+            return None;
+        }
         Some(FrameToken {
             class,
             ran,

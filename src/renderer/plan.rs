@@ -60,8 +60,6 @@ pub struct FramePlan {
     /// The area per glyph, in square pixels, the scene is expected to hide: `mean_area_px`
     /// times `1 - 1 / depth_complexity` (0 at or below one layer).
     pub hidden_area_px: Option<f64>,
-    /// The shaders take the sphere path.
-    pub spheres: bool,
     /// The shaders leave out the near-plane cap code.
     pub no_caps: bool,
     /// The instances are compact records.
@@ -270,7 +268,6 @@ impl FramePlan {
             mean_area_px: seen.mean_area_px,
             depth_complexity: seen.depth_complexity,
             hidden_area_px: seen.hidden_area_px,
-            spheres: settings.sphere_path && scene.all_spheres,
             no_caps: settings.cap_free_path && scene.beyond_near_plane(camera),
             compact: scene.format == InstanceFormat::Compact,
             orthographic,

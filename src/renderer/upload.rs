@@ -81,8 +81,7 @@ impl EllipsoidRenderer {
     /// Replaces instances `first..first + ellipsoids.len()` of the uploaded scene, recording
     /// the copy into `cmd` with the barriers of [`EllipsoidRenderer::upload`]. They keep the
     /// scene's origin, so they should lie near the uploaded data for full precision. The
-    /// sphere path stays only if they are all spheres; the sample that picks the footprint is
-    /// not updated.
+    /// sample that picks the footprint is not updated.
     ///
     /// # Safety
     /// As for [`EllipsoidRenderer::upload`].

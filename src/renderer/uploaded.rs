@@ -24,8 +24,6 @@ pub(crate) struct UploadedScene {
     /// The most instances per chunk when the scene was uploaded (`Settings::max_chunk_instances`
     /// then): the buffers and descriptor sets are cut for it.
     pub chunk_limit: u32,
-    /// Every instance is a sphere.
-    pub all_spheres: bool,
     /// A box holding every ellipsoid whole, in world coordinates.
     pub extent: Option<(DVec3, DVec3)>,
     /// Up to `SIZE_SAMPLE` instances: centre, largest semi-axis, and `pi r1 r2` of the two
@@ -53,7 +51,6 @@ impl UploadedScene {
             format: packed.format(),
             radius_unit: packed.radius_scale,
             chunk_limit,
-            all_spheres: packed.all_spheres,
             extent: packed.extent,
             size_sample,
         }
@@ -61,7 +58,6 @@ impl UploadedScene {
 
     /// Takes in instances replaced by `update` (the size sample stays as uploaded).
     pub fn merge_update(&mut self, packed: &PackedInstances) {
-        self.all_spheres &= packed.all_spheres;
         if let (Some((lo, hi)), Some((new_lo, new_hi))) = (self.extent, packed.extent) {
             self.extent = Some((lo.min(new_lo), hi.max(new_hi)));
         }

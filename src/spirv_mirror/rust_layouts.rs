@@ -137,7 +137,6 @@ pub fn spec_constant_fields() -> Layout {
         cull_step,
         cull_occlusion,
         cull_setup,
-        spheres,
         no_caps,
         compact,
         reversed_z,

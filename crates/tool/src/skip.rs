@@ -40,8 +40,6 @@ pub enum Feature {
     /// Each impostor's set-up computed once in the pre-pass, not in each of its vertices, and
     /// handed to the fragment stage through a buffer instead of flat varyings.
     SetupOnce,
-    /// The sphere path (no rotation, one radius) when every instance is a sphere.
-    SpherePath,
     /// No near-plane cap code when no ellipsoid reaches in front of the near plane.
     CapFreePath,
     /// Glyphs of a few pixels drawn as one triangle (three vertices, one primitive) instead of
@@ -63,12 +61,11 @@ pub enum Feature {
 
 impl Feature {
     /// Every feature measured.
-    pub const ALL: [Feature; 11] = [
+    pub const ALL: [Feature; 10] = [
         Feature::FrustumCulling,
         Feature::PixelCentreCulling,
         Feature::OcclusionCulling,
         Feature::SetupOnce,
-        Feature::SpherePath,
         Feature::CapFreePath,
         Feature::SmallGlyphTriangles,
         Feature::AuxOutputsOnDemand,
@@ -110,7 +107,6 @@ impl Feature {
             Feature::PixelCentreCulling => "pixel-centre-culling",
             Feature::OcclusionCulling => "occlusion-culling",
             Feature::SetupOnce => "setup-once",
-            Feature::SpherePath => "sphere-path",
             Feature::CapFreePath => "cap-free-path",
             Feature::SmallGlyphTriangles => "small-glyph-triangles",
             Feature::AuxOutputsOnDemand => "aux-outputs-on-demand",
@@ -127,7 +123,6 @@ impl Feature {
             Feature::PixelCentreCulling => "tiny-far",
             Feature::OcclusionCulling => "dense-block",
             Feature::SetupOnce => "tiny-visible",
-            Feature::SpherePath => "sphere-only",
             Feature::CapFreePath => "tiny-visible",
             Feature::SmallGlyphTriangles => "tiny-visible",
             Feature::AuxOutputsOnDemand => "molecule",
@@ -161,7 +156,6 @@ impl Feature {
             Feature::PixelCentreCulling => settings.culling.pixel_centres = on,
             Feature::OcclusionCulling => settings.culling.occlusion = on,
             Feature::SetupOnce => settings.setup_once = on,
-            Feature::SpherePath => settings.sphere_path = on,
             Feature::CapFreePath => settings.cap_free_path = on,
             Feature::SmallGlyphTriangles => settings.small_glyph_triangles = on,
             Feature::ComputeSplat if on => settings.plan = PlanMode::Estimate,
@@ -204,12 +198,6 @@ fn scenes(quick: bool) -> Vec<SkipScene> {
     let overlap = random_cloud(3_000, 33, 3.0, 0.8);
     // A million glyphs of about two pixels, all on screen.
     let tiny_visible = frustum_cloud(1_000_000, 2.0, 36);
-    // Spheres of about three pixels, all on screen (a molecule-like load).
-    let mut spheres = frustum_cloud(300_000, 3.0, 37);
-    for e in &mut spheres.scene.ellipsoids {
-        let r = e.radii.max_element();
-        e.radii = DVec3::splat(r);
-    }
     // A small molecule: about 1,600 atoms as spheres in a ball, filling the view. Light
     // enough that per-pixel output work is a large share of the frame.
     let mut molecule = random_cloud(3_000, 38, 18.0, 1.0);
@@ -255,11 +243,6 @@ fn scenes(quick: bool) -> Vec<SkipScene> {
             name: "tiny-visible",
             scene: tiny_visible.scene,
             camera: tiny_visible.camera,
-        },
-        SkipScene {
-            name: "sphere-only",
-            scene: spheres.scene,
-            camera: spheres.camera,
         },
         SkipScene {
             name: "molecule",

@@ -207,3 +207,65 @@ fn bench_on_a_users_scene_reports_the_plans_regret() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `bench --scene` reads every format `render` reads: the sample files of each loader and a
+/// generated scene, each a row of `results.csv` with its glyph count.
+#[test]
+fn bench_scene_reads_every_format() {
+    let dir = scratch("formats");
+    let samples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/samples");
+    let csv = small_csv(&dir, 40);
+    let scenes: Vec<String> = [
+        csv,
+        samples.join("splats_ascii.ply"),
+        samples.join("dti.nii.gz"),
+        samples.join("thermal.pdb"),
+        samples.join("thermal.cif"),
+    ]
+    .iter()
+    .map(|p| p.display().to_string())
+    .chain(["md-liquid:300".to_string()])
+    .collect();
+    let out = dir.join("out");
+    let mut args: Vec<&str> = vec![
+        "bench",
+        "--quick",
+        "--frames",
+        "1",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--methods",
+        "impostor-estimate",
+        "--out",
+    ];
+    let out_text = out.display().to_string();
+    args.push(&out_text);
+    for scene in &scenes {
+        args.extend(["--scene", scene.as_str()]);
+    }
+    let run = Command::new(BIN)
+        .args(&args)
+        .output()
+        .expect("the binary runs");
+    let text = stdout(&run);
+    assert!(
+        matches!(run.status.code(), Some(0 | 1)),
+        "exit {:?}\n{text}{}",
+        run.status.code(),
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let rows = read_results(&out.join("results.csv"));
+    assert_eq!(rows.len(), scenes.len(), "{text}");
+    for (row, scene) in rows.iter().zip(&scenes) {
+        assert_eq!(&row["scene"], scene);
+        let count: usize = row["count"].parse().unwrap();
+        assert!(count > 0, "{scene}: no glyph");
+        assert!(
+            row["wall_ms"].parse::<f64>().is_ok_and(|ms| ms > 0.0),
+            "{scene}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

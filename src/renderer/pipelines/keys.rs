@@ -26,8 +26,6 @@ pub(crate) struct PipelineKey {
     pub culled: bool,
     /// The impostor stages read the set-up the pre-pass computed (`SETUP_ONCE`).
     pub setup_once: bool,
-    /// Every instance is a sphere (`SPHERES`).
-    pub spheres: bool,
     /// Instances are in the compact format (`COMPACT`).
     pub compact: bool,
     /// Nothing reaches in front of the near plane (`NO_CAPS`).
@@ -55,7 +53,6 @@ impl PipelineKey {
             count_fragments: research.count_fragments(),
             culled: plan.indirect_draw(),
             setup_once: plan.setup_once(),
-            spheres: plan.spheres,
             compact: plan.compact,
             no_caps: plan.no_caps,
             resolve: false,
@@ -83,7 +80,6 @@ impl PipelineKey {
             orthographic: self.orthographic as u32,
             corners: self.footprint.vertices(),
             culled: self.culled as u32,
-            spheres: self.spheres as u32,
             no_caps: self.no_caps as u32,
             compact: self.compact as u32,
             reversed_z: self.reversed_z as u32,
@@ -104,7 +100,6 @@ pub(crate) struct SplatKey {
     pub orthographic: bool,
     pub no_caps: bool,
     pub reversed_z: bool,
-    pub spheres: bool,
     pub compact: bool,
     /// The benchmark's floors (`SPLAT_FLOOR`; 0 the splat itself).
     pub floor: u32,
@@ -123,7 +118,6 @@ impl SplatKey {
             orthographic: plan.orthographic,
             no_caps: plan.no_caps,
             reversed_z: plan.reversed_z,
-            spheres: plan.spheres,
             compact: plan.compact,
             floor: research.splat_floor(),
             max_box_pixels: plan.path.splat().map_or(0, |s| s.max_box_pixels),
@@ -138,7 +132,6 @@ impl SplatKey {
             orthographic: self.orthographic as u32,
             no_caps: self.no_caps as u32,
             reversed_z: self.reversed_z as u32,
-            spheres: self.spheres as u32,
             compact: self.compact as u32,
             splat_floor: self.floor,
             splat_max_box_pixels: self.max_box_pixels,
@@ -157,7 +150,6 @@ pub(crate) struct CullKey {
     pub step: CullStep,
     /// The set-up computed once for the draw, if it is: the draw's footprint and baseline.
     pub setup: Option<(Footprint, Option<Baseline>)>,
-    pub spheres: bool,
     pub compact: bool,
     /// `SAMPLE_GRID`: where the proofs find a pixel's samples.
     pub sample_grid: u32,
@@ -176,7 +168,6 @@ impl CullKey {
             culling,
             step,
             setup: plan.setup_once().then_some((plan.footprint, plan.baseline)),
-            spheres: plan.spheres,
             compact: plan.compact,
             sample_grid: plan.sample_grid,
             select,
@@ -194,7 +185,6 @@ impl CullKey {
             cull_step: self.step as u32,
             cull_occlusion: self.culling.occlusion as u32,
             cull_setup: self.setup.is_some() as u32,
-            spheres: self.spheres as u32,
             compact: self.compact as u32,
             sample_grid: self.sample_grid,
             cull_select: self.select as u32,
