@@ -21,9 +21,13 @@ const GAP: u32 = 4;
 const REJECT: f64 = 1.3;
 /// The most recent timed frames kept per candidate.
 const KEPT: usize = 8;
-/// Frames a trial may run without a timed frame arriving before its candidate is dropped
-/// (a host that never lets the renderer's timestamps complete must not explore forever).
+/// Frames a trial may run before its candidate is dropped (one that never gets its timed
+/// frames must not explore forever).
 const MAX_TRIAL: u32 = 8;
+/// Frames a timed frame's time may take to come back (frames in flight); a kind whose time
+/// does not come back within them is dropped (a host that never lets the renderer's
+/// timestamps complete must not explore forever).
+const AWAIT_FRAMES: u64 = 8;
 /// The most classes remembered; the least recently used goes first.
 const MAX_CLASSES: usize = 256;
 /// How far (in octaves of size and layers, one more for a camera still rather than moving)
@@ -123,10 +127,15 @@ struct ClassRecord {
     dropped: [bool; 3],
     /// The kind its first frame took: timed first.
     first: PathKind,
-    /// The kind chosen last and for how many frames in a row.
-    chosen: (PathKind, u32),
+    /// The candidate on trial and the frames it has run (frames of the best while it waits
+    /// for a time in flight do not end a trial).
+    trial: Option<(PathKind, u32)>,
     /// Frames of the best so far since the last trial.
     since_trial: u32,
+    /// Per kind, the clock of its last timed frame whose time has not come back: a trial
+    /// waits for it on the best so far rather than draw more frames of a slower path while
+    /// the times of the frames in flight are on their way.
+    awaiting: [Option<u64>; 3],
     /// Every candidate was timed: the fastest, for good.
     settled: Option<PathKind>,
     /// The frame counter when this class was last used (for forgetting the oldest).
@@ -141,8 +150,9 @@ impl ClassRecord {
             times: Default::default(),
             dropped: [false; 3],
             first,
-            chosen: (PathKind::Draw, 0),
+            trial: None,
             since_trial: 0,
+            awaiting: [None; 3],
             settled: None,
             last_used: 0,
         }
@@ -295,9 +305,14 @@ impl PlanLearning {
             // Every candidate timed (the record settles with the next time it takes in).
             return (best, record.measured(best, candidates));
         };
-        let (chosen, run) = record.chosen;
-        if chosen != best && pending.contains(&chosen) && run < MAX_TRIAL {
-            return (chosen, PlanReason::Exploring); // a trial under way goes on
+        if let Some((trial, run)) = record.trial {
+            if pending.contains(&trial) && run < MAX_TRIAL {
+                // A trial under way goes on, or waits on the best while the time of its last
+                // frame is in flight (so a far slower path is not drawn again before its time
+                // can drop it).
+                let in_flight = record.awaiting[trial.index()].is_some();
+                return (if in_flight { best } else { trial }, PlanReason::Exploring);
+            }
         }
         // Until the class settles, the frames between trials are part of exploring too.
         if record.since_trial < GAP {
@@ -346,22 +361,31 @@ impl PlanLearning {
         };
         record.last_used = clock;
         record.candidates = candidates.to_vec();
-        let best = record.best(candidates).map(|(k, _)| k);
-        if record.chosen.0 == chosen {
-            record.chosen.1 += 1;
-        } else {
-            record.chosen = (chosen, 1);
+        // A time that never came back: its kind cannot be measured here.
+        for kind in PathKind::ALL {
+            let lost = record.awaiting[kind.index()]
+                .is_some_and(|at| clock.saturating_sub(at) > AWAIT_FRAMES);
+            if lost {
+                record.awaiting[kind.index()] = None;
+                record.dropped[kind.index()] |= record.pending(kind);
+            }
         }
+        let best = record.best(candidates).map(|(k, _)| k);
         if Some(chosen) == best || best.is_none() {
             record.since_trial += 1;
         } else {
             record.since_trial = 0;
-            // A trial that ran long without a timed frame: drop the candidate.
-            if record.chosen.1 >= MAX_TRIAL && record.pending(chosen) {
+            let run = match record.trial {
+                Some((trial, run)) if trial == chosen => run + 1,
+                _ => 1,
+            };
+            record.trial = Some((chosen, run));
+            // A trial that ran long without its timed frames: drop the candidate.
+            if run >= MAX_TRIAL && record.pending(chosen) {
                 record.dropped[chosen.index()] = true;
-                Self::settle(record, candidates);
             }
         }
+        Self::settle(record, candidates);
         let ran = ran?;
         let warmed = std::mem::replace(&mut self.warmed[ran.index()], true);
         if record.settled == Some(chosen) || !record.pending(chosen) {
@@ -369,6 +393,9 @@ impl PlanLearning {
             // frames): it writes no timestamps, which cost a driver that flushes its
             // rasterizer at each a few percent of a small frame.
             return None;
+        }
+        if warmed {
+            record.awaiting[ran.index()] = Some(clock);
         }
         Some(FrameToken {
             class,
@@ -385,6 +412,7 @@ impl PlanLearning {
         let Some(record) = self.classes.iter_mut().find(|r| r.class == token.class) else {
             return;
         };
+        record.awaiting[token.ran.index()] = None;
         let times = &mut record.times[token.ran.index()];
         times.push(ms);
         if times.len() > KEPT {
@@ -540,6 +568,59 @@ mod tests {
         let slow = kinds.iter().filter(|&&k| k != PathKind::Splat).count();
         assert!(slow <= 3, "{slow} frames off the best: {kinds:?}");
         assert_eq!(learning.settled().len(), 2, "{learning:?}");
+    }
+
+    /// With two frames in flight a time comes back two frames late: a far slower trial still
+    /// draws only its warm-up frame and one timed frame, then waits on the best.
+    #[test]
+    fn frames_in_flight_do_not_lengthen_a_slow_trial() {
+        let (learning, kinds) = two_frames_in_flight(300.0);
+        let draws = kinds.iter().filter(|&&k| k == PathKind::Draw).count();
+        assert_eq!(draws, 2, "a warm-up and a timed frame: {kinds:?}");
+        assert_eq!(learning.settled()[0].1, PathKind::Splat);
+    }
+
+    /// A close runner-up is not taken for lost while its times are in flight: it gets all
+    /// its timed frames.
+    #[test]
+    fn frames_in_flight_still_time_a_close_candidate() {
+        let (learning, kinds) = two_frames_in_flight(105.0);
+        let draws = kinds.iter().filter(|&&k| k == PathKind::Draw).count();
+        assert_eq!(
+            draws,
+            1 + SAMPLES,
+            "a warm-up and the timed frames: {kinds:?}"
+        );
+        let (_, best, medians) = learning.settled()[0];
+        assert_eq!(best, PathKind::Splat);
+        assert_eq!(medians[PathKind::Draw.index()], 105.0);
+    }
+
+    /// 100 frames of a moving camera whose times come back two frames late: the splat
+    /// (100 ms, the first guess) against the draw (`draw_ms`).
+    fn two_frames_in_flight(draw_ms: f64) -> (PlanLearning, Vec<PathKind>) {
+        let mut learning = PlanLearning::default();
+        let cost = |k| match k {
+            PathKind::Draw => draw_ms,
+            PathKind::Splat => 100.0,
+            PathKind::VisibleFirst => 400.0,
+        };
+        let moving = SceneClass::new(64_000, 40.0, 8.0, 1920 * 1080, 1, false);
+        let candidates = [PathKind::Draw, PathKind::Splat];
+        let guess = (PathKind::Splat, PlanReason::Estimated(Guess::SmallGlyphs));
+        let mut in_flight = std::collections::VecDeque::new();
+        let mut kinds = Vec::new();
+        for _ in 0..100 {
+            let (kind, _) = learning.choose(&moving, &candidates, guess);
+            in_flight.push_back(learning.commit(moving, &candidates, kind, Some(kind)));
+            if in_flight.len() > 2 {
+                if let Some(token) = in_flight.pop_front().flatten() {
+                    learning.record(token, cost(token.ran));
+                }
+            }
+            kinds.push(kind);
+        }
+        (learning, kinds)
     }
 
     #[test]
