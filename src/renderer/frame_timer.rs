@@ -61,14 +61,24 @@ impl FrameTimer {
         self.pool != vk::QueryPool::null()
     }
 
+    /// Whether frames of `view` can be timed (a pool, and one of the first `TIMED_VIEWS`).
+    pub fn times_view(&self, view: usize) -> bool {
+        self.available() && view < TIMED_VIEWS
+    }
+
     fn index(slot: u32, view: usize) -> Option<usize> {
         (view < TIMED_VIEWS).then_some(slot as usize * TIMED_VIEWS + view)
     }
 
     /// Reads the times of the frames slot `slot` recorded last (the host waited for them)
     /// and forgets them: each token with its GPU time in milliseconds, the pre-pass's and
-    /// the draw's added.
-    pub fn begin_slot(&mut self, device: &ash::Device, slot: u32) -> Vec<(FrameToken, f64)> {
+    /// the draw's added, or `None` where it will never have one (the view's draw was not
+    /// recorded, or its timestamps were not available).
+    pub fn begin_slot(
+        &mut self,
+        device: &ash::Device,
+        slot: u32,
+    ) -> Vec<(FrameToken, Option<f64>)> {
         let mut times = Vec::new();
         for view in 0..TIMED_VIEWS {
             let Some(at) = Self::index(slot, view) else {
@@ -78,6 +88,7 @@ impl FrameTimer {
                 continue;
             };
             if !pending.drawn {
+                times.push((pending.token, None));
                 continue;
             }
             let mut stamps = [0u64; QUERIES as usize];
@@ -92,6 +103,7 @@ impl FrameTimer {
                 )
             };
             if read.is_err() {
+                times.push((pending.token, None));
                 continue;
             }
             let mask = if self.valid_bits >= 64 {
@@ -102,7 +114,7 @@ impl FrameTimer {
             let ticks = |a: u64, b: u64| (b.wrapping_sub(a) & mask) as f64;
             let ms =
                 (ticks(stamps[0], stamps[1]) + ticks(stamps[2], stamps[3])) * self.period_ns * 1e-6;
-            times.push((pending.token, ms));
+            times.push((pending.token, Some(ms)));
         }
         times
     }

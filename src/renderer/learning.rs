@@ -1,7 +1,9 @@
 //! The plan that measures: per scene class, the candidate paths are timed on frames the
 //! renderer draws anyway, and the fastest is kept (as FFTW's planner times its candidates and
-//! keeps "wisdom"). The first guess (`estimate.rs`) runs first; then each other candidate
-//! gets a short trial, with frames of the best so far between trials. A kind's first frame in
+//! keeps "wisdom"). A frame's class is its own or a known one it lies near (`classify`). A new
+//! class runs its nearest learned neighbour's choice first, else the first guess
+//! (`estimate.rs`); then each other candidate gets a short trial, with frames of the best so
+//! far between trials, waiting on the best while the trial's times are in flight. A kind's first frame in
 //! the renderer's life warms up (its pipelines are built, and lavapipe bakes the values that
 //! steer branches into its shaders) and is not timed; after that every frame of a kind counts.
 //! A candidate whose median is far above the best's is dropped at once, so a much slower path
@@ -24,15 +26,15 @@ const KEPT: usize = 8;
 /// Frames a trial may run before its candidate is dropped (one that never gets its timed
 /// frames must not explore forever).
 const MAX_TRIAL: u32 = 8;
-/// Frames a timed frame's time may take to come back (frames in flight); a kind whose time
-/// does not come back within them is dropped (a host that never lets the renderer's
-/// timestamps complete must not explore forever).
-const AWAIT_FRAMES: u64 = 8;
+/// How far (in octaves) a frame's glyph size or layers may lie from a known class's and
+/// still be planned as that class: a quarter octave beyond rounding, so glyphs whose size
+/// sits at an octave's edge do not flip a moving camera between two classes (each explored).
+const STICK: f64 = 0.75;
 /// The most classes remembered; the least recently used goes first.
 const MAX_CLASSES: usize = 256;
 /// How far (in octaves of size and layers, one more for a camera still rather than moving)
-/// a settled class may lie from a new one of the same glyph count, pixels and samples to
-/// lend it its choice as the first to time.
+/// a class with a fastest kind so far may lie from a new one of the same glyph count, pixels
+/// and samples to lend it that kind as the first to time.
 const NEIGHBOUR_REACH: i32 = 3;
 /// A kind that took this many times its fastest candidate's median in the neighbouring class
 /// is not timed in the new one.
@@ -132,10 +134,10 @@ struct ClassRecord {
     trial: Option<(PathKind, u32)>,
     /// Frames of the best so far since the last trial.
     since_trial: u32,
-    /// Per kind, the clock of its last timed frame whose time has not come back: a trial
-    /// waits for it on the best so far rather than draw more frames of a slower path while
-    /// the times of the frames in flight are on their way.
-    awaiting: [Option<u64>; 3],
+    /// Per kind, its timed frames whose time has not come back (frames in flight): a trial
+    /// waits for them on the best so far rather than draw more frames of a path that may be
+    /// far slower.
+    awaiting: [u32; 3],
     /// Every candidate was timed: the fastest, for good.
     settled: Option<PathKind>,
     /// The frame counter when this class was last used (for forgetting the oldest).
@@ -152,7 +154,7 @@ impl ClassRecord {
             first,
             trial: None,
             since_trial: 0,
-            awaiting: [None; 3],
+            awaiting: [0; 3],
             settled: None,
             last_used: 0,
         }
@@ -222,12 +224,54 @@ impl PlanLearning {
         self.classes.iter().find(|r| r.class == *class)
     }
 
-    /// The nearest settled class to `class` of the same glyph count, pixels and samples, if
-    /// one lies within `NEIGHBOUR_REACH`: what a frame there found fastest is likely so here.
+    /// The class a frame is planned as: its own when known, else a known class of the same
+    /// glyph count, pixels, samples and camera whose size and layers lie within `STICK`
+    /// octaves of the frame's (the nearest), else its own (new).
+    pub fn classify(
+        &self,
+        glyphs: u32,
+        mean_area_px: f64,
+        depth_complexity: f64,
+        pixels: u64,
+        samples: u32,
+        still: bool,
+    ) -> SceneClass {
+        let own = SceneClass::new(
+            glyphs,
+            mean_area_px,
+            depth_complexity,
+            pixels,
+            samples,
+            still,
+        );
+        if self.find(&own).is_some() {
+            return own;
+        }
+        let area = mean_area_px.max(1e-30).log2();
+        let layers = depth_complexity.max(1e-30).log2().max(0.0);
+        self.classes
+            .iter()
+            .map(|r| r.class)
+            .filter(|c| {
+                (c.glyphs, c.pixels, c.samples, c.still)
+                    == (own.glyphs, own.pixels, own.samples, own.still)
+            })
+            .map(|c| {
+                let off = (area - f64::from(c.area)).abs();
+                (c, off.max((layers - f64::from(c.layers)).abs()))
+            })
+            .filter(|&(_, off)| off <= STICK)
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map_or(own, |(c, _)| c)
+    }
+
+    /// The nearest class to `class` with a fastest kind so far, of the same glyph count,
+    /// pixels and samples, if one lies within `NEIGHBOUR_REACH`: what a frame there found
+    /// fastest is likely so here.
     fn neighbour(&self, class: &SceneClass) -> Option<&ClassRecord> {
         self.classes
             .iter()
-            .filter(|r| r.settled.is_some() && r.class != *class)
+            .filter(|r| r.class != *class && r.best(&PathKind::ALL).is_some())
             .filter(|r| {
                 let c = &r.class;
                 (c.glyphs, c.pixels, c.samples) == (class.glyphs, class.pixels, class.samples)
@@ -250,7 +294,7 @@ impl PlanLearning {
     fn first_for(&self, class: &SceneClass, candidates: &[PathKind], guess: PathKind) -> PathKind {
         let lent = self
             .neighbour(class)
-            .and_then(|n| n.settled)
+            .and_then(|n| n.settled.or(n.best(&PathKind::ALL).map(|(k, _)| k)))
             .map(|k| match k {
                 PathKind::VisibleFirst if !candidates.contains(&k) => PathKind::Splat,
                 k => k,
@@ -275,6 +319,10 @@ impl PlanLearning {
             };
         };
         if let Some(best) = record.settled.filter(|k| candidates.contains(k)) {
+            if record.median(best).is_none() {
+                // Settled without a time (every candidate's frames were lost): the guess.
+                return guess;
+            }
             return (best, record.measured(best, candidates));
         }
         // Its first kind is timed first.
@@ -289,7 +337,12 @@ impl PlanLearning {
                 (first, PlanReason::Exploring)
             };
         }
-        let (best, _) = record.best(candidates).unwrap_or((first, f64::INFINITY));
+        let untimed = if candidates.contains(&first) {
+            first
+        } else {
+            guess.0
+        };
+        let (best, _) = record.best(candidates).unwrap_or((untimed, f64::INFINITY));
         // Candidates never timed go before those that need more frames.
         let mut pending: Vec<PathKind> = candidates
             .iter()
@@ -310,7 +363,7 @@ impl PlanLearning {
                 // A trial under way goes on, or waits on the best while the time of its last
                 // frame is in flight (so a far slower path is not drawn again before its time
                 // can drop it).
-                let in_flight = record.awaiting[trial.index()].is_some();
+                let in_flight = record.awaiting[trial.index()] > 0;
                 return (if in_flight { best } else { trial }, PlanReason::Exploring);
             }
         }
@@ -349,29 +402,16 @@ impl PlanLearning {
                         }
                     }
                 }
-                if self.classes.len() >= MAX_CLASSES {
-                    let oldest = (0..self.classes.len())
-                        .min_by_key(|&k| self.classes[k].last_used)
-                        .unwrap_or(0);
-                    self.classes.swap_remove(oldest);
-                }
+                self.make_room();
                 self.classes.push(record);
                 self.classes.last_mut().expect("just pushed")
             }
         };
         record.last_used = clock;
         record.candidates = candidates.to_vec();
-        // A time that never came back: its kind cannot be measured here.
-        for kind in PathKind::ALL {
-            let lost = record.awaiting[kind.index()]
-                .is_some_and(|at| clock.saturating_sub(at) > AWAIT_FRAMES);
-            if lost {
-                record.awaiting[kind.index()] = None;
-                record.dropped[kind.index()] |= record.pending(kind);
-            }
-        }
         let best = record.best(candidates).map(|(k, _)| k);
-        if Some(chosen) == best || best.is_none() {
+        let timing_first = best.is_none() && chosen == record.first;
+        if Some(chosen) == best || timing_first {
             record.since_trial += 1;
         } else {
             record.since_trial = 0;
@@ -395,7 +435,7 @@ impl PlanLearning {
             return None;
         }
         if warmed {
-            record.awaiting[ran.index()] = Some(clock);
+            record.awaiting[ran.index()] += 1;
         }
         Some(FrameToken {
             class,
@@ -412,7 +452,8 @@ impl PlanLearning {
         let Some(record) = self.classes.iter_mut().find(|r| r.class == token.class) else {
             return;
         };
-        record.awaiting[token.ran.index()] = None;
+        let in_flight = &mut record.awaiting[token.ran.index()];
+        *in_flight = in_flight.saturating_sub(1);
         let times = &mut record.times[token.ran.index()];
         times.push(ms);
         if times.len() > KEPT {
@@ -426,10 +467,32 @@ impl PlanLearning {
         }
     }
 
+    /// Notes that the time of a frame committed with `token` will never come (its view was
+    /// not drawn, or its timestamps were not available when its slot came round again): its
+    /// kind cannot be measured in this class, and is dropped if it still needed frames.
+    pub fn lost(&mut self, token: FrameToken) {
+        let Some(record) = self.classes.iter_mut().find(|r| r.class == token.class) else {
+            return;
+        };
+        if token.timed {
+            let in_flight = &mut record.awaiting[token.ran.index()];
+            *in_flight = in_flight.saturating_sub(1);
+            if record.pending(token.ran) {
+                record.dropped[token.ran.index()] = true;
+            }
+        }
+        let candidates = std::mem::take(&mut record.candidates);
+        Self::settle(record, &candidates);
+        record.candidates = candidates;
+    }
+
     /// Settles `record` on the fastest candidate once none is left to time.
     fn settle(record: &mut ClassRecord, candidates: &[PathKind]) {
         if record.settled.is_none() && candidates.iter().all(|&k| !record.pending(k)) {
-            record.settled = record.best(candidates).map(|(k, _)| k);
+            // With no time at all (every candidate's frames lost) it settles untimed, and
+            // `choose` plans it by the first guess.
+            let untimed = candidates.first().copied().unwrap_or(record.first);
+            record.settled = Some(record.best(candidates).map_or(untimed, |(k, _)| k));
         }
     }
 
@@ -456,10 +519,19 @@ impl PlanLearning {
             }
         }
         record.settled = Some(best);
-        if self.classes.len() >= MAX_CLASSES {
-            self.classes.remove(0);
-        }
+        record.last_used = self.clock;
+        self.make_room();
         self.classes.push(record);
+    }
+
+    /// Forgets the least recently used class when the learning is full.
+    fn make_room(&mut self) {
+        if self.classes.len() >= MAX_CLASSES {
+            let oldest = (0..self.classes.len())
+                .min_by_key(|&k| self.classes[k].last_used)
+                .unwrap_or(0);
+            self.classes.swap_remove(oldest);
+        }
     }
 }
 
@@ -574,7 +646,7 @@ mod tests {
     /// draws only its warm-up frame and one timed frame, then waits on the best.
     #[test]
     fn frames_in_flight_do_not_lengthen_a_slow_trial() {
-        let (learning, kinds) = two_frames_in_flight(300.0);
+        let (learning, kinds) = frames_in_flight(300.0, 2);
         let draws = kinds.iter().filter(|&&k| k == PathKind::Draw).count();
         assert_eq!(draws, 2, "a warm-up and a timed frame: {kinds:?}");
         assert_eq!(learning.settled()[0].1, PathKind::Splat);
@@ -584,21 +656,24 @@ mod tests {
     /// its timed frames.
     #[test]
     fn frames_in_flight_still_time_a_close_candidate() {
-        let (learning, kinds) = two_frames_in_flight(105.0);
-        let draws = kinds.iter().filter(|&&k| k == PathKind::Draw).count();
-        assert_eq!(
-            draws,
-            1 + SAMPLES,
-            "a warm-up and the timed frames: {kinds:?}"
-        );
-        let (_, best, medians) = learning.settled()[0];
-        assert_eq!(best, PathKind::Splat);
-        assert_eq!(medians[PathKind::Draw.index()], 105.0);
+        // Two frames in flight, and twelve (a host with many, or views sharing a class).
+        for depth in [2, 12] {
+            let (learning, kinds) = frames_in_flight(105.0, depth);
+            let draws = kinds.iter().filter(|&&k| k == PathKind::Draw).count();
+            assert_eq!(
+                draws,
+                1 + SAMPLES,
+                "a warm-up and the timed frames: {kinds:?}"
+            );
+            let (_, best, medians) = learning.settled()[0];
+            assert_eq!(best, PathKind::Splat);
+            assert_eq!(medians[PathKind::Draw.index()], 105.0);
+        }
     }
 
-    /// 100 frames of a moving camera whose times come back two frames late: the splat
+    /// 100 frames of a moving camera whose times come back `depth` frames late: the splat
     /// (100 ms, the first guess) against the draw (`draw_ms`).
-    fn two_frames_in_flight(draw_ms: f64) -> (PlanLearning, Vec<PathKind>) {
+    fn frames_in_flight(draw_ms: f64, depth: usize) -> (PlanLearning, Vec<PathKind>) {
         let mut learning = PlanLearning::default();
         let cost = |k| match k {
             PathKind::Draw => draw_ms,
@@ -613,7 +688,7 @@ mod tests {
         for _ in 0..100 {
             let (kind, _) = learning.choose(&moving, &candidates, guess);
             in_flight.push_back(learning.commit(moving, &candidates, kind, Some(kind)));
-            if in_flight.len() > 2 {
+            if in_flight.len() > depth {
                 if let Some(token) = in_flight.pop_front().flatten() {
                     learning.record(token, cost(token.ran));
                 }
@@ -630,17 +705,62 @@ mod tests {
         let mut kinds = Vec::new();
         for _ in 0..60 {
             let (kind, _) = learning.choose(&class(), &ALL, guess);
-            // Only the draw's frames ever report a time.
+            // Only the draw's frames ever report a time; the others' are lost (their view
+            // was not drawn, or their timestamps never became available).
             if let Some(token) = learning.commit(class(), &ALL, kind, Some(kind)) {
                 if kind == PathKind::Draw {
                     learning.record(token, 10.0);
+                } else {
+                    learning.lost(token);
                 }
             }
             kinds.push(kind);
         }
         assert!(
-            kinds[40..].iter().all(|&k| k == PathKind::Draw),
+            kinds[20..].iter().all(|&k| k == PathKind::Draw),
             "{kinds:?}"
+        );
+        assert_eq!(learning.settled()[0].1, PathKind::Draw);
+    }
+
+    /// A host whose timestamps never come back: every kind is dropped once its timed frame is
+    /// lost, and the class is planned by the first guess from then on, without timestamps.
+    #[test]
+    fn a_class_whose_times_are_all_lost_keeps_the_first_guess() {
+        let mut learning = PlanLearning::default();
+        let guess = (PathKind::Splat, PlanReason::Estimated(Guess::SmallGlyphs));
+        let mut last = None;
+        for _ in 0..40 {
+            let choice = learning.choose(&class(), &ALL, guess);
+            if let Some(token) = learning.commit(class(), &ALL, choice.0, Some(choice.0)) {
+                learning.lost(token);
+            }
+            last = Some(choice);
+        }
+        assert_eq!(last, Some(guess));
+        let (kind, _) = learning.choose(&class(), &ALL, guess);
+        assert!(learning.commit(class(), &ALL, kind, Some(kind)).is_none());
+    }
+
+    /// Glyphs at an octave's edge: a moving camera stays in the class it met first.
+    #[test]
+    fn a_frame_near_a_known_class_is_planned_as_it() {
+        let mut learning = PlanLearning::default();
+        let at = |l: &PlanLearning, area| l.classify(8000, area, 4.3, 1 << 21, 1, false);
+        let first = at(&learning, 380.0); // log2 8.57: octave 9
+        assert_eq!(first.area, 9);
+        learning.commit(first, &ALL, PathKind::Draw, Some(PathKind::Draw));
+        assert_eq!(at(&learning, 350.0), first, "8.45 octaves: 0.55 from 9");
+        assert_eq!(
+            at(&learning, 250.0).area,
+            8,
+            "7.97 octaves: a class of its own"
+        );
+        let still = learning.classify(8000, 350.0, 4.3, 1 << 21, 1, true);
+        assert_eq!(
+            (still.area, still.still),
+            (8, true),
+            "a still camera is another class"
         );
     }
 

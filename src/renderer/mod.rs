@@ -354,7 +354,10 @@ impl EllipsoidRenderer {
         }
         // The slot's last frames are done (caller contract): their times are there.
         for (token, ms) in self.timer.begin_slot(device, slot) {
-            self.learning.record(token, ms);
+            match ms {
+                Some(ms) => self.learning.record(token, ms),
+                None => self.learning.lost(token),
+            }
         }
         self.slot = slot;
         self.next_view = 0;

@@ -374,7 +374,7 @@ fn choose(
         PlanMode::Measure => {
             let (_, target) = inputs.target;
             let camera = inputs.camera;
-            let class = SceneClass::new(
+            let class = inputs.learning.classify(
                 inputs.scene.count,
                 sizes.mean_area_px,
                 seen.depth_complexity.unwrap_or(1.0),

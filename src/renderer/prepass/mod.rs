@@ -61,9 +61,11 @@ impl EllipsoidRenderer {
         self.views[view].last_camera = Some(*camera);
         self.last_plan = Some(plan);
         // The plan that measures notes what this frame runs; its timestamps say how long.
+        // A view the timer cannot time counts as a frame with nothing to time.
+        let timed = self.timer.times_view(view);
         let token = plan.class.and_then(|class| {
             let candidates = plan.candidates();
-            let ran = plan.path.timed_kind();
+            let ran = plan.path.timed_kind().filter(|_| timed);
             self.learning.commit(class, &candidates, plan.chosen, ran)
         });
         // SAFETY: caller contract: `cmd` records outside a pass for the current slot.

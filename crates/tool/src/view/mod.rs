@@ -45,6 +45,7 @@ use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
 use crate::error::{Error, Result};
+use ellipsoid_splat::plan::{PlanMode, PlanReason};
 use ellipsoid_splat::{Ellipsoid, Scene, Settings};
 use ellipsoid_splat_loaders::ColorMode;
 
@@ -342,6 +343,9 @@ impl App {
         self.viewer = None;
         self.window = None;
         println!("{}", self.stats.summary());
+        if let Some(paths) = self.stats.paths_summary() {
+            println!("{paths}");
+        }
         if let Some(plan) = &self.stats.plan {
             println!("plan of the last frame: {plan}");
         }
@@ -443,7 +447,17 @@ impl App {
             return Ok(());
         }
         self.stats.presented += 1;
-        self.stats.plan = viewer.last_plan().map(|p| crate::plan::describe(&p));
+        if let Some(plan) = viewer.last_plan() {
+            // A plan that measures has not settled while it explores or times its first guess.
+            let unsettled = matches!(self.settings.plan, PlanMode::Measure)
+                && matches!(
+                    plan.reason,
+                    PlanReason::Exploring | PlanReason::Estimated(_)
+                );
+            self.stats
+                .count_plan(crate::plan::path_name(&plan.path), unsettled);
+            self.stats.plan = Some(crate::plan::describe(&plan));
+        }
         self.pending.clear();
         self.last_moving = moving;
         if let Some(clicked) = self.pick_shown.take() {

@@ -16,9 +16,41 @@ pub struct FrameStats {
     pub presented: u64,
     /// The last presented frame's path and why the plan took it (`plan::describe`).
     pub plan: Option<String>,
+    /// Presented frames per path taken (`plan::path_name`), in the order first taken.
+    pub paths: Vec<(&'static str, u64)>,
+    /// Presented frames whose plan measures and had not settled (its class's candidates
+    /// still being timed, with the best so far between trials).
+    pub unsettled: u64,
 }
 
 impl FrameStats {
+    /// Counts one presented frame's plan.
+    pub fn count_plan(&mut self, path: &'static str, unsettled: bool) {
+        match self.paths.iter_mut().find(|(name, _)| *name == path) {
+            Some((_, frames)) => *frames += 1,
+            None => self.paths.push((path, 1)),
+        }
+        self.unsettled += u64::from(unsettled);
+    }
+
+    /// The line on the paths taken: `paths (frames): splat 97, draw 12; 14 before the plan
+    /// settled`.
+    pub fn paths_summary(&self) -> Option<String> {
+        if self.paths.is_empty() {
+            return None;
+        }
+        let taken: Vec<String> = self
+            .paths
+            .iter()
+            .map(|(name, frames)| format!("{name} {frames}"))
+            .collect();
+        Some(format!(
+            "paths (frames): {}; {} before the plan settled",
+            taken.join(", "),
+            self.unsettled
+        ))
+    }
+
     /// The line printed when the viewer closes.
     pub fn summary(&self) -> String {
         let median = |times: &[Duration]| {
