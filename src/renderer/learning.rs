@@ -17,6 +17,12 @@ use super::plan_reason::{Measured, PlanReason};
 
 /// Timed frames a candidate needs before its median counts as measured.
 const SAMPLES: usize = 3;
+/// Timed frames a candidate needs whose median lies within `CLOSE` of its nearest rival's:
+/// picking the wrong one of two close paths costs little, but a frame's noise (several
+/// percent on a shared CPU) decides three frames' medians, and frames of either cost little.
+const CLOSE_SAMPLES: usize = 7;
+/// Two medians within this ratio are close.
+const CLOSE: f64 = 1.1;
 /// Frames of the best so far between two trials: exploring is spread out.
 const GAP: u32 = 4;
 /// A candidate whose median takes this many times the best's is dropped.
@@ -171,7 +177,24 @@ impl ClassRecord {
 
     /// Whether `kind` still needs timed frames.
     fn pending(&self, kind: PathKind) -> bool {
-        !self.dropped[kind.index()] && self.times[kind.index()].len() < SAMPLES
+        !self.dropped[kind.index()] && self.times[kind.index()].len() < self.needed(kind)
+    }
+
+    /// The timed frames `kind` needs: more where its median is close to its nearest rival's
+    /// (the best, or for the best the runner-up; dropped kinds aside).
+    fn needed(&self, kind: PathKind) -> usize {
+        let Some(ms) = self.median(kind) else {
+            return SAMPLES;
+        };
+        let rival = PathKind::ALL
+            .into_iter()
+            .filter(|&k| k != kind && !self.dropped[k.index()])
+            .filter_map(|k| self.median(k))
+            .min_by(f64::total_cmp);
+        match rival {
+            Some(rival) if (ms / rival).max(rival / ms) <= CLOSE => CLOSE_SAMPLES,
+            _ => SAMPLES,
+        }
     }
 
     /// The fastest of `candidates` timed so far (dropped ones aside).
@@ -660,9 +683,10 @@ mod tests {
         for depth in [2, 12] {
             let (learning, kinds) = frames_in_flight(105.0, depth);
             let draws = kinds.iter().filter(|&&k| k == PathKind::Draw).count();
+            // 105 against 100 ms: close, so each gets more frames.
             assert_eq!(
                 draws,
-                1 + SAMPLES,
+                1 + CLOSE_SAMPLES,
                 "a warm-up and the timed frames: {kinds:?}"
             );
             let (_, best, medians) = learning.settled()[0];
