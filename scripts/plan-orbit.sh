@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # What exploring costs the viewer: 100 frames of orbit (scripts/view-orbit-100.script, then
 # nine still frames) with the plan measuring against the same frames with the plan fixed to
-# one path, interleaved run by run, under Xvfb. Prints each run's GPU time of all frames and,
-# per scene, the median over the runs of measure's time over the fixed path's.
+# one path, interleaved run by run, under Xvfb. Prints each run's GPU time of all frames and
+# the frames per path taken, and per scene the median over the runs of measure's time over
+# the fixed path's.
 #
 #   bash scripts/plan-orbit.sh [RUNS [FIXED [SCENE ...]]]
 #       RUNS 5, FIXED splat (the fastest fixed path of both default scenes' moving frames on
@@ -34,7 +35,8 @@ for run in $(seq "$runs"); do
       }
       total="$(echo "$out" | sed -n 's/.*all frames \([0-9.]*\) ms.*/\1/p')"
       [ -n "$total" ] || { echo "plan-orbit: no frame times from the viewer ($scene, $plan)" >&2; exit 1; }
-      echo "$run $scene $plan $total" | tee -a "$log"
+      echo "$run $scene $plan $total" >> "$log"
+      echo "$run $scene $plan: all frames $total ms; $(echo "$out" | grep '^paths (frames)' || true)"
     done
   done
 done
