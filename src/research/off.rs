@@ -139,10 +139,11 @@ impl EllipsoidRenderer {
         Ok(())
     }
 
-    /// Without the feature nothing counts.
+    /// Without the feature nothing counts (the offscreen renderer's counting frames call it).
     ///
     /// # Safety
     /// None needed: it records nothing.
+    #[cfg(feature = "offscreen")]
     pub(crate) unsafe fn record_counter_barrier(
         &self,
         _device: &ash::Device,

@@ -14,6 +14,8 @@ use crate::gpu_layout::PushConstants;
 use crate::target::Target;
 
 use super::descriptors::create_set_layout;
+// The offscreen renderer's own compute passes (the fetch of sample 0) are made the same way.
+#[cfg(feature = "offscreen")]
 pub(crate) use create::create_compute_pipeline;
 use create::{create_cull_pipeline, create_pipeline, create_splat_pipeline};
 use keys::{CullKey, PipelineKey, SplatKey};
