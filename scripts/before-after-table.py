@@ -35,7 +35,7 @@ def main() -> None:
     pairs = [(list(csv.DictReader(open(a))), list(csv.DictReader(open(b))))
              for a, b in zip(args[::2], args[1::2])]
     rows = []
-    for r in pairs[0][0]:
+    for r in (r for old, _ in pairs for r in old):
         key = (r["scene"], r["count"], r["method"])
         if key not in rows and (methods is None or r["method"] in methods):
             rows.append(key)
