@@ -18,6 +18,10 @@ fixed="${2:-splat}"
 shift $(($# > 2 ? 2 : $#))
 scenes=("$@")
 [ ${#scenes[@]} -gt 0 ] || scenes=(md-liquid tensor-field)
+[[ "$runs" =~ ^[1-9][0-9]*$ ]] || { echo "plan-orbit: RUNS must be a positive whole number, not '$runs'" >&2; exit 2; }
+case "$fixed" in draw | splat | visible-first | estimate) ;;
+  *) echo "plan-orbit: FIXED must be draw, splat, visible-first or estimate, not '$fixed'" >&2; exit 2 ;;
+esac
 [ -x "$tool" ] || { echo "plan-orbit: build the tool first ($tool is missing)" >&2; exit 1; }
 command -v xvfb-run >/dev/null || { echo "plan-orbit: xvfb-run is missing (scripts/setup.sh)" >&2; exit 1; }
 

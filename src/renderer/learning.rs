@@ -167,10 +167,15 @@ impl ClassRecord {
     }
 
     fn median(&self, kind: PathKind) -> Option<f64> {
-        let mut times = self.times[kind.index()].clone();
-        if times.is_empty() {
+        // At most `KEPT` times: sorted on the stack (this runs several times a frame).
+        let kept = &self.times[kind.index()];
+        if kept.is_empty() {
             return None;
         }
+        let kept = &kept[kept.len().saturating_sub(KEPT)..];
+        let mut times = [0.0; KEPT];
+        let times = &mut times[..kept.len()];
+        times.copy_from_slice(kept);
         times.sort_by(f64::total_cmp);
         Some(times[times.len() / 2])
     }
