@@ -44,29 +44,33 @@ def tests(report: Path) -> str:
 
 
 def regrets(report: Path) -> list[tuple[str, str, str, str]]:
-    """(scene, first guess, learned, fastest) per scene with a regret, from results.csv."""
+    """(scene, first guess, learned, fastest) per scene with a regret, from results.csv; a
+    scene of several glyph counts (the clouds) has a row per count."""
     path = report / "bench" / "results.csv"
     if not path.exists():
         return []
     rows = list(csv.DictReader(path.open()))
-    scenes: list[str] = []
+    scenes: list[tuple[str, str]] = []
     for row in rows:
-        if row["method"] in ("impostor", "impostor-estimate") and row["scene"] not in scenes:
-            scenes.append(row["scene"])
+        key = (row["scene"], row["count"])
+        if row["method"] in ("impostor", "impostor-estimate") and key not in scenes:
+            scenes.append(key)
     out = []
-    for scene in scenes:
+    for scene, count in scenes:
+        of_scene = [r for r in rows if r["scene"] == scene and r["count"] == count]
+
         def cell(method: str) -> str:
-            row = next((r for r in rows if r["scene"] == scene and r["method"] == method), None)
+            row = next((r for r in of_scene if r["method"] == method), None)
             if row is None:
                 return "not timed"
             regret = row.get("plan_regret", "")
             path_taken = row.get("plan_path", "") or "?"
             return f"{path_taken} {float(regret):.2f}" if regret else f"{path_taken} (no regret)"
-        fixed = [r for r in rows if r["scene"] == scene
-                 and r["method"] in ("impostor-draw", "impostor-compute", "impostor-visible-first")]
+        fixed = [r for r in of_scene
+                 if r["method"] in ("impostor-draw", "impostor-compute", "impostor-visible-first")]
         fastest = min(fixed, key=lambda r: float(r["wall_ms"]), default=None)
         best = f"{fastest['plan_path'] or fastest['method']} {float(fastest['wall_ms']):.2f} ms" if fastest else "?"
-        out.append((scene, cell("impostor-estimate"), cell("impostor"), best))
+        out.append((f"{scene} ({int(count):,})", cell("impostor-estimate"), cell("impostor"), best))
     return out
 
 
