@@ -30,6 +30,7 @@
 #include "instance_setup.glsl"
 #include "setup_records.glsl"
 #include "occlusion_tiles.glsl"
+#include "nearest_depth.glsl"
 #include "glyph_stamps.glsl"
 #include "visibility_words.glsl"
 
@@ -109,13 +110,6 @@ void tiles_touched(vec4 sampled, out ivec2 lo, out ivec2 hi) {
     lo = ivec2(clamp(sampled.xy, vec2(0.0), last + 1.0)) / TILE;
     hi = ivec2(clamp(sampled.zw, vec2(-1.0), last));
     hi = (hi + TILE) / TILE - 1; // floor division that keeps -1 below 0
-}
-
-// View depth of the instance's centre and its half-extent along the view axis.
-vec2 depth_range(Instance inst) {
-    vec3 f = cam.forward;
-    vec3 a_f = (transpose(instance_rotation(inst)) * f) * instance_radii(inst);
-    return vec2(dot(inst.center, f) - cam.eye_view.z, length(a_f));
 }
 
 // OCCLUDERS: the ellipsoid contains the sphere of its smallest radius r around its centre c,
@@ -207,13 +201,6 @@ void write_occluder(uint index) {
     }
 }
 
-// The ellipsoid's nearest view depth, moved nearer by DEPTH_GAP of the depths involved: far
-// more than float32 rounds the difference (its terms may be far larger than it) or the hit.
-float nearest_with_gap(uint index) {
-    vec2 z = depth_range(load_instance(index));
-    return z.x - z.y - DEPTH_GAP * (abs(z.x) + z.y);
-}
-
 // The tiles holding the pixels `sampled`, if there are some and few enough to test.
 bool tested_tiles(vec4 sampled, out ivec2 t0, out ivec2 t1) {
     tiles_touched(sampled, t0, t1);
@@ -224,7 +211,7 @@ bool tested_tiles(vec4 sampled, out ivec2 t0, out ivec2 t1) {
 // Is every sample of the pixels `sampled` covered by something at least DEPTH_GAP nearer than
 // the ellipsoid's nearest point?
 bool occluded(uint index, vec4 sampled) {
-    float limit = nearest_with_gap(index);
+    float limit = nearest_with_gap(load_instance(index));
     ivec2 grid = tile_grid();
     ivec2 t0, t1;
     if (!(limit > 0.0) || !tested_tiles(sampled, t0, t1)) {
@@ -293,18 +280,15 @@ void mark_shown(uint t) {
 // more than two float steps beyond the tile's word means the glyph can neither win nor tie a
 // pixel of the tile. A glyph that may reach the near plane (a cap) is never hidden.
 bool hidden_by_first_pass(uint index, vec4 sampled) {
-    float nearest = nearest_with_gap(index);
+    float nearest = nearest_with_gap(load_instance(index));
     ivec2 grid = tile_grid();
     ivec2 t0, t1;
     if (!(nearest > cam.near_plane) || !tested_tiles(sampled, t0, t1)) {
         return false;
     }
-    uint bound = floatBitsToUint(clamp(depth_value(nearest), 0.0, 1.0));
     for (int ty = t0.y; ty <= t1.y; ty++) {
         for (int tx = t0.x; tx <= t1.x; tx++) {
-            uint tile = tiles[ty * grid.x + tx];
-            bool behind = REVERSED_Z ? bound + 2u < tile : bound > tile + 2u;
-            if (!behind || tile == empty_key_word()) {
+            if (!hides_every_hit(tiles[ty * grid.x + tx], nearest)) {
                 return false;
             }
         }

@@ -20,6 +20,7 @@
 #include "impostor_state.glsl"
 #include "impostor_hit.glsl"
 #include "visibility.glsl"
+#include "nearest_depth.glsl"
 #include "cull_groups.glsl"
 #include "glyph_stamps.glsl"
 #include "fragment_counter.glsl"
@@ -102,7 +103,8 @@ void main() {
         }
         return;
     }
-    Setup f = setup_instance(load_instance(id));
+    Instance inst = load_instance(id);
+    Setup f = setup_instance(inst);
     if (f.culled) {
         return;
     }
@@ -155,6 +157,10 @@ void main() {
     vec2 c_ndc = image_ndc(f.centre / vec2(cam.ndc_scale_x, cam.ndc_scale_y));
     vec2 c_px = (vec2(c_ndc.x, -c_ndc.y) + 1.0) * vec2(size) * 0.5;
     vec2 a1 = f.axis1 * to_px, a2 = f.axis2 * to_px;
+    // A pixel that already holds a hit nearer than the glyph's every hit keeps it whatever the
+    // glyph's hit there: it is not ray cast (`hides_every_hit`). A key only ever moves nearer,
+    // so a stale read of one only skips less.
+    float nearest = nearest_with_gap(inst);
     float s01 = a1.x * a1.y + a2.x * a2.y, s11 = a1.y * a1.y + a2.y * a2.y;
     float det_a = abs(a1.x * a2.y - a2.x * a1.y);
     for (int y = lo.y; y <= hi.y; y++) {
@@ -166,6 +172,11 @@ void main() {
         int x_lo = max(lo.x, int(ceil(mid - chord - 0.55)));
         int x_hi = min(hi.x, int(floor(mid + chord - 0.45)));
         for (int x = x_lo; x <= x_hi; x++) {
+            uint at = uint(y * size.x + x);
+            uint64_t held = SPLAT_FLOOR == SPLAT_FLOOR_NONE ? visibility[at] : visibility_empty();
+            if (hides_every_hit(uint(held >> 32), nearest)) {
+                continue;
+            }
             float z;
             vec3 normal;
             bool cap;
@@ -174,12 +185,15 @@ void main() {
                 continue;
             }
             any_hit = true;
-            uint at = uint(y * size.x + x);
             uint64_t key = visibility_key(z, scene_id);
             if (SPLAT_FLOOR == SPLAT_FLOOR_ARITHMETIC) {
                 // The ray cast without the atomic: every depth feeds a sum stored (almost
                 // never) after the loop, so the compiler cannot drop any ray cast.
                 depth_sum ^= floatBitsToUint(z) + at;
+            } else if (REVERSED_Z ? key <= held : key >= held) {
+                // A key only moves nearer: one that loses to what was read loses to what is
+                // there now, and the atomic (a locked exchange loop on a CPU) is not needed.
+                continue;
             } else if (REVERSED_Z) {
                 atomicMax(visibility[at], key);
             } else {

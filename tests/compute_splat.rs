@@ -368,10 +368,10 @@ fn exact_depth_ties_go_to_the_lower_instance_as_in_the_draw() {
 }
 
 /// A camera stopping at points of an orbit around a scene of glyphs many layers deep, with a
-/// drawn frame, a new scene uploaded and the depth convention changed on the way: at each stop
-/// the frame that arrives splats everything, the next (the camera held still) also stamps
-/// what it shows, and the one after is the visible-first splat; all match the draw of the
-/// same camera (bit for bit on lavapipe).
+/// drawn frame, a new scene uploaded and the depth convention changed on the way: the first
+/// frame after an upload splats everything and stamps what it shows, every later one is the
+/// visible-first splat from the last stamps (the camera moved or not); all match the draw of
+/// the same camera (bit for bit on lavapipe).
 #[test]
 fn visible_first_frames_match_the_draw_at_each_stop_of_an_orbit() {
     let mut scene = random_cloud(6_000, 25, 10.0, 0.5);
@@ -411,10 +411,8 @@ fn visible_first_frames_match_the_draw_at_each_stop_of_an_orbit() {
             }
         }
         let expected = drawn.render_uploaded(&camera, Outputs::ALL).unwrap().0;
-        for (k, (marks, first)) in [(false, false), (true, false), (true, true)]
-            .into_iter()
-            .enumerate()
-        {
+        for k in 0..3 {
+            let (marks, first) = (true, !(k == 0 && (stop == 0 || stop == 3)));
             if stop == 2 && k == 2 {
                 // A drawn frame between stamps nothing and keeps the stamps of the last.
                 splatted.set_settings({
@@ -673,13 +671,12 @@ fn ray_casts_are_counted_against_the_reference() {
     };
     assert_eq!(counts(Method::FloorVisible), (visible, 0));
     let (walked, resolved) = counts(Method::ImpostorCompute);
+    // The splat ray casts each pixel's winner there (nothing nearer is held where it wins)
+    // and skips pixels already holding a nearer hit: between the visible pixels and the
+    // covered centres.
     assert!(
-        walked >= centres,
-        "{walked} ray casts for {centres} covered centres"
-    );
-    assert!(
-        walked < centres * 2,
-        "{walked} ray casts for {centres} covered centres"
+        visible <= walked && walked <= centres,
+        "{walked} ray casts for {visible} visible pixels, {centres} covered centres"
     );
     // Each pixel the splat shows is shaded once: the reference's count, within the coverage
     // bound (float32 against float64 at silhouettes).
@@ -688,11 +685,12 @@ fn ray_casts_are_counted_against_the_reference() {
         off * 1_000 <= visible,
         "{resolved} resolved, {visible} visible pixels"
     );
+    // The arithmetic floor skips nothing: every centre of every glyph's ellipse.
     let (arithmetic, none) = counts(Method::FloorArithmetic);
-    assert_eq!(
-        (arithmetic, none),
-        (walked, 0),
-        "the floor walks what the splat walks"
+    assert_eq!(none, 0);
+    assert!(
+        centres <= arithmetic && arithmetic < centres * 2,
+        "the floor walks {arithmetic} for {centres} covered centres"
     );
     let (compute, fragments) = counts(Method::ImpostorDraw);
     assert_eq!(compute, 0);

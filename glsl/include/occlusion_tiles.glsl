@@ -10,9 +10,6 @@ layout(std430, set = 0, binding = 5) buffer OcclusionTiles {
 };
 
 const int TILE = 4;
-// Relative depth gap that float32 rounding (in the pre-pass and the fragment stage) cannot
-// close.
-const float DEPTH_GAP = 1e-4;
 
 ivec2 tile_grid() {
     return (ivec2(image_size()) + TILE - 1) / TILE;

@@ -222,16 +222,21 @@ impl EllipsoidRenderer {
 
     /// What the next frame with `camera` does: footprint, culling, set-up once, shader
     /// variants, the compute splat. `record_prepass` makes this plan and `record` draws with
-    /// it; the visible-first splat depends on the frames recorded before (a still camera), so
-    /// after `record_prepass` the plan of the same camera may differ. The plan is that of
-    /// the view whose last pre-pass had this camera (a host recording its views in the same
-    /// order every frame draws it there), else of the view the next `record_prepass` takes.
+    /// it; the visible-first splat depends on the frames recorded before (what the last
+    /// showed), so after `record_prepass` the plan of the same camera may differ. The plan
+    /// is that of the view whose last pre-pass had this camera (a host recording its views in
+    /// the same order every frame draws it there), else of the view the next
+    /// `record_prepass` takes (after the frame's last view, the next frame's first).
     pub fn plan(&self, camera: &Camera) -> Result<FramePlan> {
+        let next = match self.views.len() {
+            0 => 0,
+            views => self.next_view % views,
+        };
         let view = self
             .views
             .iter()
             .position(|v| v.last_camera == Some(*camera))
-            .unwrap_or(self.next_view);
+            .unwrap_or(next);
         self.plan_for_view(view, camera)
     }
 
@@ -250,7 +255,7 @@ impl EllipsoidRenderer {
             timed: self.timer.available(),
             chunks: self.chunking().len(),
             still: last_camera == Some(*camera),
-            shown_stamped: shown_stamped.is_some_and(|(_, seen)| seen == *camera),
+            shown_stamped: shown_stamped.is_some(),
             scene: &self.scene,
             settings: &self.settings,
             learning: &self.learning,

@@ -181,8 +181,7 @@ pub(crate) struct PlanInputs<'a> {
     pub chunks: u32,
     /// The last pre-pass recorded had this camera.
     pub still: bool,
-    /// The last pre-pass since the upload that stamped the glyphs its frame showed had this
-    /// camera.
+    /// A pre-pass since the upload stamped the glyphs its frame showed (with any camera).
     pub shown_stamped: bool,
     pub scene: &'a UploadedScene,
     pub settings: &'a Settings,
@@ -320,14 +319,13 @@ fn splat_possible(inputs: &PlanInputs, seen: &OnScreen) -> std::result::Result<(
 }
 
 /// The kinds of path that can serve the frame: the draw always; the splat where it can run;
-/// the visible-first splat besides where the camera holds still, the scene is one chunk
-/// (stamps and lists are per chunk) and occlusion culling is on (its second pass's test is
-/// an occlusion test).
+/// the visible-first splat besides where the scene is one chunk (stamps and lists are per
+/// chunk) and occlusion culling is on (its second pass's test is an occlusion test).
 fn candidates(inputs: &PlanInputs, splat: bool) -> Candidates {
     let mut candidates = Candidates::default().with(PathKind::Draw);
     if splat && inputs.baseline.is_none() {
         candidates = candidates.with(PathKind::Splat);
-        if inputs.still && inputs.chunks == 1 && inputs.settings.culling.occlusion {
+        if inputs.chunks == 1 && inputs.settings.culling.occlusion {
             candidates = candidates.with(PathKind::VisibleFirst);
         }
     }
@@ -362,7 +360,7 @@ fn choose(
     let estimated = (guess, PlanReason::Estimated(why));
     Ok(match inputs.settings.plan {
         PlanMode::Fixed(kind) => {
-            // The visible-first splat of a moving camera is the plain splat.
+            // The visible-first splat of a scene in several chunks is the plain splat.
             let kind = match kind {
                 PathKind::VisibleFirst if !candidates.contains(kind) => PathKind::Splat,
                 kind => kind,
@@ -422,16 +420,15 @@ fn draw_path(inputs: &PlanInputs, mean_area_px: f64) -> DrawPath {
     }
 }
 
-/// The splat's path for `kind`: the visible-first splat where the camera holds still (a
-/// frame whose camera is the last pre-pass's stamps what it shows; the next with the same
-/// camera splats that first), else every glyph.
+/// The splat's path for `kind`: the visible-first splat (its first frame since the upload
+/// stamps what it shows; every later one splats first what the last stamped, whatever the
+/// camera, and stamps again), else every glyph.
 fn splat_path(inputs: &PlanInputs, kind: PathKind) -> SplatPath {
-    let still_enough = kind == PathKind::VisibleFirst
-        && inputs.still
+    let visible_first = kind == PathKind::VisibleFirst
         && inputs.chunks == 1
         && inputs.settings.culling.occlusion
         && !inputs.splat_floor;
-    let hidden = match (still_enough, inputs.shown_stamped) {
+    let hidden = match (visible_first, inputs.shown_stamped) {
         (false, _) => HiddenLayers::SplatAll,
         (true, false) => HiddenLayers::StampShown,
         (true, true) => HiddenLayers::VisibleFirst {
@@ -653,7 +650,7 @@ mod tests {
         let splat = plan(&tiny, &camera, one, true, &estimate);
         assert!(splat.path.splat().is_some(), "{splat:?}");
         assert_eq!(splat.reason, PlanReason::Estimated(Guess::SmallGlyphs));
-        assert_eq!(splat.candidates(), [PathKind::Draw, PathKind::Splat]);
+        assert_eq!(splat.candidates(), PathKind::ALL);
         // One glyph of thousands of pixels among them: splatted all the same (the splat
         // leaves that one to the draw).
         let (mixed, camera) = scene_of(true, 1.0);
@@ -714,10 +711,10 @@ mod tests {
         assert!(reason.contains("per sample"), "{reason}");
     }
 
-    /// The visible-first splat is a candidate only for a still camera; the first still
-    /// frame stamps what it shows and the next starts from it.
+    /// The visible-first splat's first frame stamps what it shows and the next starts from
+    /// it, the camera still or moving.
     #[test]
-    fn visible_first_needs_a_still_camera_and_stamps() {
+    fn visible_first_needs_stamps() {
         let (scene, camera) = scene_of(false, 20.0);
         let one = vk::SampleCountFlags::TYPE_1;
         let fixed = mode(PlanMode::Fixed(PathKind::VisibleFirst));
@@ -726,12 +723,12 @@ mod tests {
             let plan = plan_with(&scene, &camera, one, true, &fixed, history, &learning);
             plan.path.splat().map(|s| s.hidden)
         };
-        assert_eq!(hidden((false, false)), Some(HiddenLayers::SplatAll));
-        assert_eq!(hidden((false, true)), Some(HiddenLayers::SplatAll));
-        assert_eq!(hidden((true, false)), Some(HiddenLayers::StampShown));
-        assert!(
-            matches!(hidden((true, true)), Some(HiddenLayers::VisibleFirst { rest }) if !rest.occlusion && rest.frustum)
-        );
+        for still in [false, true] {
+            assert_eq!(hidden((still, false)), Some(HiddenLayers::StampShown));
+            assert!(
+                matches!(hidden((still, true)), Some(HiddenLayers::VisibleFirst { rest }) if !rest.occlusion && rest.frustum)
+            );
+        }
         let still = plan_with(&scene, &camera, one, true, &fixed, (true, true), &learning);
         assert_eq!(still.candidates(), PathKind::ALL);
         // Without occlusion culling the second pass has no test: no candidate.
@@ -780,7 +777,9 @@ mod tests {
             "{first:?}"
         );
         let class = first.class.expect("a measured plan has a class");
-        // The draw is twice as fast as the splat on this device.
+        // The draw is twice as fast as the splat on this device, the visible-first splat
+        // (whose first frame stamps) four times slower.
+        let mut stamped = false;
         for _ in 0..40 {
             let plan = plan_with(
                 &scene,
@@ -788,20 +787,22 @@ mod tests {
                 one,
                 true,
                 &settings,
-                (false, false),
+                (false, stamped),
                 &learning,
             );
+            stamped |= plan
+                .path
+                .splat()
+                .is_some_and(|s| s.hidden != HiddenLayers::SplatAll);
             let candidates = plan.candidates();
             let ran = plan.path.timed_kind();
             if let Some(token) = learning.commit(class, &candidates, plan.chosen, ran) {
-                learning.record(
-                    token,
-                    if token.ran == PathKind::Draw {
-                        5.0
-                    } else {
-                        10.0
-                    },
-                );
+                let ms = match token.ran {
+                    PathKind::Draw => 5.0,
+                    PathKind::Splat => 10.0,
+                    PathKind::VisibleFirst => 20.0,
+                };
+                learning.record(token, ms);
             }
         }
         let learned = plan_with(

@@ -26,9 +26,9 @@ pub(crate) struct View {
     pub descriptor_sets: Vec<vk::DescriptorSet>,
     /// The plan and camera of the pre-pass recorded for this view's next `record`.
     pub prepared: Option<(Camera, FramePlan)>,
-    /// The stamp and camera of the view's last pre-pass that stamped the glyphs its frame
-    /// showed, since the last upload (frames between that did not stamp leave it).
-    pub shown_stamped: Option<(u32, Camera)>,
+    /// The stamp of the view's last pre-pass that stamped the glyphs its frame showed, since
+    /// the last upload (frames between that did not stamp leave it).
+    pub shown_stamped: Option<u32>,
     /// The camera of the view's last pre-pass.
     pub last_camera: Option<Camera>,
 }

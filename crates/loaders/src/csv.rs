@@ -67,6 +67,38 @@ pub fn load_csv_with(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     parse_rows(text, path, options.skip_invalid)
 }
 
+/// Ellipsoid CSV of `scene`: semi-axes, rotation and colour, every number written so that it
+/// reads back to the same bits; `comments` go first, each as a `#` line. What
+/// [`parse_csv`] reads back is the scene.
+pub fn csv_text(scene: &Scene, comments: &[String]) -> String {
+    let mut text = String::with_capacity(64 + scene.len() * 200);
+    for comment in comments {
+        for line in comment.lines() {
+            text.push_str("# ");
+            text.push_str(line);
+            text.push('\n');
+        }
+    }
+    text.push_str("x,y,z,rx,ry,rz,qw,qx,qy,qz,r,g,b\n");
+    for e in &scene.ellipsoids {
+        let (c, r, q) = (e.center, e.radii, e.rotation);
+        let [red, green, blue] = e.color;
+        text.push_str(&format!(
+            "{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}\n",
+            c.x, c.y, c.z, r.x, r.y, r.z, q.w, q.x, q.y, q.z, red, green, blue
+        ));
+    }
+    text
+}
+
+/// Writes `scene` as Ellipsoid CSV ([`csv_text`]) to `path`.
+pub fn save_csv(scene: &Scene, comments: &[String], path: &Path) -> Result<()> {
+    std::fs::write(path, csv_text(scene, comments)).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
 /// Parses Ellipsoid CSV text; `file` is only used to name the source in errors.
 pub fn parse_csv(text: &str, file: &Path) -> Result<Scene> {
     Ok(parse_rows(text, file, false)?.scene)

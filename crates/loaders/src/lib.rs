@@ -40,7 +40,7 @@ pub mod progress;
 
 pub use self::anisotropy::fractional_anisotropy;
 pub use self::color_mode::{principal_color, principal_direction, ColorMode, UNIFORM_GREY};
-pub use self::csv::{load_csv, parse_csv};
+pub use self::csv::{csv_text, load_csv, parse_csv, save_csv};
 pub use self::error::{Error, Result};
 pub use self::generate::{lattice, md_liquid, packed_block, random_cloud, tensor_field};
 pub use self::load::{load, LoadOptions, Loaded, Origins, TensorOrder};

@@ -12,9 +12,11 @@
 //! - `user_scene.rs`: the scenes of `--scene`, loaded and framed as `render` does.
 //! - `regret.rs`: the plan's regret per scene.
 
+mod orbit;
 mod regret;
 mod user_scene;
 
+pub use orbit::Motion;
 pub use regret::{plan_regrets, regret_table, PlanRegret};
 pub use user_scene::user_scenes;
 
@@ -81,6 +83,7 @@ pub const CSV_HEADER: &[&str] = &[
     "driver",
     "plan_path",
     "plan_regret",
+    "camera",
 ];
 
 /// One scene of the benchmark.
@@ -133,6 +136,8 @@ pub struct BenchResult {
     pub paths: Vec<&'static str>,
     /// For a method whose plan measures: how its learning went before the timed rounds.
     pub learning: Option<Learning>,
+    /// How the camera moved between the timed frames.
+    pub motion: Motion,
 }
 
 /// How the plan of a method that measures learned the scene before its timed rounds.
@@ -332,15 +337,15 @@ fn vertices_per_instance(method: Method, plan: &FramePlan) -> f64 {
     }
 }
 
-/// Runs `methods` on every scene; `frames` timed rounds per scene (at least 15 for the report).
-/// Methods whose vertex work exceeds the budget on a scene, or that cannot be set up or
-/// planned on it, are skipped and named in `skipped`.
+/// Runs `methods` on every scene; `frames` timed rounds per scene (at least 15 for the report),
+/// the camera still or moving (`motion`). Methods whose vertex work exceeds the budget on a
+/// scene, or that cannot be set up or planned on it, are skipped and named in `skipped`.
 pub fn run(
     renderer: &mut OffscreenRenderer,
     scenes: &mut dyn Iterator<Item = BenchScene>,
     scene_count: usize,
     methods: &[Method],
-    frames: usize,
+    (frames, motion): (usize, Motion),
     skipped: &mut Vec<String>,
 ) -> Result<Vec<BenchResult>> {
     let progress = Progress::new(scene_count as u64, "bench");
@@ -392,6 +397,9 @@ pub fn run(
         if let Some((ids, width)) = floor {
             renderer.set_floor_pixels(ids, width)?;
         }
+        // A moving camera's frame follows the same method's frame one step before it; frames
+        // before the timed ones count down to the scene's own camera (step 0).
+        let camera_at = |step: i64| motion.camera(&bench.camera, step);
         let mut measured: Vec<Measured> = Vec::new();
         for &method in &active {
             use_method(renderer, method, &mut settings, &bench.scene, floor)?;
@@ -399,8 +407,10 @@ pub fn run(
             // Two warm-up frames first (they also build the pipelines): the frames read back
             // and counted below are then what the timed frames are, still frames of the
             // camera where it holds still.
+            let mut step = -2 - BENCH_LEARNING_FRAMES as i64;
             for _ in 0..2 {
-                renderer.render_timed(&bench.camera, Outputs::COLOR_DEPTH)?;
+                renderer.render_timed(&camera_at(step), Outputs::COLOR_DEPTH)?;
+                step += 1;
             }
             // A plan that measures learns the scene first, as it would over the first frames
             // of a camera in an application: the frames read back and timed below are then
@@ -409,7 +419,8 @@ pub fn run(
                 let mut frames = 2;
                 let mut settled = false;
                 while !settled && frames < 2 + BENCH_LEARNING_FRAMES {
-                    renderer.render_timed(&bench.camera, Outputs::COLOR_DEPTH)?;
+                    renderer.render_timed(&camera_at(step), Outputs::COLOR_DEPTH)?;
+                    step += 1;
                     frames += 1;
                     settled = plan_text::settled(renderer);
                 }
@@ -417,6 +428,9 @@ pub fn run(
             } else {
                 None
             };
+            if motion.moves() {
+                renderer.render_timed(&camera_at(-1), Outputs::COLOR_DEPTH)?;
+            }
             if first_frame {
                 renderer.forget_shown();
             }
@@ -424,6 +438,9 @@ pub fn run(
             let stats = compare(&frame, &reference)?;
             // The exact pixel count comes from the counting build of the same shaders.
             renderer.set_count_fragments(true);
+            if motion.moves() {
+                renderer.render_timed(&camera_at(-1), Outputs::COLOR_DEPTH)?;
+            }
             if first_frame {
                 renderer.forget_shown();
             }
@@ -455,18 +472,21 @@ pub fn run(
             });
         }
         let mut order = RoundOrder::new(measured.len());
-        for _ in 0..frames {
+        for round in 1..=frames as i64 {
             for &k in order.next_round() {
                 let entry = &mut measured[k];
-                if use_method(renderer, entry.method, &mut settings, &bench.scene, floor)? {
-                    // After an upload the first frame has no stamps: not what this method
-                    // measures in a run of frames.
-                    renderer.render_timed(&bench.camera, Outputs::COLOR_DEPTH)?;
+                let uploaded =
+                    use_method(renderer, entry.method, &mut settings, &bench.scene, floor)?;
+                if uploaded || motion.moves() {
+                    // After an upload the first frame has no stamps, and a moving camera's
+                    // frame follows its own previous one: not what this method measures in
+                    // a run of frames otherwise.
+                    renderer.render_timed(&camera_at(round - 1), Outputs::COLOR_DEPTH)?;
                 }
                 if entry.method == Method::ImpostorFirstFrame {
                     renderer.forget_shown();
                 }
-                let timing = renderer.render_timed(&bench.camera, Outputs::COLOR_DEPTH)?;
+                let timing = renderer.render_timed(&camera_at(round), Outputs::COLOR_DEPTH)?;
                 entry.wall.push(timing.gpu_wall.as_secs_f64() * 1e3);
                 entry.gpu.push(timing.gpu.gpu_ms);
                 if let Some(plan) = renderer.last_plan() {
@@ -494,6 +514,7 @@ pub fn run(
                 stats: m.stats,
                 paths: m.paths,
                 learning: m.learning,
+                motion,
             });
         }
     }
@@ -848,6 +869,7 @@ pub fn write_report(
                 driver.to_string(),
                 r.plan_path(),
                 regret::regret_cell(&regrets, r),
+                r.motion.label(),
             ]);
             row
         })

@@ -161,6 +161,10 @@ pub struct BenchArgs {
     /// Timed frames per method and scene (median reported).
     #[arg(long, default_value_t = 15, allow_negative_numbers = true)]
     pub frames: usize,
+    /// Time a moving camera: each frame turned this many degrees (0.01 to 90) further about
+    /// the scene's centre than the frame before (default: the camera holds still).
+    #[arg(long, value_name = "DEG", value_parser = parse_orbit_degrees, allow_negative_numbers = true)]
+    pub orbit: Option<f64>,
     /// Comma-separated method names (default: all).
     #[arg(long, value_delimiter = ',')]
     pub methods: Vec<String>,
@@ -484,6 +488,11 @@ pub struct RenderArgs {
     /// sample count times the cost) instead of once per pixel.
     #[arg(long)]
     pub per_sample_shading: bool,
+    /// Also write the scene, as loaded and coloured, as Ellipsoid CSV to this file, its first
+    /// line a comment with the camera as `render` flags (for other tools to draw the same
+    /// frame).
+    #[arg(long, value_name = "FILE")]
+    pub save_scene: Option<PathBuf>,
     /// The camera: where it is, where it looks, its projection.
     #[command(flatten)]
     pub camera: CameraArgs,
@@ -609,6 +618,20 @@ impl RenderArgs {
         let mut inputs: Vec<(&str, &Path)> = Vec::new();
         if let SceneSpec::File(path) = &scene {
             inputs.push(("--scene", path));
+        }
+        if let Some(path) = &self.save_scene {
+            output::check_writable("--save-scene", path)?;
+            if let SceneSpec::File(input) = &scene {
+                if input
+                    .canonicalize()
+                    .is_ok_and(|i| i == output::resolved(path))
+                {
+                    return Err(Error::invalid(
+                        "--save-scene",
+                        format!("'{}' is the scene being read", path.display()),
+                    ));
+                }
+            }
         }
         if let Some(mask) = &self.load.mask {
             inputs.push(("--mask", mask));
@@ -841,6 +864,39 @@ fn parse_pixels(text: &str) -> std::result::Result<u32, String> {
     text.trim()
         .parse::<u32>()
         .map_err(|_| format!("'{text}' is not a whole number of pixels (1 to {MAX_IMAGE_SIDE})"))
+}
+
+/// The `render` flags of `camera`'s view and image (numbers in Rust's shortest round-trip
+/// form, so they read back to the same float64).
+pub fn camera_flags(camera: &Camera) -> String {
+    let v = |v: DVec3| format!("{:?},{:?},{:?}", v.x, v.y, v.z);
+    let projection = match camera.projection {
+        Projection::Perspective { fov_y_deg } => format!("--fov-y {fov_y_deg:?}"),
+        Projection::Orthographic { height } => format!("--ortho {height:?}"),
+        Projection::PerspectiveIntrinsics(i) => {
+            format!("--intrinsics {:?},{:?},{:?},{:?}", i.fx, i.fy, i.cx, i.cy)
+        }
+        // No `render` flag makes the others (the library's orthographic intrinsics).
+        other => format!("(projection {other:?}: no render flag)"),
+    };
+    format!(
+        "--width {} --height {} --eye {} --target {} --up {} {projection} --near {:?}",
+        camera.width,
+        camera.height,
+        v(camera.eye),
+        v(camera.target),
+        v(camera.up),
+        camera.near
+    )
+}
+
+fn parse_orbit_degrees(text: &str) -> std::result::Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(degrees) if (0.01..=90.0).contains(&degrees.abs()) => Ok(degrees),
+        _ => Err(format!(
+            "'{text}' is not an orbit step in degrees per frame (0.01 to 90, either sign)"
+        )),
+    }
 }
 
 fn parse_samples(text: &str) -> std::result::Result<u32, String> {

@@ -67,6 +67,11 @@ fn render(args: &RenderArgs) -> Result<()> {
     if let Some(warning) = cli::nothing_in_view(args, &camera, &scene) {
         eprintln!("warning: {warning}");
     }
+    if let Some(path) = &args.save_scene {
+        let comment = format!("camera: {}", cli::camera_flags(&camera));
+        ellipsoid_splat_loaders::save_csv(&scene, &[comment], path)?;
+        eprintln!("wrote {} ({} ellipsoids)", path.display(), scene.len());
+    }
     let load_time = start.elapsed();
 
     let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
@@ -269,6 +274,7 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
             ("--methods", !args.methods.is_empty()),
             ("--scenes", !args.scenes.is_empty()),
             ("--scene", !args.scene.is_empty()),
+            ("--orbit", args.orbit.is_some()),
         ];
         if let Some((flag, _)) = given.into_iter().find(|(_, given)| *given) {
             return Err(Error::invalid(
@@ -392,12 +398,17 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
     let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
     let mut skipped = Vec::new();
     let started = std::time::Instant::now();
+    let motion = args
+        .orbit
+        .map_or(bench::Motion::Still, |degrees| bench::Motion::Orbit {
+            degrees,
+        });
     let results = bench::run(
         &mut renderer,
         &mut scenes,
         scene_count,
         &methods,
-        args.frames,
+        (args.frames, motion),
         &mut skipped,
     )?;
     let device = renderer.context().info().name.clone();
@@ -457,8 +468,9 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         all &= c.holds;
     }
     println!(
-        "{} results in {:.0} s on {device}, driver {driver}; wrote {}/results.csv, time_vs_error.png, fill_efficiency.png, scaling.png{}",
+        "{} results ({}) in {:.0} s on {device}, driver {driver}; wrote {}/results.csv, time_vs_error.png, fill_efficiency.png, scaling.png{}",
         results.len(),
+        motion.label(),
         started.elapsed().as_secs_f64(),
         args.out.display(),
         if antialiased.is_empty() {

@@ -152,6 +152,26 @@ fn absurd_scene_counts_are_refused_before_allocating() {
 }
 
 #[test]
+fn a_scene_saved_where_it_cannot_be_written_is_refused_before_drawing() {
+    let dir = scratch_dir("save-scene");
+    let plain = dir.join("plain-file");
+    std::fs::write(&plain, b"not a directory").unwrap();
+    let below_file = plain.join("scene.csv");
+    let output = render_args(&[
+        OsStr::new("--scene"),
+        OsStr::new("lattice:4"),
+        OsStr::new("--save-scene"),
+        below_file.as_os_str(),
+    ]);
+    let error = error_line(&output, 1, "--save-scene below a file");
+    assert_names(
+        &error,
+        &["--save-scene", "cannot write", "plain-file"],
+        "--save-scene",
+    );
+}
+
+#[test]
 fn output_names_must_match_what_is_written() {
     let dir = scratch_dir("extensions");
     let cases: [(&str, &str, &str); 6] = [
@@ -469,7 +489,7 @@ fn bench_and_stress_check_arguments_before_running() {
     let plain = dir.join("plain-file");
     std::fs::write(&plain, b"not a directory").unwrap();
     let below_file = plain.join("out");
-    let cases: [(&[&OsStr], &str, &str); 5] = [
+    let cases: [(&[&OsStr], &str, &str); 7] = [
         (
             &[
                 OsStr::new("bench"),
@@ -478,6 +498,21 @@ fn bench_and_stress_check_arguments_before_running() {
             ],
             "--scenes",
             "matches no scene",
+        ),
+        (
+            &[OsStr::new("bench"), OsStr::new("--orbit"), OsStr::new("0")],
+            "--orbit",
+            "0.01 to 90",
+        ),
+        (
+            &[
+                OsStr::new("bench"),
+                OsStr::new("--skip"),
+                OsStr::new("--orbit"),
+                OsStr::new("1"),
+            ],
+            "--orbit",
+            "does not apply to --skip",
         ),
         (
             &[

@@ -400,3 +400,39 @@ fn camera_flags_render_the_reference_picture() {
     let p99 = errors[errors.len() * 99 / 100];
     assert!(p99 <= 1e-6, "depth p99 {p99:e}");
 }
+
+/// `--save-scene` writes what is drawn: the saved file, drawn with the camera flags on its
+/// first line, gives the same pixels as the scene it was saved from.
+#[test]
+fn a_saved_scene_draws_the_same_frame_with_its_camera_flags() {
+    let dir = std::env::temp_dir().join(format!("ellipsoid-splat-saved-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let saved = dir.join("liquid.csv");
+    let saved_flag = saved.to_str().unwrap().to_string();
+    let original = render_pixels(
+        &dir,
+        "original",
+        "md-liquid:300",
+        &["--save-scene", &saved_flag],
+    );
+    let text = std::fs::read_to_string(&saved).unwrap();
+    let camera = text
+        .lines()
+        .next()
+        .and_then(|line| line.strip_prefix("# camera: "))
+        .expect("the camera comment comes first")
+        .to_string();
+    let words: Vec<&str> = camera.split_whitespace().collect();
+    assert!(
+        words.contains(&"--eye") && words.contains(&"--near"),
+        "{camera}"
+    );
+    assert_eq!(words[..4], ["--width", "96", "--height", "64"], "{camera}");
+    // The image size is `render_pixels`' own.
+    let flags = &words[4..];
+    let again = render_pixels(&dir, "again", &saved_flag, flags);
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(original.len(), again.len());
+    let differ = original.iter().zip(&again).filter(|(a, b)| a != b).count();
+    assert_eq!(differ, 0, "{differ} channel values differ");
+}

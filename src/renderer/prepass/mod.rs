@@ -76,7 +76,7 @@ impl EllipsoidRenderer {
         // Every pre-pass has a stamp of its own (never 0); the glyphs the view's last stamping
         // frame showed (of this scene) go first, whatever frames came between.
         self.frame_stamp = self.frame_stamp.checked_add(1).unwrap_or(1);
-        let shown = self.views[view].shown_stamped.map(|(stamp, _)| stamp);
+        let shown = self.views[view].shown_stamped;
         let recorded = if plan.prepass() {
             // SAFETY: forwarded caller contract.
             unsafe { self.record_prepass_of(device, allocator, cmd, view, camera, &plan, shown) }
@@ -200,7 +200,7 @@ impl EllipsoidRenderer {
             unsafe { prepass.record(device, cmd) };
         }
         if marks {
-            self.views[view].shown_stamped = Some((self.frame_stamp, *camera));
+            self.views[view].shown_stamped = Some(self.frame_stamp);
         }
         Ok(())
     }

@@ -185,6 +185,7 @@ mod tests {
                 frames: 17,
                 settled: true,
             }),
+            motion: crate::bench::Motion::Still,
         }
     }
 

@@ -113,19 +113,7 @@ impl ViewCamera {
     /// The `render` flags that draw exactly this camera at `width` x `height`. Numbers are
     /// printed so they read back to the same float64 (Rust's shortest round-trip form).
     pub fn render_flags(&self, width: u32, height: u32) -> crate::error::Result<String> {
-        let camera = self.camera(width, height)?;
-        let v = |v: DVec3| format!("{:?},{:?},{:?}", v.x, v.y, v.z);
-        let projection = match self.ortho_height {
-            Some(height) => format!("--ortho {height:?}"),
-            None => format!("--fov-y {:?}", self.fov_y_deg),
-        };
-        Ok(format!(
-            "--width {width} --height {height} --eye {} --target {} --up {} {projection} --near {:?}",
-            v(camera.eye),
-            v(camera.target),
-            v(camera.up),
-            camera.near
-        ))
+        Ok(crate::cli::camera_flags(&self.camera(width, height)?))
     }
 
     /// Turns the eye about the target: `dx` pixels of drag turn about `up`, `dy` pixels tilt

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Deep scenes against a CPU ray tracer on the same cores: `lattice` and `md-liquid`, the camera
+# still and orbiting, our exact paths (bench, with ray casts per visible pixel) alternating run
+# by run with Mitsuba 3 (scripts/cpu-raytracer.py, where `python3 -c 'import mitsuba'` works;
+# set PYTHON to another interpreter). Writes each run's files into OUT and prints the table of
+# the medians over the runs (scripts/deep-table.py OUT makes it again from the files).
+#
+#   bash scripts/deep-scenes.sh [RUNS [OUT]]      (RUNS 3, OUT deep-scenes)
+#
+# Uses target/release/ellipsoid-splat (cargo build --release -p ellipsoid-splat-tool).
+set -euo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+tool="$here/target/release/ellipsoid-splat"
+runs="${1:-3}"
+out="${2:-deep-scenes}"
+python="${PYTHON:-python3}"
+[[ "$runs" =~ ^[1-9][0-9]*$ ]] || { echo "deep-scenes: RUNS must be a positive whole number, not '$runs'" >&2; exit 2; }
+[ -x "$tool" ] || { echo "deep-scenes: build the tool first ($tool is missing)" >&2; exit 1; }
+mkdir -p "$out"
+methods=impostor,impostor-draw,impostor-compute,impostor-visible-first,floor-visible
+tracer=yes
+"$python" -c 'import mitsuba' 2>/dev/null || { tracer=no; echo "deep-scenes: no Mitsuba for $python (pip install mitsuba): our side alone" >&2; }
+for scene in lattice md-liquid; do
+  "$tool" render --scene "$scene" --save-scene "$out/$scene.csv" --output "$out/$scene.png" > /dev/null 2>&1
+done
+{ echo "date: $(date -u '+%Y-%m-%d %H:%M UTC')"; echo "load: $(cut -d' ' -f1-3 /proc/loadavg)"; "$tool" info | grep -E '^(device|driver):'; } > "$out/machine.txt"
+for run in $(seq "$runs"); do
+  for motion in still orbit; do
+    flag=(); [ "$motion" = orbit ] && flag=(--orbit 0.5)
+    "$tool" bench --quick --frames 9 "${flag[@]}" --methods "$methods" --scenes lattice,md-liquid \
+      --out "$out/$motion-run$run" > "$out/$motion-run$run.txt" 2>&1 || true
+  done
+  if [ "$tracer" = yes ]; then
+    for scene in lattice md-liquid; do
+      "$python" "$here/scripts/cpu-raytracer.py" "$out/$scene.csv" --frames 9 --orbit 0.5 \
+        > "$out/tracer-$scene-run$run.txt"
+    done
+  fi
+done
+python3 "$here/scripts/deep-table.py" "$out"
