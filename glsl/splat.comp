@@ -161,6 +161,9 @@ void main() {
     // glyph's hit there: it is not ray cast (`hides_every_hit`). A key only ever moves nearer,
     // so a stale read of one only skips less.
     float nearest = nearest_with_gap(inst);
+    // A glyph the last frame showed (the visible-first splat's first pass) shows most of its
+    // pixels again: testing them would cost a load each and save nothing.
+    bool test_pixels = SPLAT_FLOOR == SPLAT_FLOOR_NONE && !(SPLAT_LIST && shown_last_frame(id));
     float s01 = a1.x * a1.y + a2.x * a2.y, s11 = a1.y * a1.y + a2.y * a2.y;
     float det_a = abs(a1.x * a2.y - a2.x * a1.y);
     for (int y = lo.y; y <= hi.y; y++) {
@@ -173,7 +176,7 @@ void main() {
         int x_hi = min(hi.x, int(floor(mid + chord - 0.45)));
         for (int x = x_lo; x <= x_hi; x++) {
             uint at = uint(y * size.x + x);
-            uint64_t held = SPLAT_FLOOR == SPLAT_FLOOR_NONE ? visibility[at] : visibility_empty();
+            uint64_t held = test_pixels ? visibility[at] : visibility_empty();
             if (hides_every_hit(uint(held >> 32), nearest)) {
                 continue;
             }
@@ -190,9 +193,11 @@ void main() {
                 // The ray cast without the atomic: every depth feeds a sum stored (almost
                 // never) after the loop, so the compiler cannot drop any ray cast.
                 depth_sum ^= floatBitsToUint(z) + at;
-            } else if (REVERSED_Z ? key <= held : key >= held) {
-                // A key only moves nearer: one that loses to what was read loses to what is
-                // there now, and the atomic (a locked exchange loop on a CPU) is not needed.
+            } else if (REVERSED_Z ? uint(key >> 32) < uint(held >> 32) : uint(key >> 32) > uint(held >> 32)) {
+                // A depth only moves nearer: a hit strictly behind the depth read loses to
+                // what is there now, and the atomic (a locked exchange loop on a CPU) is not
+                // needed. Depth words alone: a torn read of a key may pair a new depth with
+                // an old instance, which must not decide a tie.
                 continue;
             } else if (REVERSED_Z) {
                 atomicMax(visibility[at], key);

@@ -104,32 +104,34 @@ def main():
             "sampler": {"type": "independent", "sample_count": 1},
         })
 
+
     depth = mi.load_dict({"type": "aov", "aovs": "dd:depth"})
     # Pixel centres, row-major.
     jj, ii = np.meshgrid(np.arange(height), np.arange(width), indexing="ij")
     centres = mi.Point2f((ii.ravel() + 0.5) / width, (jj.ravel() + 0.5) / height)
 
-    def depth_frame(step):
-        image = mi.render(scene, sensor=sensor(step), integrator=depth, spp=1)
+    def depth_frame(camera):
+        image = mi.render(scene, sensor=camera, integrator=depth, spp=1)
         dr.eval(image)
         return np.array(image)
 
-    def ray_frame(step):
-        ray, _ = sensor(step).sample_ray(0.0, 0.5, centres, mi.Point2f(0.5, 0.5))
+    def ray_frame(camera):
+        ray, _ = camera.sample_ray(0.0, 0.5, centres, mi.Point2f(0.5, 0.5))
         t = scene.ray_intersect(ray).t
         dr.eval(t)
         return np.array(t)
 
-    hits = np.isfinite(ray_frame(0)).sum()
+    hits = np.isfinite(ray_frame(sensor(0))).sum()
     print(f"{args.scene}: {len(centers):,} ellipsoids, {width}x{height}, {hits:,} pixels hit; "
           f"Mitsuba {mi.__version__} {mi.variant()}, median of {args.frames} warm frames")
     for name, frame in (("depth", depth_frame), ("rays", ray_frame)):
         for step in range(2):  # JIT compilation and caches
-            frame(-2 + step)
+            frame(sensor(-2 + step))
         times = []
         for step in range(args.frames):
+            camera = sensor(step + 1)  # made before the clock starts
             start = time.perf_counter()
-            frame(step + 1)
+            frame(camera)
             times.append((time.perf_counter() - start) * 1e3)
         print(f"{name}: {statistics.median(times):.1f} ms ({min(times):.1f}-{max(times):.1f})")
 

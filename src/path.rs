@@ -70,8 +70,9 @@ pub enum PathKind {
     Draw,
     /// [`FramePath::Splat`] with every glyph splatted.
     Splat,
-    /// [`FramePath::Splat`] with the visible-first splat wherever the camera holds still
-    /// (the first still frame stamps what it shows; a moving camera splats every glyph).
+    /// [`FramePath::Splat`] with the visible-first splat: the glyphs the last frame showed
+    /// first, the camera still or moving (the first frame after an upload only stamps what
+    /// it shows).
     VisibleFirst,
 }
 

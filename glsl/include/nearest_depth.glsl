@@ -28,6 +28,8 @@ bool hides_every_hit(uint held, float nearest) {
     if (!(nearest > cam.near_plane) || held == (REVERSED_Z ? 0u : 0xffffffffu)) {
         return false;
     }
-    uint bound = floatBitsToUint(clamp(depth_value(nearest), 0.0, 1.0));
-    return REVERSED_Z ? bound + 2u < held : bound > held + 2u;
+    // Bits of a depth in [0, 1] (never of -0.0, whose sign bit would order it last).
+    float depth = depth_value(nearest);
+    uint bound = depth > 0.0 ? floatBitsToUint(min(depth, 1.0)) : 0u;
+    return REVERSED_Z ? bound + 2u < held : bound > 2u && held < bound - 2u;
 }

@@ -131,6 +131,9 @@ pub struct EllipsoidRenderer {
     pub(crate) views: Vec<View>,
     /// The view the next `record_prepass` of this frame takes.
     next_view: usize,
+    /// The views the last finished frame recorded (0 until a frame has been followed by a
+    /// `begin_frame`): after that many, the next pre-pass is the next frame's first view.
+    views_per_frame: usize,
     pub(crate) scene: UploadedScene,
     /// The stamp of the last recorded pre-pass (never 0; see `gpu_layout::IndirectDraw`).
     frame_stamp: u32,
@@ -188,6 +191,7 @@ impl EllipsoidRenderer {
             buffers: SceneBuffers::default(),
             views: vec![View::default()],
             next_view: 0,
+            views_per_frame: 0,
             scene: UploadedScene {
                 chunk_limit: options.settings.max_chunk_instances,
                 ..UploadedScene::default()
@@ -228,10 +232,12 @@ impl EllipsoidRenderer {
     /// the same order every frame draws it there), else of the view the next
     /// `record_prepass` takes (after the frame's last view, the next frame's first).
     pub fn plan(&self, camera: &Camera) -> Result<FramePlan> {
-        let next = match self.views.len() {
-            0 => 0,
-            views => self.next_view % views,
+        // Before a frame has finished, the views made so far stand for the frame's.
+        let views = match self.views_per_frame {
+            0 => self.views.len(),
+            views => views,
         };
+        let next = self.next_view.checked_rem(views).unwrap_or(0);
         let view = self
             .views
             .iter()
@@ -365,6 +371,9 @@ impl EllipsoidRenderer {
             }
         }
         self.slot = slot;
+        if self.next_view > 0 {
+            self.views_per_frame = self.next_view;
+        }
         self.next_view = 0;
         for view in &mut self.views {
             view.prepared = None;

@@ -83,7 +83,7 @@ pub struct FramePlan {
     pub far_plane: bool,
     /// The kinds of path that could serve this frame (the draw always).
     pub(crate) candidates: Candidates,
-    /// The kind chosen (the visible-first splat while its first still frame only stamps).
+    /// The kind chosen (the visible-first splat while its first frame only stamps).
     pub(crate) chosen: PathKind,
     /// The frame's scene class where the plan measures, for timing it.
     pub(crate) class: Option<SceneClass>,
@@ -355,6 +355,7 @@ fn choose(
         glyphs: inputs.scene.count,
         mean_area_px: seen.mean_area_px.unwrap_or(0.0),
         hidden_area_px: seen.hidden_area_px.unwrap_or(0.0),
+        still: inputs.still,
     };
     let (guess, why) = first_guess(&sizes, &kinds);
     let estimated = (guess, PlanReason::Estimated(why));

@@ -66,7 +66,8 @@ pub enum Guess {
     LargeGlyphs,
     /// Many glyphs, small enough: the splat.
     SmallGlyphs,
-    /// Splatted, many glyphs deep, and the camera still: the visible-first splat.
+    /// Splatted, many glyphs deep, and the camera still: the visible-first splat (a moving
+    /// camera's first guess is the plain splat).
     HiddenLayers,
 }
 

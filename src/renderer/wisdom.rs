@@ -15,7 +15,9 @@ use crate::target::DeviceIdentity;
 use super::learning::{PlanLearning, SceneClass};
 
 const MAGIC: &[u8; 8] = b"ESWISDOM";
-const VERSION: u32 = 1;
+/// 2: moving cameras gained the visible-first splat as a candidate and the splat its
+/// per-pixel skip (2026-11-27), so classes learned before are timed again.
+const VERSION: u32 = 2;
 const HEADER: usize = 8 + 4 + 12 + 16 + 4;
 const ENTRY: usize = 8 + 4 + 12;
 

@@ -39,14 +39,14 @@ pub enum Method {
     /// compute pass and shaded by a resolve over the tiles they touch.
     ImpostorCompute,
     /// The shipped impostor with the visible-first splat wherever it can run
-    /// (`PlanMode::Fixed(PathKind::VisibleFirst)`; the benchmark's still frames).
+    /// (`PlanMode::Fixed(PathKind::VisibleFirst)`).
     ImpostorVisibleFirst,
     /// The shipped impostor always drawn through the rasterizer
     /// (`PlanMode::Fixed(PathKind::Draw)`).
     ImpostorDraw,
     /// The shipped impostor with every frame drawn as the first frame of its scene with its
     /// camera: no visible-first splat (the benchmark forgets what the frames before showed),
-    /// but the frame stamps what it shows, as the first still frame after a move does.
+    /// but the frame stamps what it shows, as the first frame after an upload does.
     ImpostorFirstFrame,
     /// Visibility-buffer shading of the draw: every glyph is drawn without shading into the
     /// visibility buffer, and the resolve shades each visible pixel once.

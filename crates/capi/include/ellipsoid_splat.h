@@ -175,8 +175,8 @@ typedef enum EsPathKind {
    */
   ES_PATH_KIND_SPLAT = 2,
   /**
-   * The compute splat, the glyphs the last still frame showed first wherever the camera
-   * holds still (its first still frame stamps what it shows).
+   * The compute splat, the glyphs the last frame showed first, the camera still or moving
+   * (its first frame after an upload stamps what it shows).
    */
   ES_PATH_KIND_VISIBLE_FIRST = 3,
 } EsPathKind;
@@ -195,12 +195,11 @@ typedef enum EsHiddenLayers {
   ES_HIDDEN_LAYERS_SPLAT_ALL = 1,
   /**
    * Every glyph is splatted, and those the frame shows are stamped so that the next frame
-   * with the same camera can splat them first (the visible-first splat's first still
-   * frame).
+   * can splat them first (the visible-first splat's first frame after an upload).
    */
   ES_HIDDEN_LAYERS_STAMP_SHOWN = 2,
   /**
-   * The glyphs the last still frame showed are splatted first, then of the rest only those
+   * The glyphs the last stamping frame showed are splatted first, then of the rest only those
    * their hits do not hide.
    */
   ES_HIDDEN_LAYERS_VISIBLE_FIRST = 3,
@@ -376,7 +375,7 @@ typedef struct EsFramePlan {
    */
   uint32_t setup_once;
   /**
-   * Non-zero: the glyphs the view's last still frame showed go first (`hidden_layers`
+   * Non-zero: the glyphs the view's last stamping frame showed go first (`hidden_layers`
    * is `ES_HIDDEN_LAYERS_VISIBLE_FIRST`).
    */
   uint32_t visible_first;
@@ -394,7 +393,7 @@ typedef struct EsFramePlan {
   uint32_t reversed_z;
   /**
    * The path the frame takes: an `EsPathKind` value (`ES_PATH_KIND_VISIBLE_FIRST` also for
-   * its first still frame, which stamps what it shows).
+   * its first frame after an upload, which stamps what it shows).
    */
   uint32_t path;
   /**

@@ -21,10 +21,9 @@ pub enum EsHiddenLayers {
     /// Every glyph is splatted, hidden ones too.
     SplatAll = 1,
     /// Every glyph is splatted, and those the frame shows are stamped so that the next frame
-    /// with the same camera can splat them first (the visible-first splat's first still
-    /// frame).
+    /// can splat them first (the visible-first splat's first frame after an upload).
     StampShown = 2,
-    /// The glyphs the last still frame showed are splatted first, then of the rest only those
+    /// The glyphs the last stamping frame showed are splatted first, then of the rest only those
     /// their hits do not hide.
     VisibleFirst = 3,
 }
@@ -74,7 +73,7 @@ pub struct EsFramePlan {
     pub culling_occlusion: u32,
     /// Non-zero: small glyphs are set up once by the pre-pass.
     pub setup_once: u32,
-    /// Non-zero: the glyphs the view's last still frame showed go first (`hidden_layers`
+    /// Non-zero: the glyphs the view's last stamping frame showed go first (`hidden_layers`
     /// is `ES_HIDDEN_LAYERS_VISIBLE_FIRST`).
     pub visible_first: u32,
     /// Samples the fragment stage decides per pixel (0 where it shades every sample).
@@ -84,7 +83,7 @@ pub struct EsFramePlan {
     /// Non-zero: reversed Z.
     pub reversed_z: u32,
     /// The path the frame takes: an `EsPathKind` value (`ES_PATH_KIND_VISIBLE_FIRST` also for
-    /// its first still frame, which stamps what it shows).
+    /// its first frame after an upload, which stamps what it shows).
     pub path: u32,
     /// What a splatted frame does about hidden glyphs: an `EsHiddenLayers` value
     /// (`ES_HIDDEN_LAYERS_NONE` where the frame draws).

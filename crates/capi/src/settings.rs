@@ -49,8 +49,8 @@ pub enum EsPathKind {
     /// The compute splat: the glyphs ray cast into a visibility buffer and shaded by a
     /// resolve in the host's pass; glyphs too large for it are drawn in the same frame.
     Splat = 2,
-    /// The compute splat, the glyphs the last still frame showed first wherever the camera
-    /// holds still (its first still frame stamps what it shows).
+    /// The compute splat, the glyphs the last frame showed first, the camera still or moving
+    /// (its first frame after an upload stamps what it shows).
     VisibleFirst = 3,
 }
 

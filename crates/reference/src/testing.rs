@@ -265,7 +265,7 @@ pub fn splats(plan: &FramePlan) -> bool {
 }
 
 /// Whether `plan`'s frame stamps the glyphs it shows (the visible-first splat's frames, and
-/// the first still frame before them).
+/// the first frame after an upload before them).
 pub fn stamps(plan: &FramePlan) -> bool {
     plan.path
         .splat()

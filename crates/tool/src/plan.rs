@@ -12,8 +12,8 @@ use ellipsoid_splat::{Camera, FramePlan, OffscreenRenderer, Outputs};
 pub const RENDER_LEARNING_FRAMES: usize = 40;
 
 /// The most frames `render --plan estimate|visible-first` draws before the frame it writes:
-/// the first frame's camera is not yet still, and the visible-first splat's first still frame
-/// only stamps what it shows, so the third frame is the first to splat visible first.
+/// the first frame's camera is not yet still (a class of its own for the first guess), and the
+/// visible-first splat's first frame only stamps what it shows.
 pub const RENDER_STILL_FRAMES: usize = 2;
 
 /// The most frames `bench` draws of a method whose plan measures, after its warm-up, before
@@ -63,7 +63,7 @@ impl PlanArg {
 }
 
 /// The path's name as the tool prints it: `draw`, `splat`, `visible-first`, or `splat
-/// (stamping)` for the still camera's first splat on the way to the visible-first one.
+/// (stamping)` for the first splat on the way to the visible-first one.
 pub fn path_name(path: &FramePath) -> &'static str {
     match path {
         FramePath::Draw(_) => PathKind::Draw.name(),

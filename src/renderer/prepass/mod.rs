@@ -32,8 +32,8 @@ impl EllipsoidRenderer {
     /// A frame may have several views (two eyes, several viewports, several targets): record
     /// each view's pre-pass, then each view's draw with the same camera, in any pass after
     /// them. Each call takes the frame's next view, with buffers of its own (the first after
-    /// `begin_frame` takes view 0), so record the views in the same order every frame: a
-    /// view's still camera is then recognised and its visible-first splat runs.
+    /// `begin_frame` takes view 0), so record the views in the same order every frame: each
+    /// view's visible-first splat then starts from what that view showed last.
     ///
     /// It writes the indirect command with `vkCmdUpdateBuffer`, clears the occlusion tiles
     /// with `vkCmdFillBuffer`, then runs the steps of `glsl/cull.comp`, each after a

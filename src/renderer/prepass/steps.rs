@@ -27,8 +27,7 @@ pub(crate) enum CullSelect {
     /// Every glyph the culling keeps.
     #[default]
     All = 0,
-    /// The glyphs the last stamping frame showed (a still camera's): the visible-first
-    /// splat's first pass.
+    /// The glyphs the last stamping frame showed: the visible-first splat's first pass.
     Shown = 1,
     /// The others the culling keeps, where the first pass's hits do not hide them: its
     /// second pass.

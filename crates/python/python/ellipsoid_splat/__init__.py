@@ -160,7 +160,7 @@ class Renderer:
 
         - ``path``: ``"draw"``, ``"splat"`` or ``"visible-first"``;
         - ``hidden``: what a splatted frame does about hidden glyphs -- ``"splat-all"``,
-          ``"stamp-shown"`` (the visible-first splat's first still frame, which stamps the
+          ``"stamp-shown"`` (the visible-first splat's first frame, which stamps the
           glyphs it shows) or ``"visible-first"`` (those first, then the rest they do not
           hide); ``None`` for the draw;
         - ``reason``: why, as the library's sentence (``"measured: X ms against splat Y ms"``);
