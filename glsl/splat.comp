@@ -20,7 +20,6 @@
 #include "impostor_state.glsl"
 #include "impostor_hit.glsl"
 #include "visibility.glsl"
-#include "nearest_depth.glsl"
 #include "cull_groups.glsl"
 #include "glyph_stamps.glsl"
 #include "fragment_counter.glsl"
@@ -103,8 +102,7 @@ void main() {
         }
         return;
     }
-    Instance inst = load_instance(id);
-    Setup f = setup_instance(inst);
+    Setup f = setup_instance(load_instance(id));
     if (f.culled) {
         return;
     }
@@ -157,13 +155,6 @@ void main() {
     vec2 c_ndc = image_ndc(f.centre / vec2(cam.ndc_scale_x, cam.ndc_scale_y));
     vec2 c_px = (vec2(c_ndc.x, -c_ndc.y) + 1.0) * vec2(size) * 0.5;
     vec2 a1 = f.axis1 * to_px, a2 = f.axis2 * to_px;
-    // A pixel that already holds a hit nearer than the glyph's every hit keeps it whatever the
-    // glyph's hit there: it is not ray cast (`hides_every_hit`). A key only ever moves nearer,
-    // so a stale read of one only skips less.
-    float nearest = nearest_with_gap(inst);
-    // A glyph the last frame showed (the visible-first splat's first pass) shows most of its
-    // pixels again: testing them would cost a load each and save nothing.
-    bool test_pixels = SPLAT_FLOOR == SPLAT_FLOOR_NONE && !(SPLAT_LIST && shown_last_frame(id));
     float s01 = a1.x * a1.y + a2.x * a2.y, s11 = a1.y * a1.y + a2.y * a2.y;
     float det_a = abs(a1.x * a2.y - a2.x * a1.y);
     for (int y = lo.y; y <= hi.y; y++) {
@@ -175,11 +166,6 @@ void main() {
         int x_lo = max(lo.x, int(ceil(mid - chord - 0.55)));
         int x_hi = min(hi.x, int(floor(mid + chord - 0.45)));
         for (int x = x_lo; x <= x_hi; x++) {
-            uint at = uint(y * size.x + x);
-            uint64_t held = test_pixels ? visibility[at] : visibility_empty();
-            if (hides_every_hit(uint(held >> 32), nearest)) {
-                continue;
-            }
             float z;
             vec3 normal;
             bool cap;
@@ -188,17 +174,12 @@ void main() {
                 continue;
             }
             any_hit = true;
+            uint at = uint(y * size.x + x);
             uint64_t key = visibility_key(z, scene_id);
             if (SPLAT_FLOOR == SPLAT_FLOOR_ARITHMETIC) {
                 // The ray cast without the atomic: every depth feeds a sum stored (almost
                 // never) after the loop, so the compiler cannot drop any ray cast.
                 depth_sum ^= floatBitsToUint(z) + at;
-            } else if (REVERSED_Z ? uint(key >> 32) < uint(held >> 32) : uint(key >> 32) > uint(held >> 32)) {
-                // A depth only moves nearer: a hit strictly behind the depth read loses to
-                // what is there now, and the atomic (a locked exchange loop on a CPU) is not
-                // needed. Depth words alone: a torn read of a key may pair a new depth with
-                // an old instance, which must not decide a tie.
-                continue;
             } else if (REVERSED_Z) {
                 atomicMax(visibility[at], key);
             } else {

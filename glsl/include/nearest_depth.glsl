@@ -1,9 +1,9 @@
 // The nearest view depth any hit of an instance can have, with a margin that float32 rounding
-// cannot close: the culling's occlusion tests and the splat's skip of hidden pixels compare
-// it with depths already held. Needs ellipsoid_common.glsl first.
+// cannot close: the culling's occlusion tests compare it with depths already held. Needs
+// ellipsoid_common.glsl first.
 
-// Relative depth gap that float32 rounding (in the pre-pass, the splat and the fragment
-// stage) cannot close.
+// Relative depth gap that float32 rounding (in the pre-pass and the fragment stage) cannot
+// close.
 const float DEPTH_GAP = 1e-4;
 
 // View depth of the instance's centre and its half-extent along the view axis.
