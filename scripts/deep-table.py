@@ -6,8 +6,12 @@ AOV and raw primary rays, each the median over the runs; nothing typed by hand.
     python3 scripts/deep-table.py OUT
 """
 
-import csv, re, statistics, sys
+import csv
+import re
+import statistics
+import sys
 from pathlib import Path
+
 if len(sys.argv) != 2:
     sys.exit(__doc__)
 out = Path(sys.argv[1])
@@ -37,10 +41,13 @@ print("| scene | ours still (path) | ours orbiting (path) | ray casts / visible 
 print("|---|---:|---:|---:|---:|---:|---:|---:|")
 for scene in ("lattice", "md-liquid"):
     still, orbit = ours("still", scene, "impostor", "wall_ms"), ours("orbit", scene, "impostor", "wall_ms")
+    # The plan's paths over every run (several where runs learned differently).
     paths = []
     for motion in ("still", "orbit"):
-        rows = [r for r in csv.DictReader((out / f"{motion}-run{runs}" / "results.csv").open()) if r["scene"] == scene and r["method"] == "impostor"]
-        paths.append(rows[0]["plan_path"] if rows else "?")
+        taken = sorted({r["plan_path"] for run in range(1, runs + 1)
+                        for r in csv.DictReader((out / f"{motion}-run{run}" / "results.csv").open())
+                        if r["scene"] == scene and r["method"] == "impostor"})
+        paths.append(", ".join(taken) or "?")
     casts = (ours("still", scene, "impostor", "ray_casts_per_visible_pixel"), ours("orbit", scene, "impostor", "ray_casts_per_visible_pixel"))
     floor = ours("orbit", scene, "floor-visible", "wall_ms")
     depth, rays = tracer(scene, "depth"), tracer(scene, "rays")

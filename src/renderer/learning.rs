@@ -149,7 +149,7 @@ struct ClassRecord {
     awaiting: [u32; 3],
     /// Per kind, when its first time came (the count of times recorded in this class then);
     /// `u32::MAX` before.
-    first_timed: [u32; 3],
+    first_recorded: [u32; 3],
     /// Per kind, its times recorded since another kind's last.
     since_rival: [u8; 3],
     /// Per kind, whether its times were started again after its rival's (`unbalanced`).
@@ -173,7 +173,7 @@ impl ClassRecord {
             trial: None,
             since_trial: 0,
             awaiting: [0; 3],
-            first_timed: [u32::MAX; 3],
+            first_recorded: [u32::MAX; 3],
             since_rival: [0; 3],
             timed_again: [false; 3],
             recorded: 0,
@@ -234,7 +234,7 @@ impl ClassRecord {
         };
         !self.timed_again[kind.index()]
             && self.median(rival).is_some_and(|rival_ms| rival_ms < ms)
-            && self.first_timed[kind.index()] < self.first_timed[rival.index()]
+            && self.first_recorded[kind.index()] < self.first_recorded[rival.index()]
     }
 
     /// The fastest of `candidates` timed so far (dropped ones aside).
@@ -524,7 +524,7 @@ impl PlanLearning {
         *in_flight = in_flight.saturating_sub(1);
         record.recorded = record.recorded.saturating_add(1);
         let ran = token.ran.index();
-        record.first_timed[ran] = record.first_timed[ran].min(record.recorded);
+        record.first_recorded[ran] = record.first_recorded[ran].min(record.recorded);
         if record.since_rival[ran] == 0 && record.unbalanced(token.ran) {
             // Its run after the rival's begins: the earlier times no longer count.
             record.times[ran].clear();
@@ -637,10 +637,20 @@ mod tests {
         frames: usize,
         cost: impl Fn(PathKind) -> f64,
     ) -> Vec<PathKind> {
-        let guess = (PathKind::Draw, PlanReason::Estimated(Guess::FewGlyphs));
+        run_from(learning, PathKind::Draw, frames, |kind, _| cost(kind))
+    }
+
+    /// As `run`, with `first` as the first guess and a time per kind and frame number.
+    fn run_from(
+        learning: &mut PlanLearning,
+        first: PathKind,
+        frames: usize,
+        cost: impl Fn(PathKind, usize) -> f64,
+    ) -> Vec<PathKind> {
+        let guess = (first, PlanReason::Estimated(Guess::FewGlyphs));
         let mut chosen = Vec::new();
         let mut last = None;
-        for _ in 0..frames {
+        for frame in 0..frames {
             let (kind, _) = learning.choose(&class(), &ALL, guess);
             // The visible-first splat stamps on the first frame of a run.
             let ran = match kind {
@@ -649,7 +659,7 @@ mod tests {
             };
             last = Some(kind);
             if let Some(token) = learning.commit(class(), &ALL, kind, ran) {
-                learning.record(token, cost(token.ran));
+                learning.record(token, cost(token.ran, frame));
             }
             chosen.push(kind);
         }
@@ -683,31 +693,21 @@ mod tests {
         // Each frame faster than the one before until the device is warm (a GPU's clock
         // rising; up to 20 % in all): the first guess is 6 % faster than the visible-first
         // splat at any one moment, but its first frames were timed while the device was
-        // slower (as an H200
-        // ran the 1,000,000 2 px cloud: splat 2.07 ms, visible-first 2.19, draw 9.3).
+        // slower (as an H200 ran the 1,000,000 2 px cloud: splat 2.07 ms, visible-first
+        // 2.19, draw 9.3).
         let mut failures = Vec::new();
         for drift in [0.05, 0.1, 0.2] {
             for warm_up in [4, 8, 12, 16, 24, 32, 48] {
                 let mut learning = PlanLearning::default();
-                let guess = (PathKind::Splat, PlanReason::Estimated(Guess::FewGlyphs));
-                let mut last = None;
-                for frame in 0..100usize {
-                    let (kind, _) = learning.choose(&class(), &ALL, guess);
-                    let ran = match kind {
-                        PathKind::VisibleFirst if last != Some(kind) => None,
-                        k => Some(k),
+                run_from(&mut learning, PathKind::Splat, 100, |kind, frame| {
+                    let cold = (warm_up - frame.min(warm_up)) as f64 / warm_up as f64;
+                    let cost = match kind {
+                        PathKind::Splat => 2.07,
+                        PathKind::VisibleFirst => 2.19,
+                        PathKind::Draw => 9.3,
                     };
-                    last = Some(kind);
-                    if let Some(token) = learning.commit(class(), &ALL, kind, ran) {
-                        let cold = (warm_up - frame.min(warm_up)) as f64 / warm_up as f64;
-                        let cost = match token.ran {
-                            PathKind::Splat => 2.07,
-                            PathKind::VisibleFirst => 2.19,
-                            PathKind::Draw => 9.3,
-                        };
-                        learning.record(token, cost * (1.0 + drift * cold));
-                    }
-                }
+                    cost * (1.0 + drift * cold)
+                });
                 let settled = learning.settled();
                 if settled.len() != 1 || settled[0].1 != PathKind::Splat {
                     failures.push((drift, warm_up, settled.first().map(|s| s.1)));
