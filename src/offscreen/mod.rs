@@ -12,6 +12,7 @@ pub(crate) mod sample_zero;
 mod targets;
 
 use crate::camera::Camera;
+use crate::ellipsoid::Ellipsoid;
 use crate::error::{Error, Result, VkCall};
 use crate::frame::Frame;
 use crate::gpu::queries::{FrameQueries, QueryResults};
@@ -242,6 +243,23 @@ impl OffscreenRenderer {
         let (device, allocator, renderer) = self.parts();
         // SAFETY: `cmd` is recording outside a pass; it is submitted and waited for below.
         let recorded = unsafe { renderer.upload(device, allocator, cmd, scene) };
+        // SAFETY: `cmd` is recording.
+        unsafe { device.end_command_buffer(cmd) }.call("vkEndCommandBuffer")?;
+        recorded?;
+        self.submit_and_wait()
+    }
+
+    /// Replaces glyphs `first..first + ellipsoids.len()` of the uploaded scene (the rest keep
+    /// theirs), in a submission of its own. Cheaper than [`OffscreenRenderer::upload`] for a
+    /// part of a large scene; see [`EllipsoidRenderer::update`]: the glyphs are stored
+    /// relative to the uploaded scene's origin and radius scale, so a scene updated within
+    /// its uploaded bounds and largest radius draws exactly what uploading it whole draws.
+    /// A range past the uploaded count is [`Error::Invalid`] and changes nothing.
+    pub fn update(&mut self, first: u32, ellipsoids: &[Ellipsoid]) -> Result<()> {
+        let cmd = self.begin_commands()?;
+        let (device, allocator, renderer) = self.parts();
+        // SAFETY: `cmd` is recording outside a pass; it is submitted and waited for below.
+        let recorded = unsafe { renderer.update(device, allocator, cmd, first, ellipsoids) };
         // SAFETY: `cmd` is recording.
         unsafe { device.end_command_buffer(cmd) }.call("vkEndCommandBuffer")?;
         recorded?;
