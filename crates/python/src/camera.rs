@@ -10,14 +10,15 @@ use pyo3::PyResult;
 
 use crate::errors::renderer_error;
 
-/// What the Python half passes for a camera.
-pub struct CameraArgs<'py> {
+/// What the Python half passes for a camera, copied out of NumPy (so that the camera can be
+/// made with the GIL released, beside the scene it frames).
+pub struct CameraArgs {
     pub eye: Option<[f64; 3]>,
     pub target: Option<[f64; 3]>,
     pub up: [f64; 3],
     pub fov_y: f64,
-    pub intrinsics: Option<PyReadonlyArray2<'py, f64>>,
-    pub world_to_camera: Option<PyReadonlyArray2<'py, f64>>,
+    pub intrinsics: Option<[[f64; 3]; 3]>,
+    pub world_to_camera: Option<[[f64; 4]; 4]>,
     pub width: u32,
     pub height: u32,
     pub near: Option<f64>,
@@ -35,40 +36,52 @@ fn default_near(eye: DVec3, sphere: (DVec3, f64)) -> f64 {
     }
 }
 
-impl CameraArgs<'_> {
+/// The `R x C` matrix `array` holds, or a `ValueError` naming `name`.
+pub fn matrix<const R: usize, const C: usize>(
+    name: &str,
+    array: Option<PyReadonlyArray2<'_, f64>>,
+) -> PyResult<Option<[[f64; C]; R]>> {
+    let Some(array) = array else {
+        return Ok(None);
+    };
+    let view = array.as_array();
+    if view.shape() != [R, C] {
+        return Err(PyValueError::new_err(format!(
+            "{name} has shape {:?}, expected ({R}, {C})",
+            view.shape()
+        )));
+    }
+    let mut out = [[0.0; C]; R];
+    for (i, row) in out.iter_mut().enumerate() {
+        for (j, value) in row.iter_mut().enumerate() {
+            *value = view[[i, j]];
+        }
+    }
+    Ok(Some(out))
+}
+
+impl CameraArgs {
     /// The camera; `sphere` is the scene's bounding sphere (for the framing defaults).
     pub fn camera(&self, sphere: (DVec3, f64)) -> PyResult<Camera> {
         let (width, height) = (self.width, self.height);
         let camera = match (&self.intrinsics, &self.world_to_camera) {
             (Some(k), Some(pose)) => {
-                let k = k.as_array();
-                let pose = pose.as_array();
-                if k.shape() != [3, 3] {
-                    return Err(PyValueError::new_err(format!(
-                        "intrinsics has shape {:?}, expected (3, 3)",
-                        k.shape()
-                    )));
-                }
-                if pose.shape() != [4, 4] {
-                    return Err(PyValueError::new_err(format!(
-                        "world_to_camera has shape {:?}, expected (4, 4)",
-                        pose.shape()
-                    )));
-                }
-                if k[[0, 1]] != 0.0
-                    || k[[1, 0]] != 0.0
-                    || [k[[2, 0]], k[[2, 1]], k[[2, 2]]] != [0.0, 0.0, 1.0]
+                let k = |[i, j]: [usize; 2]| k[i][j];
+                let pose = |[i, j]: [usize; 2]| pose[i][j];
+                if k([0, 1]) != 0.0
+                    || k([1, 0]) != 0.0
+                    || [k([2, 0]), k([2, 1]), k([2, 2])] != [0.0, 0.0, 1.0]
                 {
                     return Err(PyValueError::new_err(
                         "intrinsics must be [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] (no skew)",
                     ));
                 }
                 let rotation = DMat3::from_cols_array_2d(&[
-                    [pose[[0, 0]], pose[[1, 0]], pose[[2, 0]]],
-                    [pose[[0, 1]], pose[[1, 1]], pose[[2, 1]]],
-                    [pose[[0, 2]], pose[[1, 2]], pose[[2, 2]]],
+                    [pose([0, 0]), pose([1, 0]), pose([2, 0])],
+                    [pose([0, 1]), pose([1, 1]), pose([2, 1])],
+                    [pose([0, 2]), pose([1, 2]), pose([2, 2])],
                 ]);
-                let t = DVec3::new(pose[[0, 3]], pose[[1, 3]], pose[[2, 3]]);
+                let t = DVec3::new(pose([0, 3]), pose([1, 3]), pose([2, 3]));
                 let orthonormal = (rotation * rotation.transpose() - DMat3::IDENTITY)
                     .to_cols_array()
                     .iter()
@@ -79,7 +92,7 @@ impl CameraArgs<'_> {
                          determinant +1) and t finite",
                     ));
                 }
-                if [pose[[3, 0]], pose[[3, 1]], pose[[3, 2]], pose[[3, 3]]] != [0.0, 0.0, 0.0, 1.0]
+                if [pose([3, 0]), pose([3, 1]), pose([3, 2]), pose([3, 3])] != [0.0, 0.0, 0.0, 1.0]
                 {
                     return Err(PyValueError::new_err(
                         "world_to_camera's last row must be [0, 0, 0, 1]",
@@ -92,10 +105,10 @@ impl CameraArgs<'_> {
                 let down = to_world * DVec3::Y;
                 let near = self.near.unwrap_or_else(|| default_near(eye, sphere));
                 let projection = Projection::PerspectiveIntrinsics(Intrinsics {
-                    fx: k[[0, 0]],
-                    fy: k[[1, 1]],
-                    cx: k[[0, 2]],
-                    cy: k[[1, 2]],
+                    fx: k([0, 0]),
+                    fy: k([1, 1]),
+                    cx: k([0, 2]),
+                    cy: k([1, 2]),
                 });
                 Camera::new(eye, eye + forward, -down, projection, near, width, height)
             }

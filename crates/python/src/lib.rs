@@ -3,7 +3,8 @@
 //! and checks arguments (names, shapes, dtypes); this half builds the glyphs and cameras,
 //! renders with the GIL released and returns NumPy arrays. Errors become Python exceptions:
 //! `ValueError` for invalid values, `OSError` for files, `DeviceError` (a `RuntimeError`) for
-//! the device; a panic becomes a `pyo3` `PanicException`, never an abort.
+//! the device (`PoisonedError`, one of those, for a renderer an earlier call left broken). No
+//! Rust panic reaches Python: each entry point catches them as `DeviceError`.
 
 mod camera;
 mod errors;
@@ -20,7 +21,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<renderer::Renderer>()?;
     m.add_function(wrap_pyfunction!(load::load, m)?)?;
     m.add_function(wrap_pyfunction!(images::encode_png, m)?)?;
-    m.add_function(wrap_pyfunction!(images::write_exr, m)?)?;
+    m.add_function(wrap_pyfunction!(images::write_exr_f32, m)?)?;
+    m.add_function(wrap_pyfunction!(images::write_exr_u32, m)?)?;
     m.add("DeviceError", m.py().get_type::<errors::DeviceError>())?;
+    m.add("PoisonedError", m.py().get_type::<errors::PoisonedError>())?;
     Ok(())
 }

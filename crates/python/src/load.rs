@@ -10,7 +10,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::errors::loader_error;
+use crate::errors::{loader_error, no_panic};
 
 /// Loads `path` with the tool's loading options; returns a dict of `centers` (N, 3),
 /// `radii` (N, 3), `rotations` (N, 4: w, x, y, z), `colors` (N, 3) float64 arrays, `notes`
@@ -57,35 +57,34 @@ pub fn load<'py>(
             PyValueError::new_err(format!("color must be one of {names:?}, got {color:?}"))
         })?;
     let loaded = py
-        .allow_threads(|| load_file(&path, &options))
-        .map_err(loader_error)?;
+        .allow_threads(|| no_panic(|| load_file(&path, &options).map_err(loader_error)))?;
     let mut scene = loaded.scene;
     mode.apply(&mut scene.ellipsoids);
     let n = scene.len();
     let column = |f: &dyn Fn(&ellipsoid_splat::Ellipsoid) -> Vec<f64>, cols: usize| {
         let flat: Vec<f64> = scene.ellipsoids.iter().flat_map(f).collect();
-        Array2::from_shape_vec((n, cols), flat).expect("rows of equal length")
+        Array2::from_shape_vec((n, cols), flat).map_err(|e| PyValueError::new_err(e.to_string()))
     };
     let dict = PyDict::new(py);
     dict.set_item(
         "centers",
-        column(&|e| e.center.to_array().to_vec(), 3).into_pyarray(py),
+        column(&|e| e.center.to_array().to_vec(), 3)?.into_pyarray(py),
     )?;
     dict.set_item(
         "radii",
-        column(&|e| e.radii.to_array().to_vec(), 3).into_pyarray(py),
+        column(&|e| e.radii.to_array().to_vec(), 3)?.into_pyarray(py),
     )?;
     dict.set_item(
         "rotations",
         column(
             &|e| vec![e.rotation.w, e.rotation.x, e.rotation.y, e.rotation.z],
             4,
-        )
+        )?
         .into_pyarray(py),
     )?;
     dict.set_item(
         "colors",
-        column(&|e| e.color.iter().map(|&c| c as f64).collect(), 3).into_pyarray(py),
+        column(&|e| e.color.iter().map(|&c| c as f64).collect(), 3)?.into_pyarray(py),
     )?;
     dict.set_item("notes", loaded.notes)?;
     dict.set_item("skipped", loaded.skipped)?;
