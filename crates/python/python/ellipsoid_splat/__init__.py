@@ -12,23 +12,38 @@ Each frame takes one of several exact paths (the draw, the compute splat, the vi
 splat), which draw the same picture at different costs; by default the renderer times them on
 its own frames and keeps the fastest (``plan``, ``last_plan``, ``plan_wisdom``).
 
+Glyph arrays may be float64 or float32 (and integers, widened to float64): C-contiguous
+float32 and float64 arrays reach the library as they are, without a copy. ``Renderer.update``
+replaces some glyphs of the uploaded scene (their indices and any of their fields) without
+uploading the rest again.
+
+Threads: a ``Renderer`` may be used from any thread. Its calls run one at a time -- a call
+waits, without holding the GIL, for the one another thread is making -- and ``render`` (upload
+and draw) is one call, so threads drawing different scenes with one renderer each get their
+own. The device works with the GIL released: other Python threads run meanwhile, and renderers
+of their own in several threads render at once. ``upload_ms`` and ``last_plan`` describe the
+renderer's last call, whichever thread made it.
+
 A thin layer over the Rust library (the native module ``_native``): this file checks and
 shapes the arguments, the library renders (with the GIL released). Errors: ``ValueError`` for
 shapes, dtypes and values (naming the argument), ``OSError`` for files, ``DeviceError`` (a
-``RuntimeError``) for the Vulkan device.
+``RuntimeError``) for the Vulkan device and for a failure inside the library (a bug: no Rust
+panic reaches Python), after which that renderer raises ``PoisonedError`` (a ``DeviceError``)
+on every call.
 """
 
 from __future__ import annotations
 
 import os
+import threading
 from typing import Any, Optional, Sequence
 
 import numpy as np
 
 from . import _native
-from ._native import DeviceError
+from ._native import DeviceError, PoisonedError
 
-__all__ = ["Renderer", "Frame", "load", "DeviceError", "NO_GLYPH", "PLANS"]
+__all__ = ["Renderer", "Frame", "load", "DeviceError", "PoisonedError", "NO_GLYPH", "PLANS"]
 
 #: The ``id`` of a pixel where no glyph is hit.
 NO_GLYPH = 0xFFFFFFFF
@@ -45,9 +60,14 @@ def _plan(value: Any) -> str:
     return value
 
 
-def _matrix(value: Any, name: str, cols: Optional[int], dims: int = 2) -> np.ndarray:
-    """``value`` as a C-contiguous float64 array of ``dims`` dimensions, the last ``cols``
-    long (no copy when it already is one). Raises ``ValueError`` naming ``name``."""
+_FLOATS = (np.dtype(np.float64), np.dtype(np.float32))
+
+
+def _matrix(value: Any, name: str, cols: Optional[int], dims: int = 2,
+            float32: bool = False) -> np.ndarray:
+    """``value`` as a C-contiguous float64 array -- or, with ``float32``, float32 where it is
+    float32 already -- of ``dims`` dimensions, the last ``cols`` long (no copy when it already
+    is one). Raises ``ValueError`` naming ``name``."""
     try:
         array = np.asarray(value)
     except Exception as error:  # noqa: BLE001 - NumPy raises many kinds here
@@ -57,7 +77,8 @@ def _matrix(value: Any, name: str, cols: Optional[int], dims: int = 2) -> np.nda
     if array.ndim != dims or (cols is not None and array.shape[-1] != cols):
         want = ", ".join(["N"] + [str(c) for c in ([cols] if dims == 2 else [3, 3])])
         raise ValueError(f"{name} has shape {array.shape}, expected ({want})")
-    array = np.ascontiguousarray(array, dtype=np.float64)
+    keep = float32 and array.dtype in _FLOATS  # native byte order only
+    array = np.ascontiguousarray(array, dtype=array.dtype if keep else np.float64)
     if not np.isfinite(array).all():
         raise ValueError(f"{name} holds a value that is not finite")
     return array
@@ -95,7 +116,8 @@ class Frame:
     def save(self, path: "os.PathLike[str] | str", what: str = "color") -> None:
         """Writes one output as the command-line tool does: ``color`` as PNG; ``depth``
         (channel Z) and ``normal`` (R, G, B) as float32 EXR; ``id`` as a 32-bit EXR channel
-        ID or, to a ``.png``, packed little-endian into RGBA8."""
+        ID or, to a ``.png``, packed little-endian into RGBA8. EXR is written from the arrays'
+        buffers by the native writer (with the GIL released)."""
         path = os.fspath(path)
         ext = os.path.splitext(path)[1].lower()
         wants = {"color": (".png",), "depth": (".exr",), "normal": (".exr",), "id": (".exr", ".png")}
@@ -109,14 +131,14 @@ class Frame:
         elif what == "id" and ext == ".png":
             data = _native.encode_png(self.id.astype("<u4").view(np.uint8).reshape(h, w, 4))
         else:
+            # Straight from the arrays: the native writer reads NumPy's buffers.
             if what == "depth":
-                floats = [("Z", self.depth.ravel().tolist())]
+                _native.write_exr_f32(path, ["Z"], np.asarray(self.depth, dtype=np.float32))
             elif what == "normal":
-                floats = [(c, self.normal[..., k].ravel().tolist()) for k, c in enumerate("RGB")]
+                _native.write_exr_f32(path, ["R", "G", "B"],
+                                      np.asarray(self.normal, dtype=np.float32))
             else:
-                floats = []
-            uints = [("ID", self.id.ravel().tolist())] if what == "id" else []
-            _native.write_exr(path, w, h, floats, uints)
+                _native.write_exr_u32(path, "ID", np.asarray(self.id, dtype=np.uint32))
             return
         with open(path, "wb") as file:
             file.write(data)
@@ -128,7 +150,11 @@ class Renderer:
     ``validation`` turns on the Khronos validation layer: any message it reports makes the
     upload or render that caused it raise ``DeviceError``. ``device`` picks a device by index
     or name (default: a real GPU, else lavapipe). ``plan`` is how each frame's path is chosen
-    (one of ``PLANS``; every path draws the same picture)."""
+    (one of ``PLANS``; every path draws the same picture).
+
+    Any thread may use a renderer: its calls run one at a time (see the module's
+    documentation); ``render`` uploads and draws as one call. The renderer keeps the uploaded
+    glyphs (about 100 bytes each) for ``update``."""
 
     def __init__(self, validation: bool = False, device: Optional[str | int] = None, *,
                  plan: str = "measure") -> None:
@@ -136,6 +162,9 @@ class Renderer:
                                         _plan(plan))
         self._last: Optional[list] = None
         self._given: Optional[list] = None
+        # Makes ``render`` (upload and draw) and the upload cache one call for other threads;
+        # the native renderer has its own lock for each native call.
+        self._lock = threading.RLock()
         #: The Rust library's time for the last upload (building and uploading the glyphs), ms.
         self.upload_ms = 0.0
 
@@ -153,6 +182,11 @@ class Renderer:
     @plan.setter
     def plan(self, value: str) -> None:
         self._native.plan = _plan(value)
+
+    @property
+    def count(self) -> int:
+        """How many glyphs are uploaded (0 before the first upload)."""
+        return self._native.count
 
     @property
     def last_plan(self) -> Optional[dict]:
@@ -193,8 +227,15 @@ class Renderer:
         """Uploads the glyphs: ``centers`` (N, 3) with ``radii`` (N, 3) semi-axes and
         ``rotations`` (N, 4) unit quaternions (w, x, y, z; identity if omitted), or
         ``tensors`` (N, 3, 3) symmetric positive definite; ``colors`` (N, 3) in [0, 1]
-        (shape colours if omitted). Returns the glyph count."""
-        c = _matrix(centers, "centers", 3)
+        (shape colours if omitted). Each array may be float64 or float32 (the library reads
+        C-contiguous ones where they are, without a copy), or integers. Returns the glyph
+        count."""
+        with self._lock:
+            return self._upload(centers, radii, rotations, colors, tensors)
+
+    def _upload(self, centers: Any, radii: Any, rotations: Any, colors: Any,
+                tensors: Any) -> int:
+        c = _matrix(centers, "centers", 3, float32=True)
         if c.shape[0] == 0:
             raise ValueError("centers is empty: nothing to render")
         if (radii is None) == (tensors is None):
@@ -204,7 +245,7 @@ class Renderer:
         def rows(value: Any, name: str, cols: int) -> Optional[np.ndarray]:
             if value is None:
                 return None
-            array = _matrix(value, name, cols)
+            array = _matrix(value, name, cols, float32=True)
             if array.shape[0] != n:
                 raise ValueError(f"{name} has {array.shape[0]} rows, centers has {n}")
             return array
@@ -214,7 +255,7 @@ class Renderer:
         k = rows(colors, "colors", 3)
         t = None
         if tensors is not None:
-            t = _matrix(tensors, "tensors", 3, dims=3)
+            t = _matrix(tensors, "tensors", 3, dims=3, float32=True)
             if t.shape != (n, 3, 3):
                 raise ValueError(f"tensors has shape {t.shape}, expected ({n}, 3, 3)")
         if k is not None and ((k < 0).any() or (k > 1).any()):
@@ -239,6 +280,71 @@ class Renderer:
         self._given = given
         self._last = [None if a is None else a.copy() for a in arrays] if reused else None
         return count
+
+    def update(self, indices: Any, centers: Any = None, radii: Any = None,
+               rotations: Any = None, colors: Any = None) -> None:
+        """Replaces the glyphs at ``indices`` (integers, each an index of the uploaded scene,
+        none twice, in any order) in the uploaded scene: each array given has one row per
+        index -- ``centers`` (M, 3), ``radii`` (M, 3), ``rotations`` (M, 4), ``colors``
+        (M, 3), float64 or float32 as for ``upload`` -- and replaces that field; the fields
+        not given keep their values (a scene uploaded without colours keeps its shape
+        colours). The indices are written as contiguous runs, without uploading the rest.
+        A scene updated within its uploaded bounds draws exactly what uploading it whole
+        draws (glyphs moved far outside them lose some float32 precision). Raises
+        ``ValueError`` naming the argument (and the glyph) for bad input, changing nothing."""
+        with self._lock:
+            self._update(indices, centers, radii, rotations, colors)
+
+    def _update(self, indices: Any, centers: Any, radii: Any, rotations: Any,
+                colors: Any) -> None:
+        try:
+            idx = np.asarray(indices)
+        except Exception as error:  # noqa: BLE001 - NumPy raises many kinds here
+            raise ValueError(f"indices: not an array ({error})") from None
+        if idx.dtype.kind not in "iu":
+            raise ValueError(f"indices must be integers, not {idx.dtype}")
+        if idx.ndim > 1:
+            raise ValueError(f"indices has shape {idx.shape}, expected (M,)")
+        idx = idx.reshape(-1).astype(np.int64)
+        m = len(idx)
+        given = {name: value for name, value in (("centers", centers), ("radii", radii),
+                                                  ("rotations", rotations), ("colors", colors))
+                 if value is not None}
+        if not given:
+            raise ValueError("give at least one of centers, radii, rotations, colors")
+        count = self._native.count
+        if count == 0:
+            raise ValueError("nothing uploaded: call upload first")
+        arrays = {}
+        for name, value in given.items():
+            array = _matrix(value, name, 4 if name == "rotations" else 3, float32=True)
+            if array.shape[0] != m:
+                raise ValueError(f"{name} has {array.shape[0]} rows, indices has {m}")
+            arrays[name] = array
+        if "colors" in arrays and ((arrays["colors"] < 0).any() or (arrays["colors"] > 1).any()):
+            raise ValueError("colors must lie in [0, 1]")
+        if m == 0:
+            return
+        bad = (idx < 0) | (idx >= count)
+        if bad.any():
+            raise ValueError(f"indices: {idx[bad][0]} is out of range for the {count} glyphs "
+                             "uploaded")
+        if not (np.diff(idx) > 0).all():  # sort (rows with them), then refuse repeats
+            order = np.argsort(idx, kind="stable")
+            idx = idx[order]
+            arrays = {name: np.ascontiguousarray(a[order]) for name, a in arrays.items()}
+            repeated = np.flatnonzero(np.diff(idx) == 0)
+            if len(repeated):
+                raise ValueError(f"indices: {idx[repeated[0]]} appears more than once")
+        # Contiguous runs: (first index, length).
+        breaks = np.flatnonzero(np.diff(idx) != 1) + 1
+        starts = np.concatenate(([0], breaks))
+        lengths = np.diff(np.concatenate((starts, [m])))
+        runs = list(zip(idx[starts].tolist(), lengths.tolist()))
+        # The cache of the last upload no longer describes the scene.
+        self._last = self._given = None
+        self.upload_ms = self._native.update(runs, arrays.get("centers"), arrays.get("radii"),
+                                             arrays.get("rotations"), arrays.get("colors"))
 
     def render_uploaded(self, *, eye: Optional[Sequence[float]] = None,
                         target: Optional[Sequence[float]] = None,
@@ -290,9 +396,11 @@ class Renderer:
                colors: Any = None, *, tensors: Any = None, **camera: Any) -> Frame:
         """Uploads the glyphs, unless they equal the last upload's (compared value by value,
         so arrays changed in place are uploaded again), and renders them; the camera
-        arguments are ``render_uploaded``'s."""
-        self.upload(centers, radii, rotations, colors, tensors=tensors)
-        return self.render_uploaded(**camera)
+        arguments are ``render_uploaded``'s. One call for other threads: no other thread's
+        upload comes between the two."""
+        with self._lock:
+            self._upload(centers, radii, rotations, colors, tensors)
+            return self.render_uploaded(**camera)
 
 
 def load(path: "os.PathLike[str] | str", **options: Any) -> dict:
