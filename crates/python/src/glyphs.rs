@@ -82,7 +82,12 @@ impl View<'_, Ix2> {
     /// Row `i` of a (N, 4) quaternion array (w, x, y, z).
     #[inline]
     pub fn quat(&self, i: usize) -> DQuat {
-        DQuat::from_xyzw(self.at([i, 1]), self.at([i, 2]), self.at([i, 3]), self.at([i, 0]))
+        DQuat::from_xyzw(
+            self.at([i, 1]),
+            self.at([i, 2]),
+            self.at([i, 3]),
+            self.at([i, 0]),
+        )
     }
 
     /// Row `i` of a (N, 3) colour array.
@@ -112,7 +117,11 @@ pub fn shape_error(name: &str, shape: &[usize], want: &str) -> PyErr {
 /// `ValueError` unless `array` is (`rows`, `cols`).
 pub fn check_rows(name: &str, array: &View<'_, Ix2>, rows: usize, cols: usize) -> PyResult<()> {
     if array.shape() != [rows, cols] {
-        Err(shape_error(name, array.shape(), &format!("({rows}, {cols})")))
+        Err(shape_error(
+            name,
+            array.shape(),
+            &format!("({rows}, {cols})"),
+        ))
     } else {
         Ok(())
     }

@@ -1,13 +1,14 @@
 //! Pictures as files and bytes, written as the command-line tool writes them: sRGB colour
 //! PNG, float32 EXR channels (lossless), 32-bit IDs as EXR or packed into PNG.
 
+use std::fs::File;
+use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
-use exr::prelude::{
-    AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes, SmallVec,
-    WritableImage,
-};
-use numpy::ndarray::Axis;
+use exr::block::writer::ChunksWriter;
+use exr::meta::attribute::{ChannelDescription, SampleType};
+use exr::meta::header::Header;
+use exr::prelude::SmallVec;
 use numpy::{PyReadonlyArray2, PyReadonlyArray3, PyReadonlyArrayDyn};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
@@ -31,7 +32,9 @@ pub fn encode_png<'py>(
         }
         let (h, w) = (shape[0], shape[1]);
         let (Ok(h), Ok(w)) = (u32::try_from(h), u32::try_from(w)) else {
-            return Err(PyValueError::new_err(format!("the image is too large: {shape:?}")));
+            return Err(PyValueError::new_err(format!(
+                "the image is too large: {shape:?}"
+            )));
         };
         let bytes: Vec<u8> = view.iter().copied().collect();
         let mut png = Vec::new();
@@ -50,8 +53,8 @@ pub fn encode_png<'py>(
 }
 
 /// Writes a float32 image as EXR channels `names`: `array` is (H, W) with one name or
-/// (H, W, C) with C names (R, G, B for normals), read straight from NumPy; the file is
-/// written with the GIL released.
+/// (H, W, C) with C names (R, G, B for normals), copied straight out of NumPy's buffer; the
+/// file is compressed and written with the GIL released.
 #[pyfunction]
 pub fn write_exr_f32(
     py: Python<'_>,
@@ -70,22 +73,22 @@ pub fn write_exr_f32(
         }
     };
     check(&names, channels)?;
-    let samples: Vec<Vec<f32>> = if view.ndim() == 2 {
-        vec![view.iter().copied().collect()]
-    } else {
-        (0..channels)
-            .map(|c| view.index_axis(Axis(2), c).iter().copied().collect())
-            .collect()
+    // Row-major (H, W, C) bits; one copy, a memcpy for a C-contiguous array.
+    let bits: Vec<u32> = match view.as_slice() {
+        Some(slice) => slice.iter().map(|v| v.to_bits()).collect(),
+        None => view.iter().map(|v| v.to_bits()).collect(),
     };
-    let channels = names
-        .iter()
-        .zip(samples)
-        .map(|(name, samples)| AnyChannel::new(name.as_str(), FlatSamples::F32(samples)))
-        .collect();
-    py.allow_threads(|| no_panic(|| write_exr(&path, width, height, channels)))
+    let image = Samples {
+        width,
+        height,
+        names,
+        sample_type: SampleType::F32,
+        bits,
+    };
+    py.allow_threads(|| no_panic(|| image.write(&path)))
 }
 
-/// Writes a uint32 (H, W) image as the EXR channel `name`, read straight from NumPy.
+/// Writes a uint32 (H, W) image as the EXR channel `name`, copied straight out of NumPy.
 #[pyfunction]
 pub fn write_exr_u32(
     py: Python<'_>,
@@ -95,33 +98,90 @@ pub fn write_exr_u32(
 ) -> PyResult<()> {
     let view = array.as_array();
     let (height, width) = view.dim();
-    let samples = FlatSamples::U32(view.iter().copied().collect());
-    let channels = vec![AnyChannel::new(name.as_str(), samples)];
-    py.allow_threads(|| no_panic(|| write_exr(&path, width, height, channels)))
+    let bits: Vec<u32> = match view.as_slice() {
+        Some(slice) => slice.to_vec(),
+        None => view.iter().copied().collect(),
+    };
+    let image = Samples {
+        width,
+        height,
+        names: vec![name],
+        sample_type: SampleType::U32,
+        bits,
+    };
+    py.allow_threads(|| no_panic(|| image.write(&path)))
 }
 
-/// Writes `channels` of a `width x height` image, lossless, as the command-line tool does.
-fn write_exr(
-    path: &Path,
+/// A row-major (height, width, channels) image of 32-bit samples.
+struct Samples {
     width: usize,
     height: usize,
-    channels: Vec<AnyChannel<FlatSamples>>,
-) -> PyResult<()> {
-    if width == 0 || height == 0 {
-        return Err(PyValueError::new_err(format!(
-            "the image is {width} x {height}: nothing to write"
-        )));
+    /// One per channel, in the samples' order.
+    names: Vec<String>,
+    sample_type: SampleType,
+    /// The samples' bits (float32 or uint32), `names.len()` per pixel.
+    bits: Vec<u32>,
+}
+
+impl Samples {
+    /// Writes the image as an EXR file with the `exr` crate's block writer, encoded as the
+    /// command-line tool encodes it (lossless: RLE in 64 x 64 tiles; `Header::new`'s
+    /// encoding, the crate's `Encoding::FAST_LOSSLESS`). Each block's bytes are gathered
+    /// from the samples directly, not sample by sample through the crate's image model,
+    /// and compressed in parallel.
+    fn write(&self, path: &Path) -> PyResult<()> {
+        let (width, height, count) = (self.width, self.height, self.names.len());
+        if width == 0 || height == 0 {
+            return Err(PyValueError::new_err(format!(
+                "the image is {width} x {height}: nothing to write"
+            )));
+        }
+        if self.bits.len() != width * height * count {
+            return Err(PyValueError::new_err(format!(
+                "{} samples for a {width} x {height} image of {count} channels",
+                self.bits.len()
+            )));
+        }
+        // EXR lists channels by name, and stores each line's samples channel by channel in
+        // that order.
+        let mut order: Vec<usize> = (0..count).collect();
+        order.sort_by(|&a, &b| self.names[a].cmp(&self.names[b]));
+        let channels = order
+            .iter()
+            .map(|&c| ChannelDescription::named(self.names[c].as_str(), self.sample_type))
+            .collect();
+        let header = Header::new("ellipsoid-splat".into(), (width, height), channels);
+        let failed = |e: exr::error::Error| PyOSError::new_err(format!("{}: {e}", path.display()));
+        let file = File::create(path)
+            .map_err(|e| PyOSError::new_err(format!("{}: {e}", path.display())))?;
+        exr::block::write(
+            BufWriter::new(file),
+            SmallVec::from_vec(vec![header]),
+            true,
+            |meta, writer| {
+                let blocks = meta.collect_ordered_block_data(|block| {
+                    let (x0, y0) = (block.pixel_position.x(), block.pixel_position.y());
+                    let (w, h) = (block.pixel_size.x(), block.pixel_size.y());
+                    let mut data = vec![0u8; w * h * count * 4];
+                    let mut out = data.chunks_exact_mut(4);
+                    for y in y0..y0 + h {
+                        let row =
+                            &self.bits[(y * width + x0) * count..(y * width + x0 + w) * count];
+                        for &c in &order {
+                            for (bytes, v) in (&mut out).zip(row.iter().skip(c).step_by(count)) {
+                                bytes.copy_from_slice(&v.to_ne_bytes());
+                            }
+                        }
+                    }
+                    data
+                });
+                writer
+                    .on_progress(|_| ())
+                    .compress_all_blocks_parallel(&meta, blocks)
+            },
+        )
+        .map_err(failed)
     }
-    let layer = Layer::new(
-        (width, height),
-        LayerAttributes::named("ellipsoid-splat"),
-        Encoding::FAST_LOSSLESS,
-        AnyChannels::sort(SmallVec::from_vec(channels)),
-    );
-    Image::from_layer(layer)
-        .write()
-        .to_file(path)
-        .map_err(|e| PyOSError::new_err(format!("{}: {e}", path.display())))
 }
 
 fn check(names: &[String], channels: usize) -> PyResult<()> {

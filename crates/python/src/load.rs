@@ -56,8 +56,8 @@ pub fn load<'py>(
             let names: Vec<&str> = ColorMode::ALL.iter().map(|m| m.name()).collect();
             PyValueError::new_err(format!("color must be one of {names:?}, got {color:?}"))
         })?;
-    let loaded = py
-        .allow_threads(|| no_panic(|| load_file(&path, &options).map_err(loader_error)))?;
+    let loaded =
+        py.allow_threads(|| no_panic(|| load_file(&path, &options).map_err(loader_error)))?;
     let mut scene = loaded.scene;
     mode.apply(&mut scene.ellipsoids);
     let n = scene.len();

@@ -190,7 +190,8 @@ impl Renderer {
             tensors,
         };
         // The arrays are read with the GIL held: no other Python thread changes them meanwhile.
-        let (scene, addresses) = no_panic(|| Ok((Scene::new(arrays.ellipsoids()?), arrays.addresses())))?;
+        let (scene, addresses) =
+            no_panic(|| Ok((Scene::new(arrays.ellipsoids()?), arrays.addresses())))?;
         let shape_colors = arrays.colors.is_none();
         let sphere = scene
             .bounding_sphere()
@@ -255,9 +256,9 @@ impl Renderer {
                     for j in 0..len as usize {
                         let index = run_first as usize + j;
                         let slot = &mut glyphs[index - first as usize];
-                        *slot = changes.apply(slot, row + j, shape_colors).map_err(|e| {
-                            PyValueError::new_err(format!("glyph {index}: {e}"))
-                        })?;
+                        *slot = changes
+                            .apply(slot, row + j, shape_colors)
+                            .map_err(|e| PyValueError::new_err(format!("glyph {index}: {e}")))?;
                     }
                 }
                 written.push((first, glyphs));
