@@ -168,7 +168,8 @@ impl Samples {
                         let row =
                             &self.bits[(y * width + x0) * count..(y * width + x0 + w) * count];
                         for &c in &order {
-                            for (bytes, v) in (&mut out).zip(row.iter().skip(c).step_by(count)) {
+                            // The row's samples first: `zip` takes from its first iterator first.
+                            for (v, bytes) in row.iter().skip(c).step_by(count).zip(&mut out) {
                                 bytes.copy_from_slice(&v.to_ne_bytes());
                             }
                         }

@@ -301,7 +301,7 @@ class Renderer:
             idx = np.asarray(indices)
         except Exception as error:  # noqa: BLE001 - NumPy raises many kinds here
             raise ValueError(f"indices: not an array ({error})") from None
-        if idx.dtype.kind not in "iu":
+        if idx.dtype.kind not in "iu" and not (idx.size == 0 and idx.dtype.kind == "f"):
             raise ValueError(f"indices must be integers, not {idx.dtype}")
         if idx.ndim > 1:
             raise ValueError(f"indices has shape {idx.shape}, expected (M,)")
