@@ -25,8 +25,13 @@ fn a_partly_updated_scene_draws_what_uploading_it_whole_draws() {
     // updates below (inside the cloud, smaller) keep the scene's origin and radius scale.
     for corner in [-4.5, 4.5] {
         ellipsoids.push(
-            Ellipsoid::new(DVec3::splat(corner), DVec3::splat(0.9), DQuat::IDENTITY, None)
-                .expect("corner glyph"),
+            Ellipsoid::new(
+                DVec3::splat(corner),
+                DVec3::splat(0.9),
+                DQuat::IDENTITY,
+                None,
+            )
+            .expect("corner glyph"),
         );
     }
     let before = Scene::new(ellipsoids.clone());
@@ -45,7 +50,11 @@ fn a_partly_updated_scene_draws_what_uploading_it_whole_draws() {
         updated[k] = changed(&ellipsoids[k], k);
     }
     let after = Scene::new(updated.clone());
-    assert_eq!(before.bounds(), after.bounds(), "the updates keep the bounds");
+    assert_eq!(
+        before.bounds(),
+        after.bounds(),
+        "the updates keep the bounds"
+    );
 
     let camera = Camera::look_at(DVec3::new(1.0, 2.0, 11.0), DVec3::ZERO, 50.0, 0.5, 160, 120)
         .expect("camera");
@@ -62,15 +71,14 @@ fn a_partly_updated_scene_draws_what_uploading_it_whole_draws() {
         .expect("update 250");
     // Past the end: refused, nothing changes.
     let refused = renderer.update(401, &updated[100..102]);
-    assert!(
-        matches!(refused, Err(Error::Invalid { .. })),
-        "{refused:?}"
-    );
+    assert!(matches!(refused, Err(Error::Invalid { .. })), "{refused:?}");
     renderer.update(10, &[]).expect("an empty update");
     let (partial, _) = renderer
         .render_uploaded(&camera, Outputs::ALL)
         .expect("frame after the update");
-    renderer.upload(&after).expect("upload of the updated scene");
+    renderer
+        .upload(&after)
+        .expect("upload of the updated scene");
     let (whole, _) = renderer
         .render_uploaded(&camera, Outputs::ALL)
         .expect("frame of the whole updated scene");

@@ -116,20 +116,32 @@ fn frame_arrays(py: Python<'_>, frame: Frame, ms: f64) -> PyResult<FrameArrays<'
     ))
 }
 
+/// A range an update writes: glyphs `first..end`, holding the update's `runs` (first index,
+/// length, the offset of the run's first row in the update's rows); the glyphs between runs
+/// are written again with their own values.
+struct Span {
+    first: u32,
+    end: u32,
+    runs: Vec<(u32, u32, usize)>,
+}
+
 /// The spans an update writes: its runs (first index, length; sorted, apart), those at most
-/// `MERGE_GAP` apart merged. Each span is (first, last + 1, the runs in it as (first, length,
-/// offset of the run's first row in the update's rows)).
-fn spans(runs: &[(u32, u32)]) -> Vec<(u32, u32, Vec<(u32, u32, usize)>)> {
-    let mut spans: Vec<(u32, u32, Vec<(u32, u32, usize)>)> = Vec::new();
+/// `MERGE_GAP` apart merged.
+fn spans(runs: &[(u32, u32)]) -> Vec<Span> {
+    let mut spans: Vec<Span> = Vec::new();
     let mut row = 0;
     for &(first, len) in runs {
         let end = first + len;
         match spans.last_mut() {
-            Some((_, span_end, inside)) if first - *span_end <= MERGE_GAP => {
-                *span_end = end;
-                inside.push((first, len, row));
+            Some(span) if first - span.end <= MERGE_GAP => {
+                span.end = end;
+                span.runs.push((first, len, row));
             }
-            _ => spans.push((first, end, vec![(first, len, row)])),
+            _ => spans.push(Span {
+                first,
+                end,
+                runs: vec![(first, len, row)],
+            }),
         }
         row += len as usize;
     }
@@ -250,9 +262,9 @@ impl Renderer {
             // Every new glyph first: an invalid one changes nothing.
             let spans = spans(&runs);
             let mut written: Vec<(u32, Vec<Ellipsoid>)> = Vec::with_capacity(spans.len());
-            for (first, end, inside) in spans {
+            for Span { first, end, runs } in spans {
                 let mut glyphs = scene.ellipsoids[first as usize..end as usize].to_vec();
-                for (run_first, len, row) in inside {
+                for (run_first, len, row) in runs {
                     for j in 0..len as usize {
                         let index = run_first as usize + j;
                         let slot = &mut glyphs[index - first as usize];
