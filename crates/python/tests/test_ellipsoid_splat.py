@@ -49,8 +49,8 @@ def test_frames_equal_the_rust_api_byte_for_byte(renderer, tmp_path):
     assert frame.depth.astype("<f4").tobytes() == read("depth")
     assert frame.normal.astype("<f4").tobytes() == read("normal")
     assert frame.id.astype("<u4").tobytes() == read("id")
-    # Float32 input is the same glyphs.
-    # Float32 arrays are accepted (and widened): the same glyphs to float32's precision.
+    # Float32 arrays are accepted (read in place, widened value by value): the same glyphs to
+    # float32's precision.
     again = renderer.render(scene["centers"].astype(np.float32), scene["radii"].astype(np.float32),
                             scene["rotations"], scene["colors"], **camera)
     assert (again.id == frame.id).mean() > 0.99

@@ -271,6 +271,7 @@ class Renderer:
         if self._last is not None and all(same(a, b) for a, b in zip(arrays, self._last)):
             self.upload_ms = 0.0
             return n  # the same glyphs are on the GPU already
+        self._last = None  # a failed upload leaves no scene to compare with
         count, self.upload_ms = self._native.upload(c, r, q, k, t)
         # A caller that passes the same array objects again may change them in place in
         # between: from then on a copy is kept to compare with. A caller with new arrays each
