@@ -165,7 +165,8 @@ class Renderer:
         # Makes ``render`` (upload and draw) and the upload cache one call for other threads;
         # the native renderer has its own lock for each native call.
         self._lock = threading.RLock()
-        #: The Rust library's time for the last upload (building and uploading the glyphs), ms.
+        #: The Rust library's time for the last upload or update (building and uploading the
+        #: glyphs), ms.
         self.upload_ms = 0.0
 
     @property
