@@ -5,7 +5,9 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
+use exr::block::chunk::Chunk;
 use exr::block::writer::ChunksWriter;
+use exr::block::{BlockIndex, UncompressedBlock};
 use exr::meta::attribute::{ChannelDescription, SampleType};
 use exr::meta::header::Header;
 use exr::prelude::SmallVec;
@@ -154,33 +156,51 @@ impl Samples {
         let failed = |e: exr::error::Error| PyOSError::new_err(format!("{}: {e}", path.display()));
         let file = File::create(path)
             .map_err(|e| PyOSError::new_err(format!("{}: {e}", path.display())))?;
-        exr::block::write(
-            BufWriter::new(file),
-            SmallVec::from_vec(vec![header]),
-            true,
-            |meta, writer| {
-                let blocks = meta.collect_ordered_block_data(|block| {
-                    let (x0, y0) = (block.pixel_position.x(), block.pixel_position.y());
-                    let (w, h) = (block.pixel_size.x(), block.pixel_size.y());
-                    let mut data = vec![0u8; w * h * count * 4];
-                    let mut out = data.chunks_exact_mut(4);
-                    for y in y0..y0 + h {
-                        let row =
-                            &self.bits[(y * width + x0) * count..(y * width + x0 + w) * count];
-                        for &c in &order {
-                            // The row's samples first: `zip` takes from its first iterator first.
-                            for (v, bytes) in row.iter().skip(c).step_by(count).zip(&mut out) {
-                                bytes.copy_from_slice(&v.to_ne_bytes());
-                            }
-                        }
+        let headers: exr::meta::Headers = SmallVec::from_vec(vec![header]);
+        let blocks: Vec<(usize, BlockIndex)> =
+            exr::block::enumerate_ordered_header_block_indices(&headers).collect();
+        // One tile's chunk: its lines, each channel's samples in turn, compressed by the crate.
+        let chunk = |&(_, block): &(usize, BlockIndex)| {
+            let (x0, y0) = (block.pixel_position.x(), block.pixel_position.y());
+            let (w, h) = (block.pixel_size.x(), block.pixel_size.y());
+            let mut data = vec![0u8; w * h * count * 4];
+            let mut out = data.chunks_exact_mut(4);
+            for y in y0..y0 + h {
+                let row = &self.bits[(y * width + x0) * count..(y * width + x0 + w) * count];
+                for &c in &order {
+                    // The row's samples first: `zip` takes from its first iterator first.
+                    for (v, bytes) in row.iter().skip(c).step_by(count).zip(&mut out) {
+                        bytes.copy_from_slice(&v.to_ne_bytes());
                     }
-                    data
-                });
-                writer
-                    .on_progress(|_| ())
-                    .compress_all_blocks_parallel(&meta, blocks)
-            },
-        )
+                }
+            }
+            UncompressedBlock { index: block, data }.compress_to_chunk(&headers)
+        };
+        // A share of the tiles for each core, in threads of their own (no queue per tile).
+        let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let share = blocks.len().div_ceil(workers).max(1);
+        let chunks: Vec<exr::error::Result<Chunk>> = std::thread::scope(|scope| {
+            let parts: Vec<_> = blocks
+                .chunks(share)
+                .map(|part| scope.spawn(move || part.iter().map(chunk).collect::<Vec<_>>()))
+                .collect();
+            parts
+                .into_iter()
+                .flat_map(|part| part.join().unwrap_or_default())
+                .collect()
+        });
+        if chunks.len() != blocks.len() {
+            return Err(PyOSError::new_err(format!(
+                "{}: a thread compressing the tiles failed",
+                path.display()
+            )));
+        }
+        exr::block::write(BufWriter::new(file), headers.clone(), true, |_, writer| {
+            for ((index, _), chunk) in blocks.iter().zip(chunks) {
+                writer.write_chunk(*index, chunk?)?;
+            }
+            Ok(())
+        })
         .map_err(failed)
     }
 }
