@@ -75,17 +75,17 @@ pub fn write_exr_f32(
         }
     };
     check(&names, channels)?;
-    // Row-major (H, W, C) bits; one copy, a memcpy for a C-contiguous array.
-    let bits: Vec<u32> = match view.as_slice() {
-        Some(slice) => slice.iter().map(|v| v.to_bits()).collect(),
-        None => view.iter().map(|v| v.to_bits()).collect(),
+    // Row-major (H, W, C); one copy, a memcpy for a C-contiguous array.
+    let values: Vec<f32> = match view.as_slice() {
+        Some(slice) => slice.to_vec(),
+        None => view.iter().copied().collect(),
     };
     let image = Samples {
         width,
         height,
         names,
         sample_type: SampleType::F32,
-        bits,
+        values,
     };
     py.allow_threads(|| no_panic(|| image.write(&path)))
 }
@@ -100,7 +100,7 @@ pub fn write_exr_u32(
 ) -> PyResult<()> {
     let view = array.as_array();
     let (height, width) = view.dim();
-    let bits: Vec<u32> = match view.as_slice() {
+    let values: Vec<u32> = match view.as_slice() {
         Some(slice) => slice.to_vec(),
         None => view.iter().copied().collect(),
     };
@@ -109,28 +109,46 @@ pub fn write_exr_u32(
         height,
         names: vec![name],
         sample_type: SampleType::U32,
-        bits,
+        values,
     };
     py.allow_threads(|| no_panic(|| image.write(&path)))
 }
 
 /// A row-major (height, width, channels) image of 32-bit samples.
-struct Samples {
+struct Samples<T> {
     width: usize,
     height: usize,
     /// One per channel, in the samples' order.
     names: Vec<String>,
     sample_type: SampleType,
-    /// The samples' bits (float32 or uint32), `names.len()` per pixel.
-    bits: Vec<u32>,
+    /// The samples, `names.len()` per pixel.
+    values: Vec<T>,
 }
 
-impl Samples {
+/// A 32-bit sample (float32 or uint32) as the file stores it.
+trait Sample: Copy + Sync {
+    fn ne_bytes(self) -> [u8; 4];
+}
+
+impl Sample for f32 {
+    fn ne_bytes(self) -> [u8; 4] {
+        self.to_ne_bytes()
+    }
+}
+
+impl Sample for u32 {
+    fn ne_bytes(self) -> [u8; 4] {
+        self.to_ne_bytes()
+    }
+}
+
+impl<T: Sample> Samples<T> {
     /// Writes the image as an EXR file with the `exr` crate's block writer, encoded as the
     /// command-line tool encodes it (lossless: RLE in 64 x 64 tiles; `Header::new`'s
-    /// encoding, the crate's `Encoding::FAST_LOSSLESS`). Each block's bytes are gathered
-    /// from the samples directly, not sample by sample through the crate's image model,
-    /// and compressed in parallel.
+    /// encoding, the crate's `Encoding::FAST_LOSSLESS`). Each tile's bytes are gathered
+    /// from the samples directly, not sample by sample through the crate's image model, and
+    /// compressed by the crate, a share of the tiles on each core; the chunks are then
+    /// written in order.
     fn write(&self, path: &Path) -> PyResult<()> {
         let (width, height, count) = (self.width, self.height, self.names.len());
         if width == 0 || height == 0 {
@@ -138,10 +156,10 @@ impl Samples {
                 "the image is {width} x {height}: nothing to write"
             )));
         }
-        if self.bits.len() != width * height * count {
+        if self.values.len() != width * height * count {
             return Err(PyValueError::new_err(format!(
                 "{} samples for a {width} x {height} image of {count} channels",
-                self.bits.len()
+                self.values.len()
             )));
         }
         // EXR lists channels by name, and stores each line's samples channel by channel in
@@ -166,11 +184,11 @@ impl Samples {
             let mut data = vec![0u8; w * h * count * 4];
             let mut out = data.chunks_exact_mut(4);
             for y in y0..y0 + h {
-                let row = &self.bits[(y * width + x0) * count..(y * width + x0 + w) * count];
+                let row = &self.values[(y * width + x0) * count..(y * width + x0 + w) * count];
                 for &c in &order {
                     // The row's samples first: `zip` takes from its first iterator first.
                     for (v, bytes) in row.iter().skip(c).step_by(count).zip(&mut out) {
-                        bytes.copy_from_slice(&v.to_ne_bytes());
+                        bytes.copy_from_slice(&v.ne_bytes());
                     }
                 }
             }
@@ -195,12 +213,17 @@ impl Samples {
                 path.display()
             )));
         }
-        exr::block::write(BufWriter::new(file), headers.clone(), true, |_, writer| {
-            for ((index, _), chunk) in blocks.iter().zip(chunks) {
-                writer.write_chunk(*index, chunk?)?;
-            }
-            Ok(())
-        })
+        exr::block::write(
+            BufWriter::with_capacity(1 << 20, file),
+            headers.clone(),
+            true,
+            |_, writer| {
+                for ((index, _), chunk) in blocks.iter().zip(chunks) {
+                    writer.write_chunk(*index, chunk?)?;
+                }
+                Ok(())
+            },
+        )
         .map_err(failed)
     }
 }
