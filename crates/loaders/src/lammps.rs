@@ -270,9 +270,7 @@ impl Header {
             ));
         }
         let mut used = vec![false; COLUMNS.len()];
-        for c in position.0..position.0 + 3 {
-            used[c] = true;
-        }
+        used[position.0..position.0 + 3].fill(true);
         used[ID] = true;
         used[TYPE] = true;
         if shape {

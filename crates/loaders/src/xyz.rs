@@ -149,9 +149,12 @@ pub(crate) fn scan(bytes: &[u8], file: &Path) -> Result<Vec<Span>> {
     Ok(spans)
 }
 
+/// A `key=value` pair of a comment line.
+type KeyValue<'a> = (&'a [u8], &'a [u8]);
+
 /// The `key=value` pairs of a comment line; a key without `=` is a flag (value `T`). Quotes
 /// and braces are removed from values.
-fn comment_keys(line: &[u8]) -> std::result::Result<Vec<(&[u8], &[u8])>, String> {
+fn comment_keys(line: &[u8]) -> std::result::Result<Vec<KeyValue<'_>>, String> {
     let mut keys = Vec::new();
     let mut i = 0;
     let space = |b: u8| b.is_ascii_whitespace();
@@ -216,7 +219,7 @@ fn comment_keys(line: &[u8]) -> std::result::Result<Vec<(&[u8], &[u8])>, String>
 }
 
 /// The value of `key` (case-insensitive), the last if repeated.
-fn key_value<'a>(keys: &[(&[u8], &'a [u8])], key: &str) -> Option<&'a [u8]> {
+fn key_value<'a>(keys: &[KeyValue<'a>], key: &str) -> Option<&'a [u8]> {
     keys.iter()
         .rev()
         .find(|(k, _)| k.eq_ignore_ascii_case(key.as_bytes()))
@@ -224,7 +227,7 @@ fn key_value<'a>(keys: &[(&[u8], &'a [u8])], key: &str) -> Option<&'a [u8]> {
 }
 
 /// The frame's timestep: `Timestep=`, else `step=`, else `time=` if it is an integer.
-fn timestep_of(keys: &[(&[u8], &[u8])]) -> Option<i64> {
+fn timestep_of(keys: &[KeyValue]) -> Option<i64> {
     ["timestep", "step", "time"]
         .iter()
         .find_map(|k| key_value(keys, k).and_then(|v| integer(v.trim_ascii()).ok()))
