@@ -168,9 +168,11 @@ pub fn detect_format(path: &Path) -> Result<Format> {
         (".xyz", Format::ExtendedXyz),
         (".extxyz", Format::ExtendedXyz),
     ];
-    // A gzipped particle file keeps its format's extension before `.gz`.
+    // A gzipped particle file keeps its format's extension before `.gz` (the other loaders,
+    // but NIfTI's `.nii.gz`, read no gzip).
+    let particles = [".lammpstrj", ".dump", ".lammpsdump", ".xyz", ".extxyz"];
     let name = match name.strip_suffix(".gz") {
-        Some(inner) if !inner.ends_with(".nii") => inner.to_string(),
+        Some(inner) if particles.iter().any(|ext| inner.ends_with(ext)) => inner.to_string(),
         _ => name,
     };
     if let Some((_, format)) = by_extension.iter().find(|(ext, _)| name.ends_with(ext)) {

@@ -422,7 +422,8 @@ pub(crate) fn type_color(options: &LoadOptions, t: i64) -> [f32; 3] {
         &options.type_colors
     };
     // Types count from 1; 0 and negative types still get a colour.
-    palette[(t - 1).rem_euclid(palette.len() as i64) as usize]
+    // i128: `t - 1` cannot overflow for any i64 type.
+    palette[(i128::from(t) - 1).rem_euclid(palette.len() as i128) as usize]
 }
 
 /// One particle as read: its size as semi-axes, or a zero shape to be sized by a radius.

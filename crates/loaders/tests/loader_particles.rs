@@ -336,6 +336,28 @@ fn types_cycle_through_the_palette_or_the_users_colours() {
     let loaded = lammps_with(&text, &user).unwrap();
     assert_eq!(loaded.scene.ellipsoids[2].color, [1.0, 0.0, 0.0]);
     assert_eq!(loaded.scene.ellipsoids[3].color, [0.0, 0.0, 1.0]);
+    // Any integer type has a colour: 0, negative, the extremes.
+    let odd = lammps(&dump(
+        0,
+        &[
+            "1 0 0 0 0 1",
+            "2 -1 0 0 0 1",
+            "3 -9223372036854775808 0 0 0 1",
+            "4 9223372036854775807 0 0 0 1",
+        ],
+        "id type x y z radius",
+    ));
+    let colors: Vec<[f32; 3]> = odd.scene.ellipsoids.iter().map(|e| e.color).collect();
+    // (t - 1) mod 10: 9, 8, 1 (-2^63 - 1 = -9223372036854775809), 6 (2^63 - 2).
+    assert_eq!(
+        colors,
+        [
+            TYPE_PALETTE[9],
+            TYPE_PALETTE[8],
+            TYPE_PALETTE[1],
+            TYPE_PALETTE[6]
+        ]
+    );
     let bad = options(|o| o.type_colors = vec![[2.0, 0.0, 0.0]]);
     assert!(matches!(
         lammps_with(&text, &bad),
