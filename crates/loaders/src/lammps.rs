@@ -8,7 +8,8 @@
 //! - `ITEM: NUMBER OF ATOMS` and the count;
 //! - `ITEM: BOX BOUNDS` and three lines: `lo hi` per axis for an orthogonal box, or, with
 //!   `xy xz yz` after `BOUNDS`, `lo_bound hi_bound tilt` per axis for a triclinic one (see
-//!   [`Cell`]); only needed for scaled coordinates;
+//!   [`Cell`]); only needed for scaled coordinates. A general triclinic box (`abc origin`,
+//!   `dump_modify triclinic/general yes`) is an error;
 //! - `ITEM: ATOMS` and the column names, then one line per atom;
 //! - other items (`ITEM: UNITS`, `ITEM: TIME`) are skipped with their values.
 //!
