@@ -316,12 +316,85 @@ def cif_seeds():
     write("mmcif", "loop-count-mismatch.cif", small.replace("1 N 0.0479", "1 N", 1))
 
 
+# ---------------------------------------------------------------------------------------------
+# LAMMPS dump and extended XYZ
+# ---------------------------------------------------------------------------------------------
+
+
+def dump_frame(step, atoms, columns, box="ITEM: BOX BOUNDS pp pp pp\n0 10\n0 10\n0 10\n"):
+    return (f"ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n{len(atoms)}\n{box}"
+            f"ITEM: ATOMS {columns}\n" + "".join(a + "\n" for a in atoms))
+
+
+def lammps_seeds():
+    for f in sorted(SAMPLES.glob("*.lammpstrj")):
+        data = f.read_bytes()
+        # The first two frames: the sample is larger than a seed should be.
+        cut = data.split(b"ITEM: TIMESTEP")
+        head = b"ITEM: TIMESTEP" + b"ITEM: TIMESTEP".join(cut[1:3])
+        write("lammps", f"sample-{f.name}-2frames", head[:MAX_SEED])
+        write("lammps", f"sample-{f.name}-2frames.gz", gzip.compress(head[:MAX_SEED], mtime=0))
+    ell = "id type x y z shapex shapey shapez quatw quati quatj quatk"
+    good = dump_frame(0, ["2 1 1 2 3 3 1 1 0.7071 0 0 0.7071", "1 2 4 4 4 1 1 1 1 0 0 0"], ell)
+    write("lammps", "ellipsoids.lammpstrj", good)
+    write("lammps", "two-frames.lammpstrj", good + good.replace("TIMESTEP\n0", "TIMESTEP\n100"))
+    write("lammps", "units-time.lammpstrj", "ITEM: UNITS\nlj\nITEM: TIME\n0.5\n" + good)
+    write("lammps", "spheres.lammpstrj", dump_frame(3, ["1 1 0 0 0 0.5", "2 1 1 1 1 0.25"],
+                                                    "id type xu yu zu radius vx"))
+    write("lammps", "diameter.lammpstrj", dump_frame(3, ["1 1 0 0 0 0.5"], "id type x y z diameter"))
+    tri = "ITEM: BOX BOUNDS xy xz yz pp pp pp\n0 13 2\n2 11.5 -1\n-3 3 1.5\n"
+    write("lammps", "triclinic-scaled.lammpstrj",
+          dump_frame(1, ["1 1 0.5 0.5 0.5 1", "2 2 0 0 0 1"], "id type xs ys zs radius", tri))
+    write("lammps", "c-shape.lammpstrj", dump_frame(0, ["1 1 0 0 0 2 1 1 1 0 0 0"],
+          "id type x y z c_shape[1] c_shape[2] c_shape[3] c_orient[1] c_orient[2] c_orient[3] c_orient[4]"))
+    write("lammps", "point-particles.lammpstrj", dump_frame(0, ["1 1 0 0 0 0 0 0 0.5", "2 1 0 0 0 0 0 0 0"],
+          "id type x y z shapex shapey shapez radius"))
+    write("lammps", "bad-values.lammpstrj", dump_frame(0, ["1 1 nan 0 0 3 1 1 1 0 0 0",
+          "2 1 0 0 0 -3 1 1 1 0 0 0", "3 1 0 0 0 3 1 1 0 0 0 0", "4 x 0 0 0 3 1 1 1 0 0 0",
+          "5 1 0 0", "5 1 0 0 0 1e400 1 1 1 0 0 0"], ell))
+    write("lammps", "duplicate-ids.lammpstrj", dump_frame(0, ["1 1 0 0 0 1", "1 1 0 0 0 1"], "id type x y z radius"))
+    write("lammps", "huge-count.lammpstrj", good.replace("ATOMS\n2\n", "ATOMS\n99999999999\n"))
+    write("lammps", "no-size.lammpstrj", dump_frame(0, ["1 1 0 0 0"], "id type x y z"))
+    write("lammps", "empty.lammpstrj", "")
+    write("lammps", "timestep-only.lammpstrj", "ITEM: TIMESTEP\n")
+    truncations("lammps", "ellipsoids.lammpstrj", good.encode())
+    gz = gzip.compress(good.encode(), mtime=0)
+    write("lammps", "ellipsoids.lammpstrj.gz", gz)
+    write("lammps", "ellipsoids-cut.lammpstrj.gz", gz[: len(gz) // 2])
+
+
+def xyz_seeds():
+    for f in sorted(SAMPLES.glob("*.extxyz")) + sorted(SAMPLES.glob("*.xyz")):
+        data = f.read_bytes()
+        lines = data.splitlines(keepends=True)
+        n = int(lines[0])
+        head = b"".join(lines[: 2 * (n + 2)])
+        write("xyz", f"sample-{f.name}-2frames", head[:MAX_SEED])
+    props = "Properties=id:I:1:species:S:1:pos:R:3:aspherical_shape:R:3:orientation:R:4"
+    good = (f'2\nLattice="10 0 0 0 10 0 0 0 10" {props} Timestep=5 pbc="T T T"\n'
+            "2 A 1 2 3 1.5 0.5 0.5 0 0 0.7071 0.7071\n1 B 4 4 4 0.5 0.5 0.5 0 0 0 1\n")
+    write("xyz", "ellipsoids.extxyz", good)
+    write("xyz", "two-frames.extxyz", good + "\n" + good.replace("Timestep=5", "time=10"))
+    write("xyz", "spheres.xyz", "2\nProperties=species:I:1:pos:R:3:radius:R:1:color:R:3:forces:R:3\n"
+          "1 0 0 0 0.5 1 0 0 0 0 0\n2 1 1 1 0.25 0 1 0 0 0 0\n")
+    write("xyz", "plain.xyz", "1\ncomment\nC 0 0 0\n")
+    write("xyz", "bad-values.extxyz", good.replace("1 2 3 1.5", "nan 2 3 -1.5").replace("0 0 0 1\n", "0 0 0 0\n"))
+    write("xyz", "bad-properties.extxyz", good.replace("pos:R:3", "pos:R:x").replace("id:I:1", "id:Q:1"))
+    write("xyz", "unterminated-quote.extxyz", '1\nLattice="1 0 0 Properties=pos:R:3:radius:R:1\n0 0 0 1\n')
+    write("xyz", "huge-count.extxyz", "99999999999\nProperties=pos:R:3:radius:R:1\n0 0 0 1\n")
+    write("xyz", "empty.extxyz", "")
+    truncations("xyz", "ellipsoids.extxyz", good.encode())
+    write("xyz", "ellipsoids.extxyz.gz", gzip.compress(good.encode(), mtime=0))
+
+
 if __name__ == "__main__":
     csv_seeds()
     ply_seeds()
     nifti_seeds()
     pdb_seeds()
     cif_seeds()
+    lammps_seeds()
+    xyz_seeds()
     for d in sorted(CORPUS.iterdir()):
         # A fuzzer-named copy (its SHA-1) of a seed is a duplicate: keep the seed's name.
         seeds = {hashlib.sha1(f.read_bytes()).hexdigest() for f in d.glob("seed-*")}

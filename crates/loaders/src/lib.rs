@@ -10,7 +10,14 @@
 //! - [`nifti`]: diffusion tensor volumes, NIfTI-1 (`.nii`, `.nii.gz`), as tensor glyphs;
 //! - [`pdb`]: crystallographic thermal ellipsoids from PDB (`.pdb`, `.ent`) and mmCIF (`.cif`,
 //!   `.mmcif`);
+//! - [`lammps`]: LAMMPS `dump custom` text files (`.lammpstrj`, `.dump`, plain or gzipped):
+//!   ellipsoids (ASPHERE) and spheres, one or more frames;
+//! - [`xyz`]: extended XYZ (`.xyz`, `.extxyz`, plain or gzipped; ASE, OVITO, GPUMD), one or more
+//!   frames;
 //! - [`load()`]: any of them, by extension, else by the first bytes of the file.
+//!
+//! A file of several frames is read frame by frame through a [`Trajectory`] (`load` returns
+//! frame 1 and says how many there are).
 //!
 //! Once loaded, glyphs can be recoloured by shape, principal direction or uniformly
 //! ([`ColorMode`]; [`anisotropy`] gives the fractional anisotropy it weights by).
@@ -32,19 +39,25 @@ pub mod color_mode;
 pub mod csv;
 mod error;
 pub mod generate;
+pub mod lammps;
 pub mod load;
 pub mod nifti;
 pub mod pdb;
 pub mod ply;
 pub mod progress;
+pub mod trajectory;
+pub mod xyz;
 
 pub use self::anisotropy::fractional_anisotropy;
 pub use self::color_mode::{principal_color, principal_direction, ColorMode, UNIFORM_GREY};
 pub use self::csv::{csv_text, load_csv, parse_csv, save_csv};
 pub use self::error::{Error, Result};
 pub use self::generate::{lattice, md_liquid, packed_block, random_cloud, tensor_field};
-pub use self::load::{load, LoadOptions, Loaded, Origins, TensorOrder};
+pub use self::lammps::{load_lammps, parse_lammps};
+pub use self::load::{load, Format, LoadOptions, Loaded, Origins, TensorOrder};
 pub use self::nifti::{load_nifti, parse_nifti};
 pub use self::pdb::{load_structure, parse_structure};
 pub use self::ply::{load_ply, parse_ply};
 pub use self::progress::Progress;
+pub use self::trajectory::{Trajectory, TYPE_PALETTE};
+pub use self::xyz::{load_xyz, parse_xyz};

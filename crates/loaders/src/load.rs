@@ -41,6 +41,15 @@ pub struct LoadOptions {
     pub glyph_scale: f64,
     /// Show a progress bar on stderr while reading large files (only when it is a terminal).
     pub progress: bool,
+    /// Particle files (LAMMPS dumps, extended XYZ): `(our standard name, the file's column
+    /// name)` pairs, as OVITO's column mapping, e.g. `("shapex", "c_shape[1]")` for a dump of
+    /// a compute's output. A standard name not mapped is looked for under its own name; a
+    /// mapping to a column the file lacks is an error. The standard names are listed in the
+    /// [`lammps`](crate::lammps) and [`xyz`](crate::xyz) modules.
+    pub columns: Vec<(String, String)>,
+    /// Particle files: the colours of types 1, 2, 3, ... (cycling), each component in [0, 1];
+    /// empty means [`TYPE_PALETTE`](crate::trajectory::TYPE_PALETTE).
+    pub type_colors: Vec<[f32; 3]>,
 }
 
 impl Default for LoadOptions {
@@ -54,6 +63,8 @@ impl Default for LoadOptions {
             mask: None,
             glyph_scale: 0.5,
             progress: false,
+            columns: Vec::new(),
+            type_colors: Vec::new(),
         }
     }
 }
@@ -87,6 +98,9 @@ pub enum Origins {
     Voxels(Vec<[u16; 3]>),
     /// The line and label (`atom 5 CA (ALA A 1)`) of each atom (PDB, mmCIF).
     Atoms(Vec<(u32, String)>),
+    /// The 1-based line and the atom id of each particle (LAMMPS dumps, extended XYZ); where
+    /// the file has no `id` column, the id is the particle's 1-based place in its frame.
+    Particles(Vec<(u32, i64)>),
 }
 
 impl Origins {
@@ -105,6 +119,9 @@ impl Origins {
             Origins::Atoms(a) => a
                 .get(index)
                 .map(|(line, label)| format!("{label}, line {line}")),
+            Origins::Particles(p) => p
+                .get(index)
+                .map(|(line, id)| format!("atom id {id}, line {line}")),
         }
     }
 }
@@ -122,6 +139,12 @@ pub enum Format {
     Pdb,
     /// An mmCIF file with anisotropic displacement parameters.
     MmCif,
+    /// A LAMMPS `dump custom` text file, one or more frames (`.lammpstrj`, `.dump`,
+    /// `.lammpsdump`, plain or gzipped).
+    LammpsDump,
+    /// An extended XYZ file (ASE, OVITO, GPUMD), one or more frames (`.xyz`, `.extxyz`, plain
+    /// or gzipped).
+    ExtendedXyz,
 }
 
 /// The format of `path`: by extension, else by the first bytes of the file.
@@ -139,17 +162,44 @@ pub fn detect_format(path: &Path) -> Result<Format> {
         (".ent", Format::Pdb),
         (".cif", Format::MmCif),
         (".mmcif", Format::MmCif),
+        (".lammpstrj", Format::LammpsDump),
+        (".dump", Format::LammpsDump),
+        (".lammpsdump", Format::LammpsDump),
+        (".xyz", Format::ExtendedXyz),
+        (".extxyz", Format::ExtendedXyz),
     ];
+    // A gzipped particle file keeps its format's extension before `.gz` (the other loaders,
+    // but NIfTI's `.nii.gz`, read no gzip).
+    let particles = [".lammpstrj", ".dump", ".lammpsdump", ".xyz", ".extxyz"];
+    let name = match name.strip_suffix(".gz") {
+        Some(inner) if particles.iter().any(|ext| inner.ends_with(ext)) => inner.to_string(),
+        _ => name,
+    };
     if let Some((_, format)) = by_extension.iter().find(|(ext, _)| name.ends_with(ext)) {
         return Ok(*format);
     }
-    let mut head = vec![0u8; 352];
+    // 352 bytes hold a NIfTI header; an extended XYZ comment line can be long.
+    let mut head = vec![0u8; 4096];
     let read = {
         use std::io::Read;
         let mut file = std::fs::File::open(path).map_err(io_error(path))?;
         file.read(&mut head).map_err(io_error(path))?
     };
     let head = &head[..read];
+    // gzip is NIfTI unless the stream inside is a particle file: look at its first bytes.
+    if head.starts_with(&[0x1f, 0x8b]) {
+        let inner = crate::trajectory::gzip_head(path, 4096)?;
+        let format = particle_format(&inner).unwrap_or(Format::Nifti);
+        log::debug!(
+            "{}: gzip, read as {format:?} by its content",
+            path.display()
+        );
+        return Ok(format);
+    }
+    if let Some(format) = particle_format(head) {
+        log::debug!("{}: read as {format:?} by its first lines", path.display());
+        return Ok(format);
+    }
     let text = String::from_utf8_lossy(head);
     // mmCIF may open with a byte-order mark, blank lines or `#` comments before `data_`.
     let cif_start = text
@@ -185,16 +235,26 @@ pub fn detect_format(path: &Path) -> Result<Format> {
     Ok(format)
 }
 
-/// Loads the scene in `path`, in the format `detect_format` finds.
+/// A LAMMPS dump (`ITEM:` at the start) or an extended XYZ file (an integer line, then a
+/// line with `Properties=`), by the first bytes of its text.
+fn particle_format(head: &[u8]) -> Option<Format> {
+    let text = String::from_utf8_lossy(head);
+    let mut lines = text.trim_start_matches('\u{feff}').lines();
+    let first = lines.next()?.trim();
+    if first.starts_with("ITEM:") {
+        return Some(Format::LammpsDump);
+    }
+    let second = lines.next()?;
+    (first.parse::<u64>().is_ok() && second.contains("Properties=")).then_some(Format::ExtendedXyz)
+}
+
+/// Loads the scene in `path`, in the format `detect_format` finds; of a file with several
+/// frames (a LAMMPS dump or extended XYZ trajectory), frame 1, with a note giving the number
+/// of frames ([`Trajectory`](crate::Trajectory) reads the others).
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     let format = detect_format(path)?;
     let started = std::time::Instant::now();
-    let loaded = match format {
-        Format::Csv => crate::csv::load_csv_with(path, options),
-        Format::GaussianPly => crate::ply::load_ply(path, options),
-        Format::Nifti => crate::nifti::load_nifti(path, options),
-        Format::Pdb | Format::MmCif => crate::pdb::load_structure(path, options),
-    }?;
+    let loaded = load_format(path, format, options)?;
     log::debug!(
         "{}: {} ellipsoids from {format:?} in {:.1} ms ({} skipped as invalid)",
         path.display(),
@@ -203,6 +263,19 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded> {
         loaded.skipped
     );
     Ok(loaded)
+}
+
+/// Loads `path` as `format`.
+pub(crate) fn load_format(path: &Path, format: Format, options: &LoadOptions) -> Result<Loaded> {
+    match format {
+        Format::Csv => crate::csv::load_csv_with(path, options),
+        Format::GaussianPly => crate::ply::load_ply(path, options),
+        Format::Nifti => crate::nifti::load_nifti(path, options),
+        Format::Pdb | Format::MmCif => crate::pdb::load_structure(path, options),
+        Format::LammpsDump | Format::ExtendedXyz => {
+            crate::trajectory::load_first(path, format, options)
+        }
+    }
 }
 
 /// Maps an I/O error on `path` to [`Error::Io`].

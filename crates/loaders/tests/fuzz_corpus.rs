@@ -106,6 +106,16 @@ fn mmcif_corpus_returns() {
     replay(Target::Mmcif);
 }
 
+#[test]
+fn lammps_corpus_returns() {
+    replay(Target::Lammps);
+}
+
+#[test]
+fn xyz_corpus_returns() {
+    replay(Target::Xyz);
+}
+
 /// Every target has its test above, and every corpus directory belongs to a target.
 #[test]
 fn corpus_directories_match_targets() {

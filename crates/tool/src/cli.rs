@@ -339,6 +339,7 @@ impl LoadArgs {
             mask: self.mask.clone(),
             glyph_scale: self.glyph_scale,
             progress: true,
+            ..scene::LoadOptions::default()
         }
     }
 

@@ -10,10 +10,11 @@
 use std::path::{Path, PathBuf};
 
 use ellipsoid_splat_loaders::csv::{load_csv_with, parse_csv};
-use ellipsoid_splat_loaders::load::LoadOptions;
+use ellipsoid_splat_loaders::load::{Format, LoadOptions};
 use ellipsoid_splat_loaders::nifti::parse_nifti;
 use ellipsoid_splat_loaders::pdb::parse_structure;
 use ellipsoid_splat_loaders::ply::parse_ply;
+use ellipsoid_splat_loaders::Trajectory;
 
 /// One fuzz target per parser (PDB and mmCIF are two dialects of one parser, picked by the
 /// file name's extension, so two targets).
@@ -30,16 +31,28 @@ pub enum Target {
     Pdb,
     /// `pdb::parse_structure` with a `.cif` file name.
     Mmcif,
+    /// `Trajectory::from_bytes` as a LAMMPS dump (plain or gzipped), then every frame
+    /// (at most [`MAX_FRAMES`]).
+    Lammps,
+    /// `Trajectory::from_bytes` as extended XYZ (plain or gzipped), then every frame (at most
+    /// [`MAX_FRAMES`]).
+    Xyz,
 }
+
+/// The frames of a trajectory target parsed per input: enough for every code path, few enough
+/// that an input of many tiny frames stays fast.
+pub const MAX_FRAMES: usize = 64;
 
 impl Target {
     /// Every target.
-    pub const ALL: [Target; 5] = [
+    pub const ALL: [Target; 7] = [
         Target::Csv,
         Target::Ply,
         Target::Nifti,
         Target::Pdb,
         Target::Mmcif,
+        Target::Lammps,
+        Target::Xyz,
     ];
 
     /// The target's name: its `cargo fuzz` binary and its `corpus/` and `regressions/`
@@ -51,6 +64,8 @@ impl Target {
             Target::Nifti => "nifti",
             Target::Pdb => "pdb",
             Target::Mmcif => "mmcif",
+            Target::Lammps => "lammps",
+            Target::Xyz => "xyz",
         }
     }
 
@@ -63,6 +78,8 @@ impl Target {
             Target::Nifti => "fuzz.nii",
             Target::Pdb => "fuzz.pdb",
             Target::Mmcif => "fuzz.cif",
+            Target::Lammps => "fuzz.lammpstrj",
+            Target::Xyz => "fuzz.extxyz",
         }
     }
 
@@ -91,9 +108,34 @@ impl Target {
             Target::Pdb | Target::Mmcif => {
                 parse_structure(data, file, &options).map(|l| l.scene.len())
             }
+            Target::Lammps => frames(data, file, Format::LammpsDump, &options),
+            Target::Xyz => frames(data, file, Format::ExtendedXyz, &options),
         }
         .map_err(|e| e.to_string())
     }
+}
+
+/// Opens `data` as a trajectory and parses its frames (the first [`MAX_FRAMES`]), also past a
+/// bad one: the total number of ellipsoids, or the first error.
+fn frames(
+    data: &[u8],
+    file: &Path,
+    format: Format,
+    options: &LoadOptions,
+) -> ellipsoid_splat_loaders::Result<usize> {
+    let trajectory = Trajectory::from_bytes(data.to_vec(), file, format, options)?;
+    let mut total = Ok(0);
+    for i in 0..trajectory.len().min(MAX_FRAMES) {
+        let _ = trajectory.timestep(i);
+        match (trajectory.frame(i), &mut total) {
+            (Ok(loaded), Ok(n)) => *n += loaded.scene.len(),
+            (Err(e), Ok(_)) => total = Err(e),
+            _ => {}
+        }
+    }
+    // One past the end is a named error, never a panic.
+    let _ = trajectory.frame(trajectory.len());
+    total
 }
 
 /// `parse_csv` has no options and the row parser behind `load_csv_with` is private, so the

@@ -1,0 +1,596 @@
+//! Reads extended XYZ files (ASE, OVITO, GPUMD; plain or gzipped), one or more frames back to
+//! back.
+//!
+//! A frame is a line with the number of atoms, a comment line of `key=value` pairs (values may
+//! be quoted, `"..."`, or braced, `{...}`; a key alone is a flag), then one line per atom. The
+//! `Properties` key names the columns: `name:type:count` triplets, type `S` (string), `R`
+//! (real), `I` (integer) or `L` (logical); without it the columns are `species:S:1:pos:R:3`,
+//! as in plain XYZ. `Timestep=` (else `step=`, else an integer `time=`) gives the frame's
+//! timestep ([`Trajectory::timestep`]); other keys (`Lattice`, energies) are not used: positions
+//! are Cartesian.
+//!
+//! Properties read (our standard names; others are ignored and named once in the notes):
+//!
+//! - `pos:R:3`, the centre (required);
+//! - `aspherical_shape:R:3`: the SEMI-AXES, as OVITO's "Aspherical Shape" particle property
+//!   (OVITO's manual describes the ellipsoid by its half-lengths; its reader of LAMMPS dumps,
+//!   whose `shapex` columns hold diameters, is why ellipsoids from such dumps showed twice as
+//!   large there); else `radius:R:1`, for spheres. A zero shape takes the `radius`, if any.
+//!   A file with neither is an error (map a property with [`LoadOptions::columns`]);
+//! - `orientation:R:4`: the quaternion in OVITO's order `x y z w` (OVITO's manual: its
+//!   "Orientation" property is `(X, Y, Z, W)`, after Shoemake), rotating the particle's frame
+//!   into the lab frame; without it ellipsoids are drawn unrotated, with a note;
+//! - `id:I:1`: frames are sorted by it; `species` (else `type`), `S` or `I`: the colour, from
+//!   [`LoadOptions::type_colors`] or [`TYPE_PALETTE`]: an integer species is that type, a
+//!   name (`C`, `A`) is numbered by its first appearance in the frame (1, 2, ...);
+//!   `color:R:3` (each in [0, 1]) gives colours directly. Without either, glyphs are coloured
+//!   by shape.
+//!
+//! [`LoadOptions::columns`] maps our names to the file's property names
+//! (`("aspherical_shape", "shape")`). Every rejection is an [`Error::Parse`](crate::Error::Parse)
+//! naming the file, the line, and in its column text the frame (1-based, with its timestep) and
+//! the property: `run.extxyz:9:frame 1, pos[2] (field 3): not a number: "x"`.
+//!
+//! [`Trajectory::timestep`]: crate::Trajectory::timestep
+//! [`TYPE_PALETTE`]: crate::trajectory::TYPE_PALETTE
+
+use std::path::Path;
+
+use glam::{DQuat, DVec3};
+
+use crate::load::{parse_error, Format, LoadOptions, Loaded};
+use crate::trajectory::{
+    check_mapping_names, ellipsoid, fields, integer, mapped, real, shown, type_color,
+    FrameParticles, FrameRef, Lines, Particle, Span, Trajectory,
+};
+use crate::Result;
+
+/// The standard property names.
+pub const PROPERTIES: [&str; 8] = [
+    "id",
+    "species",
+    "type",
+    "pos",
+    "aspherical_shape",
+    "orientation",
+    "radius",
+    "color",
+];
+
+/// What a column holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Quantity {
+    Id,
+    Species,
+    Pos,
+    Shape,
+    Orientation,
+    Radius,
+    Color,
+}
+
+/// Reads frame 1 of an extended XYZ file (plain or gzipped), with a note giving the number of
+/// frames when there are several; [`Trajectory`] reads the others.
+pub fn load_xyz(path: &Path, options: &LoadOptions) -> Result<Loaded> {
+    crate::trajectory::load_first(path, Format::ExtendedXyz, options)
+}
+
+/// Parses frame 1 of the extended XYZ text in `bytes` (plain or gzipped); `file` only names
+/// the source in errors.
+pub fn parse_xyz(bytes: &[u8], file: &Path, options: &LoadOptions) -> Result<Loaded> {
+    Trajectory::from_bytes(bytes.to_vec(), file, Format::ExtendedXyz, options)?.first()
+}
+
+/// The frames of the file: each is its count line, its comment line and that many atom lines;
+/// blank lines between frames are skipped.
+pub(crate) fn scan(bytes: &[u8], file: &Path) -> Result<Vec<Span>> {
+    let bytes_start = if bytes.starts_with(b"\xef\xbb\xbf") {
+        3
+    } else {
+        0
+    };
+    let mut lines = Lines::new(&bytes[bytes_start..], 1);
+    let mut spans = Vec::new();
+    loop {
+        let start = lines.offset();
+        let Some((number, line)) = lines.next() else {
+            break;
+        };
+        let text = line.trim_ascii();
+        if text.is_empty() {
+            continue;
+        }
+        let k = spans.len() + 1;
+        let count = integer(text)
+            .ok()
+            .and_then(|n| usize::try_from(n).ok())
+            .ok_or_else(|| {
+                parse_error(
+                    file,
+                    number,
+                    format!("frame {k}, atom count"),
+                    format!(
+                        "expected the number of atoms of frame {k}, found \"{}\"",
+                        shown(text)
+                    ),
+                )
+            })?;
+        let Some((_, comment)) = lines.next() else {
+            return Err(parse_error(
+                file,
+                number,
+                format!("frame {k}, comment line"),
+                "the file ends after the atom count: no comment line",
+            ));
+        };
+        let timestep = comment_keys(comment)
+            .ok()
+            .and_then(|keys| timestep_of(&keys));
+        for read in 0..count {
+            if lines.next().is_none() {
+                return Err(parse_error(
+                    file,
+                    lines.next_line.saturating_sub(1),
+                    format!("frame {k}, atoms"),
+                    format!("truncated: the file ends after {read} of {count} atom lines"),
+                ));
+            }
+        }
+        spans.push(Span {
+            start: start + bytes_start,
+            end: lines.offset() + bytes_start,
+            line: number,
+            timestep,
+        });
+    }
+    if spans.is_empty() {
+        return Err(parse_error(file, 0, "atom count", "empty file: no frames"));
+    }
+    Ok(spans)
+}
+
+/// A `key=value` pair of a comment line.
+type KeyValue<'a> = (&'a [u8], &'a [u8]);
+
+/// The `key=value` pairs of a comment line; a key without `=` is a flag (value `T`). Quotes
+/// and braces are removed from values.
+fn comment_keys(line: &[u8]) -> std::result::Result<Vec<KeyValue<'_>>, String> {
+    let mut keys = Vec::new();
+    let mut i = 0;
+    let space = |b: u8| b.is_ascii_whitespace();
+    while i < line.len() {
+        while i < line.len() && space(line[i]) {
+            i += 1;
+        }
+        if i >= line.len() {
+            break;
+        }
+        let start = i;
+        while i < line.len() && !space(line[i]) && line[i] != b'=' {
+            i += 1;
+        }
+        let key = &line[start..i];
+        let mut j = i;
+        while j < line.len() && space(line[j]) {
+            j += 1;
+        }
+        if j >= line.len() || line[j] != b'=' {
+            keys.push((key, &b"T"[..]));
+            continue;
+        }
+        if key.is_empty() {
+            return Err("a value without a key (\"=\" at the start of a pair)".into());
+        }
+        i = j + 1;
+        while i < line.len() && space(line[i]) {
+            i += 1;
+        }
+        let close = match line.get(i) {
+            Some(b'"') => Some(b'"'),
+            Some(b'{') => Some(b'}'),
+            _ => None,
+        };
+        let value = if let Some(close) = close {
+            let from = i + 1;
+            let mut k = from;
+            // A backslash escapes the next byte (a quote inside a quoted value).
+            while k < line.len() && line[k] != close {
+                k += if line[k] == b'\\' { 2 } else { 1 };
+            }
+            if k >= line.len() {
+                return Err(format!(
+                    "unterminated {} in the value of key \"{}\"",
+                    if close == b'"' { "quote" } else { "brace" },
+                    shown(key)
+                ));
+            }
+            i = k + 1;
+            &line[from..k]
+        } else {
+            let from = i;
+            while i < line.len() && !space(line[i]) {
+                i += 1;
+            }
+            &line[from..i]
+        };
+        keys.push((key, value));
+    }
+    Ok(keys)
+}
+
+/// The value of `key` (case-insensitive), the last if repeated.
+fn key_value<'a>(keys: &[KeyValue<'a>], key: &str) -> Option<&'a [u8]> {
+    keys.iter()
+        .rev()
+        .find(|(k, _)| k.eq_ignore_ascii_case(key.as_bytes()))
+        .map(|(_, v)| *v)
+}
+
+/// The frame's timestep: `Timestep=`, else `step=`, else `time=` if it is an integer.
+fn timestep_of(keys: &[KeyValue]) -> Option<i64> {
+    ["timestep", "step", "time"]
+        .iter()
+        .find_map(|k| key_value(keys, k).and_then(|v| integer(v.trim_ascii()).ok()))
+}
+
+/// One `Properties` entry.
+struct Property {
+    name: String,
+    kind: u8,
+    /// Its first field and number of fields.
+    first: usize,
+    count: usize,
+}
+
+/// What the comment line says about every atom line.
+struct Header {
+    /// For each field, what it holds (and which component), if read.
+    slots: Vec<Option<(Quantity, usize)>>,
+    /// For each field, its name in errors (`pos[2]`).
+    names: Vec<String>,
+    shape: bool,
+    orientation: bool,
+    radius: bool,
+    color: bool,
+    id: bool,
+    species: bool,
+    /// The species is an `I` column.
+    species_integer: bool,
+}
+
+impl Header {
+    fn parse(
+        comment: &[u8],
+        line: usize,
+        frame: &FrameRef,
+        options: &LoadOptions,
+    ) -> Result<(Header, Vec<String>)> {
+        let err = |reason: String| frame.error(line, "Properties", reason);
+        let keys = comment_keys(comment).map_err(|r| frame.error(line, "comment line", r))?;
+        let spec = key_value(&keys, "Properties").unwrap_or(b"species:S:1:pos:R:3");
+        let parts: Vec<&[u8]> = spec.split(|&b| b == b':').collect();
+        if parts.len() % 3 != 0 {
+            return Err(err(format!(
+                "\"{}\" is not a list of name:type:count triplets",
+                shown(spec)
+            )));
+        }
+        let mut props = Vec::new();
+        let mut first = 0;
+        for t in parts.chunks(3) {
+            let name = String::from_utf8_lossy(t[0]).into_owned();
+            let kind = match t[1] {
+                [k @ (b'S' | b'R' | b'I' | b'L')] => *k,
+                other => {
+                    return Err(err(format!(
+                        "property \"{name}\" has type \"{}\": expected S, R, I or L",
+                        shown(other)
+                    )))
+                }
+            };
+            let count = integer(t[2])
+                .ok()
+                .and_then(|c| usize::try_from(c).ok())
+                .filter(|c| (1..=1024).contains(c))
+                .ok_or_else(|| {
+                    err(format!(
+                        "property \"{name}\" has count \"{}\": expected 1 to 1024",
+                        shown(t[2])
+                    ))
+                })?;
+            props.push(Property {
+                name,
+                kind,
+                first,
+                count,
+            });
+            first += count;
+        }
+        let find = |ours: &str| -> Result<Option<&Property>> {
+            let theirs = mapped(options, ours);
+            let found = props.iter().find(|p| p.name == theirs);
+            if found.is_none() && theirs != ours {
+                return Err(err(format!(
+                    "column mapping {ours} -> {theirs}: the file has no property \"{theirs}\" \
+                     (its properties: {})",
+                    props
+                        .iter()
+                        .map(|p| p.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                )));
+            }
+            Ok(found)
+        };
+        // (quantity, our name, allowed types, count)
+        let wanted: [(Quantity, &str, &[u8], usize); 8] = [
+            (Quantity::Id, "id", b"I", 1),
+            (Quantity::Species, "species", b"SI", 1),
+            (Quantity::Species, "type", b"SI", 1),
+            (Quantity::Pos, "pos", b"R", 3),
+            (Quantity::Shape, "aspherical_shape", b"R", 3),
+            (Quantity::Orientation, "orientation", b"R", 4),
+            (Quantity::Radius, "radius", b"R", 1),
+            (Quantity::Color, "color", b"R", 3),
+        ];
+        let mut slots = vec![None; first];
+        let mut species_integer = false;
+        let mut present = Vec::new();
+        for (quantity, ours, kinds, count) in wanted {
+            let Some(p) = find(ours)? else {
+                continue;
+            };
+            // `type` is read only when there is no `species`.
+            if present.contains(&quantity) {
+                continue;
+            }
+            if !kinds.contains(&p.kind) || p.count != count {
+                return Err(err(format!(
+                    "property \"{}\" is {}:{}, expected {}:{count}",
+                    p.name,
+                    p.kind as char,
+                    p.count,
+                    kinds.iter().map(|&k| k as char).collect::<String>()
+                )));
+            }
+            for c in 0..count {
+                if slots[p.first + c].is_some() {
+                    return Err(err(format!("property \"{}\" is read twice", p.name)));
+                }
+                slots[p.first + c] = Some((quantity, c));
+            }
+            if quantity == Quantity::Species {
+                species_integer = p.kind == b'I';
+            }
+            present.push(quantity);
+        }
+        let has = |q| present.contains(&q);
+        if !has(Quantity::Pos) {
+            return Err(err("no pos:R:3 property: the centres are required".into()));
+        }
+        if !has(Quantity::Shape) && !has(Quantity::Radius) {
+            return Err(err(format!(
+                "no particle size: need aspherical_shape:R:3 (semi-axes) or radius:R:1; the \
+                 file has: {} (a property under another name can be mapped with the column \
+                 mapping option)",
+                props
+                    .iter()
+                    .map(|p| p.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            )));
+        }
+        let mut names = Vec::with_capacity(first);
+        for p in &props {
+            for c in 0..p.count {
+                names.push(if p.count == 1 {
+                    p.name.clone()
+                } else {
+                    format!("{}[{}]", p.name, c + 1)
+                });
+            }
+        }
+        let ignored = props
+            .iter()
+            .filter(|p| slots[p.first].is_none())
+            .map(|p| p.name.clone())
+            .collect();
+        Ok((
+            Header {
+                slots,
+                names,
+                shape: has(Quantity::Shape),
+                orientation: has(Quantity::Orientation),
+                radius: has(Quantity::Radius),
+                color: has(Quantity::Color),
+                id: has(Quantity::Id),
+                species: has(Quantity::Species),
+                species_integer,
+            },
+            ignored,
+        ))
+    }
+
+    /// One atom line as a particle: its ellipsoid, line and id (`ordinal` without an `id`).
+    fn atom<'a>(
+        &self,
+        text: &'a [u8],
+        line: usize,
+        ordinal: usize,
+        species_names: &mut Vec<&'a [u8]>,
+        frame: &FrameRef,
+        options: &LoadOptions,
+    ) -> Result<(ellipsoid_splat::Ellipsoid, u32, i64)> {
+        let mut pos = [0.0f64; 3];
+        let mut shape = [0.0f64; 3];
+        let mut quat = [0.0f64; 4];
+        let mut radius = 0.0f64;
+        let mut color = [0.0f64; 3];
+        let (mut id, mut kind) = (ordinal as i64, 0i64);
+        let mut count = 0;
+        for (k, field) in fields(text).enumerate() {
+            count = k + 1;
+            let Some(&Some((quantity, c))) = self.slots.get(k) else {
+                continue;
+            };
+            let at = || format!("{} (field {})", self.names[k], k + 1);
+            let value = || real(field).map_err(|r| frame.error(line, &at(), r));
+            match quantity {
+                Quantity::Id => id = integer(field).map_err(|r| frame.error(line, &at(), r))?,
+                Quantity::Species if self.species_integer => {
+                    kind = integer(field).map_err(|r| frame.error(line, &at(), r))?;
+                }
+                Quantity::Species => {
+                    kind = match integer(field) {
+                        Ok(t) => t,
+                        Err(_) => {
+                            let n = match species_names.iter().position(|s| *s == field) {
+                                Some(n) => n,
+                                None => {
+                                    species_names.push(field);
+                                    species_names.len() - 1
+                                }
+                            };
+                            n as i64 + 1
+                        }
+                    };
+                }
+                Quantity::Pos => pos[c] = value()?,
+                Quantity::Shape => shape[c] = value()?,
+                Quantity::Orientation => quat[c] = value()?,
+                Quantity::Radius => radius = value()?,
+                Quantity::Color => color[c] = value()?,
+            }
+        }
+        if count != self.slots.len() {
+            return Err(frame.error(
+                line,
+                "atom line",
+                format!(
+                    "wrong number of fields: expected {} (as Properties gives), found {count}",
+                    self.slots.len()
+                ),
+            ));
+        }
+        let shape = DVec3::from_array(shape);
+        let semi_axes = if self.shape && (shape != DVec3::ZERO || !self.radius) {
+            shape
+        } else {
+            DVec3::splat(radius)
+        };
+        let rotation = if self.orientation {
+            if quat == [0.0; 4] {
+                return Err(frame.error(
+                    line,
+                    "orientation",
+                    "zero quaternion: it must be non-zero to define a rotation",
+                ));
+            }
+            DQuat::from_array(quat)
+        } else {
+            DQuat::IDENTITY
+        };
+        let color = if self.color {
+            Some(color.map(|c| c as f32))
+        } else if self.species {
+            Some(type_color(options, kind))
+        } else {
+            None
+        };
+        let particle = Particle {
+            center: DVec3::from_array(pos),
+            semi_axes,
+            rotation,
+            color,
+        };
+        let built = ellipsoid(&particle).map_err(|(blame, reason)| {
+            let column = match blame {
+                "size" if self.shape && semi_axes == shape => {
+                    if shape == DVec3::ZERO {
+                        "aspherical_shape (a zero shape is a point particle: give a radius property)"
+                    } else {
+                        "aspherical_shape"
+                    }
+                }
+                "size" => "radius",
+                "colour" => "color",
+                "position" => "pos",
+                _ => "orientation",
+            };
+            frame.error(line, column, reason)
+        })?;
+        Ok((built, u32::try_from(line).unwrap_or(u32::MAX), id))
+    }
+}
+
+/// Parses one frame (`bytes` is its range of the file, from its count line).
+pub(crate) fn parse_frame(bytes: &[u8], frame: FrameRef, options: &LoadOptions) -> Result<Loaded> {
+    check_mapping_names(options, &PROPERTIES, "extended XYZ")?;
+    let mut lines = Lines::new(bytes, frame.span.line);
+    // The scan has checked the count and that every line is there.
+    let (count_line, count_text) = lines.next().unwrap_or((frame.span.line, b""));
+    let count = integer(count_text.trim_ascii())
+        .ok()
+        .and_then(|n| usize::try_from(n).ok())
+        .ok_or_else(|| frame.error(count_line, "atom count", "not a count of atoms"))?;
+    let Some((comment_line, comment)) = lines.next() else {
+        return Err(frame.error(count_line, "comment line", "no comment line"));
+    };
+    let (header, ignored) = Header::parse(comment, comment_line, &frame, options)?;
+    let mut out = FrameParticles {
+        has_ids: header.id,
+        ellipsoids: Vec::with_capacity(count.min(lines.remaining() / 2)),
+        origins: Vec::with_capacity(count.min(lines.remaining() / 2)),
+        ..FrameParticles::default()
+    };
+    if !ignored.is_empty() {
+        out.notes
+            .push(format!("properties not read: {}", ignored.join(" ")));
+    }
+    if header.shape && !header.orientation {
+        out.notes
+            .push("no orientation property: ellipsoids are drawn unrotated".into());
+    }
+    let mut species_names = Vec::new();
+    for ordinal in 1..=count {
+        let Some((n, text)) = lines.next() else {
+            return Err(frame.error(
+                comment_line,
+                "atoms",
+                format!(
+                    "truncated: the frame ends after {} of {count} atom lines",
+                    ordinal - 1
+                ),
+            ));
+        };
+        let atom = header.atom(text, n, ordinal, &mut species_names, &frame, options);
+        out.push(atom, options.skip_invalid)?;
+    }
+    out.finish(&frame)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn comment_keys_take_quotes_braces_and_flags() {
+        let keys = comment_keys(
+            br#"Lattice="1 0 0 0 1 0 0 0 1" Properties=species:S:1:pos:R:3 pbc = "T T T" flag info={a b} Timestep=40"#,
+        )
+        .unwrap();
+        assert_eq!(
+            keys,
+            vec![
+                (&b"Lattice"[..], &b"1 0 0 0 1 0 0 0 1"[..]),
+                (b"Properties", b"species:S:1:pos:R:3"),
+                (b"pbc", b"T T T"),
+                (b"flag", b"T"),
+                (b"info", b"a b"),
+                (b"Timestep", b"40"),
+            ]
+        );
+        assert_eq!(timestep_of(&keys), Some(40));
+        assert!(comment_keys(br#"Lattice="1 0 0"#).is_err());
+    }
+}
