@@ -12,6 +12,10 @@ directory:
 
     python3 scripts/make-md-samples.py
 
+or, for a larger run at the same density (measurements; not committed),
+
+    python3 scripts/make-md-samples.py --particles 8000 --frames 100 --out /tmp/md
+
 Every number is written once as text and that same text goes into all three files: positions
 with 2 decimals, quaternion components with 3 (not exactly unit: the loaders normalise), and
 shapes whose halves are exact (LAMMPS holds diameters 3 and 1, extended XYZ and the CSV the
@@ -19,12 +23,14 @@ semi-axes 1.5 and 0.5). So the three files load to bit-identical scenes (the loa
 check it).
 """
 
+import argparse
 import math
 import pathlib
 import random
 
 OUT = pathlib.Path(__file__).resolve().parent.parent / "data" / "samples"
-RODS, SPHERES, FRAMES, BOX, STEPS = 160, 80, 8, 20.0, 500
+# The committed samples: two rods to a sphere, 240 particles in a box of side 20.
+PARTICLES, FRAMES, BOX, STEPS = 240, 8, 20.0, 500
 # TYPE_PALETTE's first two entries (crates/loaders/src/trajectory.rs), as exact decimals.
 PALETTE = {1: ("0.125", "0.4375", "0.6875"), 2: ("1.0", "0.5", "0.0625")}
 
@@ -54,8 +60,16 @@ def turn(q, rng, angle):
 
 
 def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--particles", type=int, default=PARTICLES)
+    parser.add_argument("--frames", type=int, default=FRAMES)
+    parser.add_argument("--out", type=pathlib.Path, default=OUT)
+    args = parser.parse_args()
     rng = random.Random(2024)
-    n = RODS + SPHERES
+    n = args.particles
+    RODS = n * 2 // 3
+    # The samples' density at any count (a whole number of units, as the samples' 20).
+    BOX = float(round(20.0 * (n / PARTICLES) ** (1 / 3)))
     atoms = []
     for i in range(n):
         rod = i < RODS
@@ -69,7 +83,7 @@ def main():
             else (("1", "1", "1"), ("0.5", "0.5", "0.5")),
         })
     dump, xyz, csv = [], [], []
-    for frame in range(FRAMES):
+    for frame in range(args.frames):
         if frame:
             for a in atoms:
                 a["pos"] = [p + rng.uniform(-0.15, 0.15) for p in a["pos"]]
@@ -102,11 +116,12 @@ def main():
             csv.append("x,y,z,rx,ry,rz,qw,qx,qy,qz,r,g,b\n")
             for a, pos, quat in rows:
                 csv.append(",".join([*pos, *a["shape"][1], *quat, *PALETTE[a["type"]]]) + "\n")
-    OUT.mkdir(parents=True, exist_ok=True)
+    out = args.out
+    out.mkdir(parents=True, exist_ok=True)
     for name, text in [("gay-berne.lammpstrj", dump), ("gay-berne.extxyz", xyz),
                        ("gay-berne-frame1.csv", csv)]:
-        (OUT / name).write_text("".join(text))
-        print(f"{OUT / name}: {(OUT / name).stat().st_size} bytes")
+        (out / name).write_text("".join(text))
+        print(f"{out / name}: {(out / name).stat().st_size} bytes")
 
 
 if __name__ == "__main__":

@@ -3,11 +3,12 @@
 # lavapipe (Mesa's CPU Vulkan driver) with the loader, the Khronos validation layer, and Xvfb
 # (with xauth, for xvfb-run) so the `view` tests open a real window without a display; and for
 # the C ABI's tests the Vulkan headers, a C and C++ compiler, CMake, pkg-config and Dear ImGui;
-# for the Python package's, venv (maturin, NumPy and pytest come from PyPI into target/).
+# for the Python package's, venv (maturin, NumPy and pytest come from PyPI into target/); and
+# ffmpeg, which `render --movie` pipes frames to (its tests read the movie back with ffprobe).
 set -euo pipefail
 
 packages=(glslang-tools mesa-vulkan-drivers libvulkan1 vulkan-validationlayers fonts-dejavu-core xvfb xauth
-  libvulkan-dev g++ cmake pkg-config libimgui-dev python3-venv python3-dev)
+  libvulkan-dev g++ cmake pkg-config libimgui-dev python3-venv python3-dev ffmpeg)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -14,6 +14,7 @@ use ellipsoid_splat::InstanceFormat;
 use ellipsoid_splat::{Scene, NO_INSTANCE};
 use ellipsoid_splat_loaders as scene;
 
+use crate::frame_range::FrameRange;
 use crate::output::{self, Image};
 use crate::plan::PlanArg;
 use ellipsoid_splat::Outputs;
@@ -305,6 +306,15 @@ pub struct LoadArgs {
     /// voxels.
     #[arg(long, default_value_t = 0.5, value_parser = parse_number, allow_hyphen_values = true)]
     pub glyph_scale: f64,
+    /// Particle files (LAMMPS dumps, extended XYZ): read a standard column from a column of
+    /// another name, `NAME=COLUMN,...` (as OVITO's column mapping), e.g.
+    /// `shapex=c_shape[1],shapey=c_shape[2],shapez=c_shape[3]`.
+    #[arg(long, value_name = "NAME=COLUMN,...", value_parser = parse_columns)]
+    pub columns: Option<Vec<(String, String)>>,
+    /// Particle files: the colours of types 1, 2, 3, ... (cycling), `r,g,b;r,g,b;...` with
+    /// components in [0, 1] (default: a palette of ten).
+    #[arg(long, value_name = "R,G,B;...", value_parser = parse_type_colors)]
+    pub type_colors: Option<Vec<[f32; 3]>>,
 }
 
 impl LoadArgs {
@@ -320,6 +330,8 @@ impl LoadArgs {
             ("--min-fa", self.min_fa != defaults.min_fa),
             ("--mask", self.mask.is_some()),
             ("--glyph-scale", self.glyph_scale != defaults.glyph_scale),
+            ("--columns", self.columns.is_some()),
+            ("--type-colors", self.type_colors.is_some()),
         ]
         .into_iter()
         .find_map(|(flag, given)| given.then_some(flag))
@@ -339,7 +351,8 @@ impl LoadArgs {
             mask: self.mask.clone(),
             glyph_scale: self.glyph_scale,
             progress: true,
-            ..scene::LoadOptions::default()
+            columns: self.columns.clone().unwrap_or_default(),
+            type_colors: self.type_colors.clone().unwrap_or_default(),
         }
     }
 
@@ -507,6 +520,19 @@ pub struct RenderArgs {
     /// background. --intrinsics and --jitter are in the camera's pixels.
     #[arg(long, value_parser = parse_viewport)]
     pub viewport: Option<[u32; 4]>,
+    /// Draw these frames of a trajectory (LAMMPS dump, extended XYZ): `all`, `N`, `A:B` or
+    /// `A:B:STEP`, numbered from 1, both ends included (`A:` runs to the last). Each image
+    /// file gets the frame's number: in place of a `%d` or `%04d` in its name, or as `_0001`
+    /// before the extension. The camera is framed by the first frame drawn unless given.
+    #[arg(long, value_name = "FRAMES", value_parser = FrameRange::parse)]
+    pub frames: Option<FrameRange>,
+    /// With --frames: also encode the colour frames as a movie (`.mp4`, `.mkv`, `.webm`, ...;
+    /// needs `ffmpeg`), in place of the colour image sequence.
+    #[arg(long, value_name = "FILE", requires = "frames")]
+    pub movie: Option<PathBuf>,
+    /// The movie's frames per second, 1 to 240.
+    #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u32).range(1..=240))]
+    pub fps: u32,
     /// Near-plane distance (default: half the distance to the scene's bounding sphere).
     #[arg(long, value_parser = parse_number, allow_hyphen_values = true)]
     pub near: Option<f64>,
@@ -610,11 +636,15 @@ impl RenderArgs {
         let files: Vec<(Image, &Path)> = Image::all_in(outputs)
             .filter_map(|image| Some((image, self.file(image)?)))
             .collect();
-        for &(image, path) in &files {
-            output::check_extension(image, path)?;
-        }
-        for &(image, path) in &files {
-            output::check_writable(image.flag(), path)?;
+        if self.frames.is_some() {
+            self.check_sequence_names(&files)?;
+        } else {
+            for &(image, path) in &files {
+                output::check_extension(image, path)?;
+            }
+            for &(image, path) in &files {
+                output::check_writable(image.flag(), path)?;
+            }
         }
         let mut inputs: Vec<(&str, &Path)> = Vec::new();
         if let SceneSpec::File(path) = &scene {
@@ -666,6 +696,34 @@ impl RenderArgs {
             }
         }
         Ok(RenderPlan { scene, outputs })
+    }
+
+    /// Checks the sequence's file names (as frame 1's) and the movie's name, before anything is
+    /// loaded: every name's pattern, every first file writable, the movie's directory there.
+    fn check_sequence_names(&self, images: &[(Image, &Path)]) -> Result<()> {
+        // With a movie the colour goes there, not to files.
+        let files = images
+            .iter()
+            .filter(|(image, _)| !(*image == Image::Color && self.movie.is_some()));
+        for &(image, path) in files {
+            let first = output::numbered(image.flag(), path, 1)?;
+            output::check_extension(image, &first)?;
+            output::check_writable(image.flag(), &first)?;
+        }
+        if let Some(movie) = &self.movie {
+            if movie.extension().is_none() {
+                return Err(Error::invalid(
+                    "--movie",
+                    format!(
+                        "'{}' has no extension, which names the movie's container (.mp4, .mkv, \
+                         .webm, ...)",
+                        movie.display()
+                    ),
+                ));
+            }
+            output::check_writable("--movie", movie)?;
+        }
+        Ok(())
     }
 
     /// Checks the numbers and the scene's name and size (what [`RenderArgs::check`] checks
@@ -802,6 +860,42 @@ impl RenderArgs {
 
 /// A number flag's value. Such flags take values that start with `-`, so a flag given
 /// where the value should be is reported as the missing value it is.
+/// `NAME=COLUMN,...` of `--columns`: each standard name once, neither side empty. Column names
+/// may hold brackets but no commas (LAMMPS names never do).
+fn parse_columns(text: &str) -> std::result::Result<Vec<(String, String)>, String> {
+    let mut pairs: Vec<(String, String)> = Vec::new();
+    for item in text.split(',') {
+        let (name, column) = item
+            .split_once('=')
+            .map(|(n, c)| (n.trim(), c.trim()))
+            .filter(|(n, c)| !n.is_empty() && !c.is_empty())
+            .ok_or_else(|| format!("'{item}' is not NAME=COLUMN (e.g. shapex=c_shape[1])"))?;
+        if pairs.iter().any(|(n, _)| n == name) {
+            return Err(format!("{name} is mapped twice"));
+        }
+        pairs.push((name.to_string(), column.to_string()));
+    }
+    Ok(pairs)
+}
+
+/// `r,g,b;r,g,b;...` of `--type-colors`, each component a number in [0, 1].
+fn parse_type_colors(text: &str) -> std::result::Result<Vec<[f32; 3]>, String> {
+    text.split(';')
+        .enumerate()
+        .map(|(k, item)| {
+            let [r, g, b] = parse_numbers::<3>(item, &format!("type {}'s colour as r,g,b", k + 1))?;
+            let rgb = [r, g, b];
+            if rgb.iter().any(|c| !(0.0..=1.0).contains(c)) {
+                return Err(format!(
+                    "type {}'s colour {item} has a component outside [0, 1]",
+                    k + 1
+                ));
+            }
+            Ok(rgb.map(|c| c as f32))
+        })
+        .collect()
+}
+
 fn parse_number(text: &str) -> std::result::Result<f64, String> {
     text.trim().parse::<f64>().map_err(|_| {
         if text.starts_with("--") {

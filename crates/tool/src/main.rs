@@ -8,9 +8,8 @@ use clap::Parser;
 use ellipsoid_splat::research::Intersection;
 use ellipsoid_splat::research::Method;
 use ellipsoid_splat::supersample;
+use ellipsoid_splat::Context;
 use ellipsoid_splat::OffscreenRenderer;
-use ellipsoid_splat::{research::DrawConfig, Settings};
-use ellipsoid_splat::{Context, ContextOptions};
 use ellipsoid_splat_loaders::Progress;
 use ellipsoid_splat_tool::antialias_bench;
 use ellipsoid_splat_tool::antialias_stress::{
@@ -23,6 +22,8 @@ use ellipsoid_splat_tool::cli::{
 use ellipsoid_splat_tool::error::{Error, Result};
 use ellipsoid_splat_tool::output::{self, Image};
 use ellipsoid_splat_tool::plan;
+use ellipsoid_splat_tool::render_device;
+use ellipsoid_splat_tool::sequence;
 use ellipsoid_splat_tool::skip;
 use ellipsoid_splat_tool::stress::{run_point, sweep_points, write_report, Extent, StressResult};
 
@@ -46,15 +47,26 @@ fn main() -> ExitCode {
     }
 }
 
-fn context_options(args: &DeviceArgs) -> ContextOptions {
-    let mut context = ContextOptions::default();
-    context.validation = args.validation;
-    context.synchronization_validation = args.validation;
-    context.device = args.device.clone();
-    context
-}
-
 fn render(args: &RenderArgs) -> Result<()> {
+    if let Some(range) = args.frames {
+        let report = sequence::render_sequence(args, range)?;
+        let movie = args
+            .movie
+            .as_ref()
+            .map(|m| format!(" and {}", m.display()))
+            .unwrap_or_default();
+        println!(
+            "wrote {} frame{} of {}{movie} in {:.2} s ({:.0} ms a frame end to end, {:.1} ms \
+             the median frame on the device)",
+            report.frames,
+            if report.frames == 1 { "" } else { "s" },
+            args.scene,
+            report.total.as_secs_f64(),
+            report.total.as_secs_f64() * 1e3 / report.frames.max(1) as f64,
+            report.median_frame.as_secs_f64() * 1e3
+        );
+        return Ok(());
+    }
     let start = Instant::now();
     // Every argument, the scene's size and the output files, before anything is allocated.
     let plan = args.check()?;
@@ -74,37 +86,8 @@ fn render(args: &RenderArgs) -> Result<()> {
     }
     let load_time = start.elapsed();
 
-    let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
+    let mut renderer = render_device::offscreen_renderer(args)?;
     let setup = start.elapsed() - load_time;
-    renderer.set_draw_config(DrawConfig {
-        intersection: args.intersection.into(),
-        ..DrawConfig::default()
-    });
-    renderer.set_settings({
-        let mut settings = Settings::default();
-        settings.instance_format = args.instance_format();
-        settings.per_sample_shading = args.per_sample_shading;
-        settings.plan = args.plan.mode();
-        settings
-    });
-    let samples = ash::vk::SampleCountFlags::from_raw(args.samples);
-    let offered = renderer.context().info().sample_counts;
-    if !offered.contains(samples) {
-        let counts: Vec<String> = (0..7)
-            .map(|bit| 1u32 << bit)
-            .filter(|&n| offered.contains(ash::vk::SampleCountFlags::from_raw(n)))
-            .map(|n| n.to_string())
-            .collect();
-        return Err(Error::invalid(
-            "--samples",
-            format!(
-                "{} samples per pixel: this device offers {}",
-                args.samples,
-                counts.join(", ")
-            ),
-        ));
-    }
-    renderer.set_samples(samples)?;
     renderer.upload(&scene)?;
     // Only the targets of the outputs asked for are allocated, drawn and read back.
     let outputs = plan.outputs;
@@ -191,7 +174,7 @@ fn run_stress(args: &StressArgs) -> Result<bool> {
     if !args.no_baseline {
         methods.push(Intersection::Textbook);
     }
-    let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
+    let mut renderer = OffscreenRenderer::new(&render_device::context_options(&args.device))?;
     let progress = Progress::new((points.len() * methods.len()) as u64, "stress");
     let mut results = Vec::new();
     for point in &points {
@@ -286,7 +269,7 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
         if args.antialias {
             output::check_output_dir("--out", &args.out, "antialias.csv")?;
             let results = antialias_bench::run(
-                &context_options(&args.device),
+                &render_device::context_options(&args.device),
                 args.frames,
                 &antialias_bench::scenes(),
             )?;
@@ -395,7 +378,7 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
                 .map(|(count, size)| bench::frustum_cloud(count, size, 1)),
         )
         .chain(user_scenes);
-    let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
+    let mut renderer = OffscreenRenderer::new(&render_device::context_options(&args.device))?;
     let mut skipped = Vec::new();
     let started = std::time::Instant::now();
     let motion = args
@@ -424,7 +407,7 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
     // run); a device without 4x multisampling skips them.
     let antialiased = if with_field && four_samples {
         antialias_bench::run(
-            &context_options(&args.device),
+            &render_device::context_options(&args.device),
             args.frames,
             &[bench::tensor_field_scene()],
         )?
@@ -484,7 +467,7 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
 
 /// `bench --skip`: every skippable piece of work on and off.
 fn run_skip(args: &BenchArgs) -> Result<bool> {
-    let mut renderer = OffscreenRenderer::new(&context_options(&args.device))?;
+    let mut renderer = OffscreenRenderer::new(&render_device::context_options(&args.device))?;
     let started = std::time::Instant::now();
     let features = skip::Feature::parse_list(&args.features)?;
     let results = skip::run(&mut renderer, args.quick, args.frames, &features)?;
@@ -547,7 +530,7 @@ fn conformance(args: &ConformanceArgs) -> ExitCode {
 }
 
 fn info(args: &DeviceArgs) -> Result<()> {
-    let context = Context::new(&context_options(args))?;
+    let context = Context::new(&render_device::context_options(args))?;
     let info = context.info();
     let version = info.api_version;
     println!("device:            {}", info.name);

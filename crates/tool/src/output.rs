@@ -272,6 +272,50 @@ pub fn resolved(path: &Path) -> PathBuf {
     }
 }
 
+/// The digits a frame number gets where the file name gives no `%0Nd` of its own.
+const DEFAULT_DIGITS: usize = 4;
+
+/// `path` with `number` in its file name: in place of its `%d` or `%0Nd` (N up to 9), or
+/// appended to the stem as `_0001` when it has none. An error names `flag` where the name
+/// holds a `%` that is not one such pattern, or more than one.
+pub fn numbered(flag: &str, path: &Path, number: usize) -> Result<PathBuf> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .ok_or_else(|| Error::invalid(flag, format!("'{}' names no file", path.display())))?;
+    let bad = |why: &str| {
+        Error::invalid(
+            flag,
+            format!(
+                "'{}' {why}: a frame sequence's name holds one %d or %0Nd (N from 1 to 9) for \
+                 the frame number, or none (then _{number:0DEFAULT_DIGITS$} is added)",
+                path.display()
+            ),
+        )
+    };
+    let Some(at) = name.find('%') else {
+        let stem = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let extension = path
+            .extension()
+            .map(|e| format!(".{}", e.to_string_lossy()))
+            .unwrap_or_default();
+        return Ok(path.with_file_name(format!("{stem}_{number:0DEFAULT_DIGITS$}{extension}")));
+    };
+    let rest = &name[at + 1..];
+    let (digits, after) = match rest.as_bytes() {
+        [b'd', ..] => (1, &rest[1..]),
+        [b'0', n @ b'1'..=b'9', b'd', ..] => (usize::from(n - b'0'), &rest[3..]),
+        _ => return Err(bad("has a % that is not %d or %0Nd")),
+    };
+    if after.contains('%') {
+        return Err(bad("has more than one %"));
+    }
+    Ok(path.with_file_name(format!("{}{number:0digits$}{after}", &name[..at])))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -319,5 +363,29 @@ mod tests {
             resolved(&existing)
         );
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn frame_numbers_go_where_the_name_says() {
+        let name = |p: &str, n| numbered("--output", Path::new(p), n).unwrap();
+        assert_eq!(name("out_%04d.png", 7), PathBuf::from("out_0007.png"));
+        assert_eq!(name("dir/f%d.exr", 12), PathBuf::from("dir/f12.exr"));
+        assert_eq!(name("movie.png", 3), PathBuf::from("movie_0003.png"));
+        assert_eq!(name("a/b%03d_x.png", 1234), PathBuf::from("a/b1234_x.png"));
+    }
+
+    #[test]
+    fn bad_patterns_name_the_flag() {
+        let error = |p: &str| {
+            numbered("--depth", Path::new(p), 1)
+                .unwrap_err()
+                .to_string()
+        };
+        assert!(
+            error("d_%s.exr").contains("--depth"),
+            "{}",
+            error("d_%s.exr")
+        );
+        assert!(error("d_%d_%d.exr").contains("more than one"));
     }
 }

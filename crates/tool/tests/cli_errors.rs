@@ -732,3 +732,76 @@ fn bench_scene_mistakes_are_named_before_running() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--frames` and `--movie` mistakes are named before any device is looked for: a generated
+/// scene, frame 0, a range past the file, a bad file-name pattern, a movie without frames or
+/// without an extension, and a missing ffmpeg (PATH emptied).
+#[test]
+fn frame_range_and_movie_mistakes_are_named() {
+    let dir = scratch_dir("frames");
+    let trajectory = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../data/samples/gay-berne.lammpstrj"
+    );
+    let out = dir.join("f.png");
+    let out = out.to_str().unwrap();
+    // Clap refuses what it parses (exit 2), the tool the rest (exit 1).
+    let cases: [(&[&str], i32, &[&str]); 6] = [
+        (
+            &["--scene", "lattice:3", "--frames", "all"],
+            1,
+            &["--frames", "generated"],
+        ),
+        (
+            &["--scene", trajectory, "--frames", "0"],
+            2,
+            &["--frames", "numbered from 1"],
+        ),
+        (
+            &["--scene", trajectory, "--frames", "2:99999"],
+            1,
+            &["--frames", "reaches past", "8 frames"],
+        ),
+        (
+            &[
+                "--scene", trajectory, "--frames", "all", "--output", "x_%s.png",
+            ],
+            1,
+            &["--output", "%d or %0Nd"],
+        ),
+        (
+            &["--scene", trajectory, "--movie", "m.mp4"],
+            2,
+            &["required arguments"],
+        ),
+        (
+            &[
+                "--scene", trajectory, "--frames", "1", "--output", out, "--movie", "m",
+            ],
+            1,
+            &["--movie", "no extension"],
+        ),
+    ];
+    for (args, status, expected) in cases {
+        let output = render_args(args);
+        let error = error_line(&output, status, &args.join(" "));
+        assert_names(&error, expected, &args.join(" "));
+    }
+    let movie = dir.join("m.mp4");
+    let output = Command::new(env!("CARGO_BIN_EXE_ellipsoid-splat"))
+        .env("PATH", "")
+        .args([
+            "render",
+            "--device",
+            "no-such-device",
+            "--scene",
+            trajectory,
+        ])
+        .args(["--frames", "1", "--output", out, "--movie"])
+        .arg(&movie)
+        .output()
+        .expect("the binary runs");
+    let error = error_line(&output, 1, "no ffmpeg");
+    assert_names(&error, &["--movie", "ffmpeg", "not installed"], "no ffmpeg");
+    assert!(!movie.exists() && !dir.join(".m.partial.mp4").exists());
+}

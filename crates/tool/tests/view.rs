@@ -413,3 +413,70 @@ fn a_bad_script_names_its_line() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The frame keys step through a trajectory: two steps forward and one back show frame 2,
+/// whose screenshot is `render --frames 2`'s picture bit for bit (the flags the viewer
+/// prints, which name the frame); playing advances by itself and wraps round.
+#[test]
+fn frame_keys_step_through_a_trajectory() {
+    let dir = scratch("frames");
+    let trajectory = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../data/samples/gay-berne.lammpstrj"
+    );
+    // The drag after the steps draws the moving sample (--moving-glyphs 100 of 240) of the
+    // frame shown; the screenshot is of the still frame after it.
+    let script = "2 key N\n4 key N\n6 key B\n7 drag left 50 50 70 50 2\n12 screenshot \
+                  second.png\n14 key SPACE\n25 key SPACE\n";
+    std::fs::write(dir.join("frames.txt"), script).unwrap();
+    let out = view(
+        &dir,
+        &[
+            trajectory,
+            "--width",
+            "160",
+            "--height",
+            "120",
+            "--moving-glyphs",
+            "100",
+            "--script",
+            "frames.txt",
+            "--exit-after",
+            "28",
+        ],
+    );
+    for line in [
+        "frame 2 of 8, timestep 500",
+        "frame 3 of 8, timestep 1000",
+        "frames: playing at frame 2",
+    ] {
+        assert!(out.contains(line), "no {line:?} in:\n{out}");
+    }
+    // Ten turns of playing from frame 2 pass frame 8 and wrap round to 1, 2, 3, 4.
+    let paused = out
+        .lines()
+        .find(|l| l.starts_with("frames: paused at frame "))
+        .unwrap_or_else(|| panic!("no pause in:\n{out}"));
+    let at: usize = paused.rsplit(' ').next().unwrap().parse().unwrap();
+    assert!((1..=8).contains(&at) && at != 2, "{paused}");
+
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("screenshot: wrote second.png "))
+        .unwrap_or_else(|| panic!("no screenshot in:\n{out}"));
+    let flags = line.split("ellipsoid-splat render ").nth(1).unwrap();
+    assert!(flags.contains("--frames 2 "), "{flags}");
+    let run = Command::new(BIN)
+        .args(["render", "--validation", "--output", "render.png"])
+        .args(flags.split_whitespace())
+        .current_dir(&dir)
+        .output()
+        .expect("render runs");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(rgba(&dir.join("second.png")) == rgba(&dir.join("render_0002.png")));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -130,11 +130,22 @@ impl App {
                 self.shot = Some(output.with_file_name(name));
             }
             'C' => self.next_color_mode(),
+            'N' | '.' => return self.step_or_fail(event_loop, 1),
+            'B' | ',' => return self.step_or_fail(event_loop, -1),
+            ' ' => self.toggle_playing(),
             'H' => println!("{}", controls::KEYS),
             'Q' => event_loop.exit(),
             _ => return,
         }
         self.redraw = true;
+    }
+
+    /// Steps `step` frames through the trajectory; a frame that cannot be read ends the
+    /// viewer with its error, as any other failure does.
+    fn step_or_fail(&mut self, event_loop: &ActiveEventLoop, step: isize) {
+        if let Err(e) = self.step_frame(step) {
+            self.fail(event_loop, e);
+        }
     }
 
     /// Recolours every glyph in the next colour mode (one update of the whole scene; a

@@ -29,6 +29,9 @@ mouse and keys of `view`:
   O                   perspective / orthographic
   P                   screenshot of the window to PNG (--output, numbered)
   C                   next colour mode
+  N or .              next frame of a trajectory
+  B or ,              previous frame
+  space               play / pause the trajectory
   H                   print these keys
   Esc, Q              quit";
 

@@ -26,6 +26,7 @@ pub mod controls;
 mod device;
 mod frames;
 pub mod pick;
+mod playback;
 pub mod script;
 pub mod stats;
 pub mod subset;
@@ -47,13 +48,14 @@ use winit::window::{Window, WindowId};
 use crate::error::{Error, Result};
 use ellipsoid_splat::plan::{PlanMode, PlanReason};
 use ellipsoid_splat::{Ellipsoid, Scene, Settings};
-use ellipsoid_splat_loaders::ColorMode;
+use ellipsoid_splat_loaders::{ColorMode, Trajectory};
 
 use crate::cli::{self, SceneSpec, ViewArgs};
 use controls::ViewCamera;
+use playback::Playback;
 use script::{Action, Button, Script};
 use stats::FrameStats;
-use viewer::{Outcome, Viewer};
+use viewer::{Outcome, SceneChange, Viewer};
 
 /// Names the Vulkan call on a failed `VkResult`.
 pub(crate) trait VkCall<T> {
@@ -77,7 +79,15 @@ const TITLE_PERIOD: Duration = Duration::from_millis(250);
 pub fn run(args: &ViewArgs) -> Result<()> {
     let render = args.render_args()?;
     let plan = render.check()?;
-    let loaded = plan.scene.load(&render.load.options())?;
+    // A file is opened as a trajectory (one frame for most formats) so the frame keys can
+    // step through it.
+    let (loaded, playback) = match &plan.scene {
+        SceneSpec::File(path) => {
+            let trajectory = Trajectory::open(path, &render.load.options())?;
+            (trajectory.frame(0)?, Playback::of(trajectory))
+        }
+        generated => (generated.load(&render.load.options())?, None),
+    };
     for note in &loaded.notes {
         eprintln!("{}: {note}", render.scene);
     }
@@ -128,6 +138,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         tick: 0,
         stats: FrameStats::default(),
         pending: Vec::new(),
+        scene_replaced: false,
         picked: None,
         animate_left: 0,
         animated: 0,
@@ -139,6 +150,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         last_gpu: None,
         last_moving: false,
         pick_shown: None,
+        playback,
     };
     event_loop
         .run_app(&mut app)
@@ -188,6 +200,9 @@ struct App {
     stats: FrameStats,
     /// Glyph replacements for the next frame.
     pending: Vec<(u32, Ellipsoid)>,
+    /// The next frame uploads the whole scene (a trajectory's frame changed; it holds any
+    /// pending replacement too).
+    scene_replaced: bool,
     /// The highlighted glyph and how it looked before.
     picked: Option<(u32, Ellipsoid)>,
     animate_left: u64,
@@ -203,6 +218,8 @@ struct App {
     /// When the last pick's click was handled, until the frame showing its highlight is
     /// presented.
     pick_shown: Option<Instant>,
+    /// The trajectory's frames, where the scene file has several.
+    playback: Option<Playback>,
 }
 
 impl ApplicationHandler for App {
@@ -295,6 +312,7 @@ impl ApplicationHandler for App {
             {
                 match event.logical_key {
                     Key::Named(NamedKey::Escape) => event_loop.exit(),
+                    Key::Named(NamedKey::Space) => self.act(event_loop, Action::Key(' ')),
                     Key::Character(text) => {
                         if let Some(c) = text.chars().next() {
                             self.act(event_loop, Action::Key(c.to_ascii_uppercase()));
@@ -404,6 +422,9 @@ impl App {
             self.stats.skipped += 1;
             return Ok(());
         }
+        if self.playing() {
+            self.step_frame(1)?;
+        }
         let (Some(window), Some(viewer)) = (&self.window, &mut self.viewer) else {
             return Ok(());
         };
@@ -432,7 +453,12 @@ impl App {
             self.animated += 1;
         }
         let shot = self.shot.clone();
-        let outcome = viewer.draw(&camera, moving, &self.pending, shot.as_deref())?;
+        let change = if self.scene_replaced {
+            SceneChange::Whole(&self.scene)
+        } else {
+            SceneChange::Glyphs(&self.pending)
+        };
+        let outcome = viewer.draw(&camera, moving, change, shot.as_deref())?;
         for (time, moved) in viewer.take_finished() {
             if moved {
                 self.stats.moving.push(time);
@@ -459,6 +485,7 @@ impl App {
             self.stats.plan = Some(crate::plan::describe(&plan));
         }
         self.pending.clear();
+        self.scene_replaced = false;
         self.last_moving = moving;
         if let Some(clicked) = self.pick_shown.take() {
             println!(
@@ -467,9 +494,15 @@ impl App {
             );
         }
         if let Some(path) = self.shot.take() {
+            // A trajectory's frame is drawn by `render --frames` (which numbers its file).
+            let frame = self
+                .playback
+                .as_ref()
+                .map(|p| format!(" --frames {}", p.shown_number()))
+                .unwrap_or_default();
             println!(
                 "screenshot: wrote {} ({}x{}); the same picture: ellipsoid-splat render --scene \
-                 {} --color {} {}",
+                 {}{frame} --color {} {}",
                 path.display(),
                 extent.width,
                 extent.height,
@@ -478,8 +511,9 @@ impl App {
                 self.view.render_flags(extent.width, extent.height)?
             );
         }
-        // After a moving frame, the still frame follows even if nothing else happens.
-        self.redraw |= moving;
+        // After a moving frame, the still frame follows even if nothing else happens; a
+        // playing trajectory draws its next frame.
+        self.redraw |= moving || self.playback.as_ref().is_some_and(|p| p.playing);
         if self.title_at.elapsed() >= TITLE_PERIOD {
             self.title_at = Instant::now();
             let (count, sample) = viewer.glyph_counts();

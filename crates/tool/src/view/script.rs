@@ -12,7 +12,7 @@
 //! | `click X Y` | left press and release in place: a pick |
 //! | `drag BUTTON X0 Y0 X1 Y1 FRAMES` | press, move in FRAMES equal steps (one a frame), release |
 //! | `wheel X Y NOTCHES` | the wheel at (X, Y); positive notches zoom in |
-//! | `key K` | a key press (`F`, `R`, `O`, `P`, `C`, `H`, `Q`) |
+//! | `key K` | a key press (`F`, `R`, `O`, `P`, `C`, `N`, `B`, `SPACE`, `H`, `Q`) |
 //! | `resize W H` | asks the window system for a new inner size |
 //! | `minimise`, `restore` | minimises (hides) the window, shows it again |
 //! | `screenshot FILE` | the next drawn frame, as shown, to a PNG |
@@ -199,12 +199,13 @@ impl Script {
                     let key = args[0].to_ascii_uppercase();
                     let mut chars = key.chars();
                     match (chars.next(), chars.next()) {
-                        (Some(c @ ('F' | 'R' | 'O' | 'P' | 'C' | 'H' | 'Q')), None) => {
+                        _ if key == "SPACE" => events.push((frame, Action::Key(' '))),
+                        (Some(c @ ('F' | 'R' | 'O' | 'P' | 'C' | 'N' | 'B' | 'H' | 'Q')), None) => {
                             events.push((frame, Action::Key(c)))
                         }
                         _ => {
                             return Err(fail(format!(
-                                "unknown key '{}' (F, R, O, P, C, H, Q)",
+                                "unknown key '{}' (F, R, O, P, C, N, B, SPACE, H, Q)",
                                 args[0]
                             )))
                         }

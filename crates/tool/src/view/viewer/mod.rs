@@ -56,6 +56,17 @@ pub struct Probe {
     pub depth: Option<f64>,
 }
 
+/// What a frame changes in the scene before it draws.
+#[derive(Clone, Copy)]
+pub enum SceneChange<'a> {
+    /// These glyphs (index in the full scene, new glyph) are replaced, the scene's origin
+    /// kept.
+    Glyphs(&'a [(u32, Ellipsoid)]),
+    /// The whole scene is uploaded again, with its own origin (a trajectory's next frame,
+    /// with the same glyph count, so that it draws exactly what `render` draws of it).
+    Whole(&'a Scene),
+}
+
 /// The viewer's GPU objects. Fields are destroyed in [`Viewer::destroy`], children first.
 pub struct Viewer {
     full: Option<Drawn>,
@@ -321,13 +332,13 @@ impl Viewer {
     }
 
     /// Draws and presents one frame with `camera` (whose size must be the swapchain's):
-    /// `updates` replace glyphs of the full scene first; a `moving` frame draws the sample,
-    /// if any; with `screenshot`, the swapchain image as presented is written to that PNG.
+    /// `change` goes into the scene first; a `moving` frame draws the sample, if any; with
+    /// `screenshot`, the swapchain image as presented is written to that PNG.
     pub fn draw(
         &mut self,
         camera: &Camera,
         moving: bool,
-        updates: &[(u32, Ellipsoid)],
+        change: SceneChange,
         screenshot: Option<&Path>,
     ) -> Result<Outcome> {
         let slot = (self.frame % u64::from(FRAMES_IN_FLIGHT)) as usize;
@@ -403,7 +414,7 @@ impl Viewer {
             (cmd, image, readable),
             camera,
             use_sample,
-            updates,
+            change,
             shot.as_ref(),
         );
         let frames = self.frames.as_ref().expect("frames exist");

@@ -5,9 +5,9 @@
 use ash::vk;
 
 use crate::error::Result;
-use ellipsoid_splat::{Camera, Ellipsoid};
+use ellipsoid_splat::{Camera, Ellipsoid, Scene};
 
-use super::{to_host, Viewer, BACKGROUND, NO_INSTANCE};
+use super::{to_host, SceneChange, Viewer, BACKGROUND, NO_INSTANCE};
 use crate::view::targets::ReadbackBuffer;
 use crate::view::VkCall;
 
@@ -20,7 +20,7 @@ impl Viewer {
         (cmd, image, readable): (vk::CommandBuffer, vk::Image, bool),
         camera: &Camera,
         use_sample: bool,
-        updates: &[(u32, Ellipsoid)],
+        change: SceneChange,
         shot: Option<&ReadbackBuffer>,
     ) -> Result<()> {
         let device = self.gpu.device.clone();
@@ -53,6 +53,28 @@ impl Viewer {
                 drawn
                     .renderer
                     .begin_frame(&device, allocator, slot as u32)?;
+                let updates = match change {
+                    SceneChange::Glyphs(updates) => updates,
+                    SceneChange::Whole(scene) => {
+                        match &mut drawn.sample {
+                            None => drawn.renderer.upload(&device, allocator, cmd, scene)?,
+                            Some(sample) => {
+                                // The same glyph indices (the caller keeps the count).
+                                sample.scene = Scene::new(
+                                    sample
+                                        .indices
+                                        .iter()
+                                        .map(|&i| scene.ellipsoids[i as usize])
+                                        .collect(),
+                                );
+                                drawn
+                                    .renderer
+                                    .upload(&device, allocator, cmd, &sample.scene)?
+                            }
+                        }
+                        continue;
+                    }
+                };
                 // Glyphs at consecutive positions go in one update (a colour mode changes
                 // them all: one copy, not a copy and two barriers per glyph).
                 let mut run: Vec<Ellipsoid> = Vec::new();
