@@ -20,6 +20,14 @@ use pyo3::prelude::*;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<renderer::Renderer>()?;
     m.add_function(wrap_pyfunction!(load::load, m)?)?;
+    m.add_function(wrap_pyfunction!(load::load_frames, m)?)?;
+    m.add_class::<load::Frames>()?;
+    m.add(
+        "TYPE_PALETTE",
+        ellipsoid_splat_loaders::TYPE_PALETTE
+            .map(|c| c.map(f64::from))
+            .to_vec(),
+    )?;
     m.add_function(wrap_pyfunction!(images::encode_png, m)?)?;
     m.add_function(wrap_pyfunction!(images::write_exr_f32, m)?)?;
     m.add_function(wrap_pyfunction!(images::write_exr_u32, m)?)?;

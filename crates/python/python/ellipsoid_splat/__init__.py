@@ -43,7 +43,8 @@ import numpy as np
 from . import _native
 from ._native import DeviceError, PoisonedError
 
-__all__ = ["Renderer", "Frame", "load", "DeviceError", "PoisonedError", "NO_GLYPH", "PLANS"]
+__all__ = ["Renderer", "Frame", "Frames", "load", "load_frames", "from_ase", "type_colors",
+           "TYPE_PALETTE", "DeviceError", "PoisonedError", "NO_GLYPH", "PLANS"]
 
 #: The ``id`` of a pixel where no glyph is hit.
 NO_GLYPH = 0xFFFFFFFF
@@ -405,10 +406,102 @@ class Renderer:
             return self.render_uploaded(**camera)
 
 
+_LOAD_OPTIONS_DOC = """Options: ``skip_invalid``, ``sigma``, ``min_opacity``,
+    ``tensor_order`` ('fsl' or 'nifti'), ``min_fa``, ``mask``, ``glyph_scale``, ``color``
+    ('file', 'shape', 'principal', 'principal-fa', 'uniform'), and for particle files
+    ``columns`` (``{standard name: the file's column}``, e.g. ``{"shapex": "c_shape[1]"}``, as
+    the tool's ``--columns``) and ``type_colors`` (a list of ``(r, g, b)`` for types 1, 2, ...;
+    default ``TYPE_PALETTE``)."""
+
+
 def load(path: "os.PathLike[str] | str", **options: Any) -> dict:
-    """Loads a scene file (CSV, PLY, NIfTI, PDB/mmCIF) as the command-line tool does; returns
-    ``centers``, ``radii``, ``rotations`` (w, x, y, z) and ``colors`` arrays, the loader's
-    ``notes`` and the count of records ``skipped``. Options: ``skip_invalid``, ``sigma``,
-    ``min_opacity``, ``tensor_order`` ('fsl' or 'nifti'), ``min_fa``, ``mask``,
-    ``glyph_scale``, ``color`` ('file', 'shape', 'principal', 'principal-fa', 'uniform')."""
-    return _native.load(os.fspath(path), **options)
+    """Loads a scene file (CSV, PLY, NIfTI, PDB/mmCIF, LAMMPS dump, extended XYZ; of a
+    trajectory, its first frame) as the command-line tool does; returns ``centers``,
+    ``radii``, ``rotations`` (w, x, y, z) and ``colors`` arrays, the loader's ``notes`` and
+    the count of records ``skipped``. Unknown options raise ``ValueError``."""
+    return _native.load(os.fspath(path), options)
+
+
+load.__doc__ += "\n\n    " + _LOAD_OPTIONS_DOC
+
+
+class Frames:
+    """The frames of a scene file (every frame of a LAMMPS dump or extended XYZ trajectory;
+    one for the other formats), read once and parsed as each is asked for:
+
+        for frame in es.load_frames("run.lammpstrj"):
+            image = r.render(frame["centers"], frame["radii"], frame["rotations"],
+                             frame["colors"])
+
+    ``len(frames)``, ``frames[i]`` (negative indices count from the end) and iteration give
+    dicts as ``load`` returns, with the frame's ``timestep`` (``None`` where the file gives
+    none). A bad frame raises ``ValueError`` naming the file, frame, line and column when it
+    is reached."""
+
+    def __init__(self, native: Any) -> None:
+        self._native = native
+
+    def __len__(self) -> int:
+        return len(self._native)
+
+    def __getitem__(self, index: int) -> dict:
+        if isinstance(index, bool) or not isinstance(index, (int, np.integer)):
+            raise TypeError(f"frame indices are integers, not {type(index).__name__}")
+        n = len(self._native)
+        if not -n <= index < n:
+            raise IndexError(f"frame {index} is out of range: the file has {n} frames")
+        return self._native.frame(int(index) % n)
+
+    def __iter__(self):
+        for index in range(len(self._native)):
+            yield self._native.frame(index)
+
+
+def load_frames(path: "os.PathLike[str] | str", **options: Any) -> Frames:
+    """Opens a scene file for its frames (``Frames``); the options are ``load``'s."""
+    return Frames(_native.load_frames(os.fspath(path), options))
+
+
+#: The colours of particle types 1, 2, 3, ... (cycling) when a file or ``type_colors`` gives
+#: none: the loaders' palette, each component a multiple of 1/16.
+TYPE_PALETTE = np.array(_native.TYPE_PALETTE, dtype=np.float64)
+
+
+def type_colors(types: Any, palette: Any = None) -> np.ndarray:
+    """(N, 3) colours of integer particle ``types`` (1, 2, ...; cycling through ``palette``,
+    default ``TYPE_PALETTE``), as the particle loaders colour them."""
+    t = np.asarray(types)
+    if t.ndim != 1 or t.dtype.kind not in "iu":
+        raise ValueError(f"types must be a 1-D integer array, got {t.dtype} of shape {t.shape}")
+    p = TYPE_PALETTE if palette is None else np.asarray(palette, dtype=np.float64)
+    if p.ndim != 2 or p.shape[1] != 3 or len(p) == 0:
+        raise ValueError(f"palette must have shape (K, 3), got {p.shape}")
+    return p[(t.astype(np.int64) - 1) % len(p)]
+
+
+def from_ase(atoms: Any, palette: Any = None) -> dict:
+    """The glyphs of an ``ase.Atoms`` as ``render`` takes them (a dict of ``centers``,
+    ``radii``, ``rotations``, ``colors``), read as the extended-XYZ loader reads the same
+    columns: ``atoms.arrays["aspherical_shape"]`` semi-axes (else ``"radius"``, else 0.5),
+    ``atoms.arrays["orientation"]`` quaternions in OVITO's order (x, y, z, w; normalised),
+    colours by ``atoms.arrays["type"]`` if present, else by atomic number (``palette``,
+    default ``TYPE_PALETTE``). ASE itself is not imported: any object with ``positions`` and
+    an ``arrays`` dict serves."""
+    arrays = getattr(atoms, "arrays", {})
+    centers = np.asarray(atoms.positions, dtype=np.float64)
+    n = len(centers)
+    if "aspherical_shape" in arrays:
+        radii = np.asarray(arrays["aspherical_shape"], dtype=np.float64)
+    elif "radius" in arrays:
+        radii = np.repeat(np.asarray(arrays["radius"], dtype=np.float64).reshape(n, 1), 3, axis=1)
+    else:
+        radii = np.full((n, 3), 0.5)
+    if "orientation" in arrays:
+        xyzw = np.asarray(arrays["orientation"], dtype=np.float64)
+        rotations = xyzw[:, [3, 0, 1, 2]]
+        rotations = rotations / np.linalg.norm(rotations, axis=1, keepdims=True)
+    else:
+        rotations = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
+    types = arrays.get("type", arrays.get("numbers", np.ones(n, dtype=np.int64)))
+    return {"centers": centers, "radii": radii, "rotations": rotations,
+            "colors": type_colors(np.asarray(types).astype(np.int64), palette)}
