@@ -171,8 +171,17 @@ impl<T: Sample> Samples<T> {
             .map(|&c| ChannelDescription::named(self.names[c].as_str(), self.sample_type))
             .collect();
         let header = Header::new("ellipsoid-splat".into(), (width, height), channels);
-        let failed = |e: exr::error::Error| PyOSError::new_err(format!("{}: {e}", path.display()));
-        let file = File::create(path)
+        // Written beside the target under a hidden name and renamed over it when complete, so
+        // a failed write never leaves a broken file where a good one was.
+        let partial = path.with_file_name(format!(
+            ".{}.partial",
+            path.file_name().map_or("frame.exr".into(), |n| n.to_string_lossy())
+        ));
+        let failed = |e: exr::error::Error| {
+            let _ = std::fs::remove_file(&partial);
+            PyOSError::new_err(format!("{}: {e}", path.display()))
+        };
+        let file = File::create(&partial)
             .map_err(|e| PyOSError::new_err(format!("{}: {e}", path.display())))?;
         let headers: exr::meta::Headers = SmallVec::from_vec(vec![header]);
         let blocks: Vec<(usize, BlockIndex)> =
@@ -208,6 +217,7 @@ impl<T: Sample> Samples<T> {
                 .collect()
         });
         if chunks.len() != blocks.len() {
+            let _ = std::fs::remove_file(&partial);
             return Err(PyOSError::new_err(format!(
                 "{}: a thread compressing the tiles failed",
                 path.display()
@@ -224,7 +234,11 @@ impl<T: Sample> Samples<T> {
                 Ok(())
             },
         )
-        .map_err(failed)
+        .map_err(failed)?;
+        std::fs::rename(&partial, path).map_err(|e| {
+            let _ = std::fs::remove_file(&partial);
+            PyOSError::new_err(format!("{}: {e}", path.display()))
+        })
     }
 }
 

@@ -504,7 +504,7 @@ pub struct RenderArgs {
     pub per_sample_shading: bool,
     /// Also write the scene, as loaded and coloured, as Ellipsoid CSV to this file, its first
     /// line a comment with the camera as `render` flags (for other tools to draw the same
-    /// frame).
+    /// frame); with --frames, the first frame drawn.
     #[arg(long, value_name = "FILE")]
     pub save_scene: Option<PathBuf>,
     /// The camera: where it is, where it looks, its projection.
@@ -667,9 +667,19 @@ impl RenderArgs {
         if let Some(mask) = &self.load.mask {
             inputs.push(("--mask", mask));
         }
-        for (k, &(image, path)) in files.iter().enumerate() {
+        // A sequence's files are compared as frame 1's names (`x.png` and `x_%04d.png` both
+        // number to `x_0001.png`).
+        let named: Vec<(Image, PathBuf)> = files
+            .iter()
+            .map(|&(image, path)| match self.frames {
+                Some(_) => output::numbered(image.flag(), path, 1).map(|p| (image, p)),
+                None => Ok((image, path.to_path_buf())),
+            })
+            .collect::<Result<_>>()?;
+        for (k, (image, path)) in named.iter().enumerate() {
+            let (image, path) = (*image, path.as_path());
             let target = output::resolved(path);
-            if let Some((other, _)) = files[..k]
+            if let Some((other, _)) = named[..k]
                 .iter()
                 .find(|(_, p)| output::resolved(p) == target)
             {
@@ -858,8 +868,6 @@ impl RenderArgs {
     }
 }
 
-/// A number flag's value. Such flags take values that start with `-`, so a flag given
-/// where the value should be is reported as the missing value it is.
 /// `NAME=COLUMN,...` of `--columns`: each standard name once, neither side empty. Column names
 /// may hold brackets but no commas (LAMMPS names never do).
 fn parse_columns(text: &str) -> std::result::Result<Vec<(String, String)>, String> {
@@ -896,6 +904,8 @@ fn parse_type_colors(text: &str) -> std::result::Result<Vec<[f32; 3]>, String> {
         .collect()
 }
 
+/// A number flag's value. Such flags take values that start with `-`, so a flag given
+/// where the value should be is reported as the missing value it is.
 fn parse_number(text: &str) -> std::result::Result<f64, String> {
     text.trim().parse::<f64>().map_err(|_| {
         if text.starts_with("--") {
@@ -1217,6 +1227,17 @@ pub fn load_scene(spec: &str, options: &scene::LoadOptions) -> Result<scene::Loa
         check_host_memory(spec, count, InstanceFormat::Full, machine_memory())?;
     }
     parsed.load(options)
+}
+
+/// Writes `scene` as Ellipsoid CSV where `--save-scene` asks, its first line the camera as
+/// `render` flags.
+pub fn save_scene(args: &RenderArgs, scene: &Scene, camera: &Camera) -> Result<()> {
+    if let Some(path) = &args.save_scene {
+        let comment = format!("camera: {}", camera_flags(camera));
+        scene::save_csv(scene, &[comment], path)?;
+        eprintln!("wrote {} ({} ellipsoids)", path.display(), scene.len());
+    }
+    Ok(())
 }
 
 /// The camera of the render arguments, framing the scene where positions are not given.

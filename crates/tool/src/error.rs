@@ -29,6 +29,14 @@ pub enum Error {
         /// The operating system's error.
         source: std::io::Error,
     },
+    /// A frame of a trajectory failed (`render --frames`).
+    #[error("frame {number}: {source}")]
+    Frame {
+        /// The frame's number in the file, from 1.
+        number: usize,
+        /// What went wrong.
+        source: Box<Error>,
+    },
     /// Encoding an output image failed.
     #[error("cannot write {}: {reason}", path.display())]
     Encode {
@@ -48,6 +56,14 @@ impl Error {
         Error::Invalid {
             what: what.into(),
             reason: reason.into(),
+        }
+    }
+
+    /// This error, said of frame `number` of a trajectory.
+    pub fn in_frame(self, number: usize) -> Self {
+        Error::Frame {
+            number,
+            source: Box::new(self),
         }
     }
 

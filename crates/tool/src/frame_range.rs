@@ -52,7 +52,10 @@ impl FrameRange {
             [a, b, s] => (
                 number(a, "the first frame")?,
                 optional(b, |b| number(b, "the last frame"))?,
-                number(s, "the step")?,
+                match s.trim().parse::<usize>() {
+                    Ok(0) => return Err("the step is 0; it must be 1 or more".to_string()),
+                    _ => number(s, "the step")?,
+                },
             ),
             _ => {
                 return Err(format!(
@@ -75,9 +78,16 @@ impl FrameRange {
     /// (saying how many frames the file has) when the range starts or ends past the file.
     pub fn indices(&self, frames: usize) -> std::result::Result<Vec<usize>, String> {
         let (first, last, step) = match *self {
-            FrameRange::All => (1, frames, 1),
-            FrameRange::Range { first, last, step } => (first, last.unwrap_or(frames), step),
+            FrameRange::All => (1, None, 1),
+            FrameRange::Range { first, last, step } => (first, last, step),
         };
+        // A range made in code rather than parsed may hold what `parse` refuses.
+        if first == 0 || step == 0 || last.is_some_and(|last| last < first) {
+            return Err(format!(
+                "{self} is not a range of frames (they count from 1, the step from 1)"
+            ));
+        }
+        let last = last.unwrap_or(frames);
         if frames == 0 {
             return Err("the file holds no frames".to_string());
         }
@@ -142,7 +152,13 @@ mod tests {
         assert!(error("0").contains("numbered from 1"), "{}", error("0"));
         assert!(error("x:3").contains("'x'"));
         assert!(error("5:2").contains("before the first"));
-        assert!(error("1:2:0").contains("the step is 0"));
+        assert!(error("1:2:0").contains("the step is 0; it must be 1"));
+        let made = FrameRange::Range {
+            first: 0,
+            last: None,
+            step: 0,
+        };
+        assert!(made.indices(3).unwrap_err().contains("not a range"));
         assert!(error("1:2:3:4").contains("3 colons"));
         let past = FrameRange::parse("2:9").unwrap().indices(5).unwrap_err();
         assert!(past.contains("5 frames"), "{past}");

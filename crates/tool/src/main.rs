@@ -79,28 +79,16 @@ fn render(args: &RenderArgs) -> Result<()> {
     if let Some(warning) = cli::nothing_in_view(args, &camera, &scene) {
         eprintln!("warning: {warning}");
     }
-    if let Some(path) = &args.save_scene {
-        let comment = format!("camera: {}", cli::camera_flags(&camera));
-        ellipsoid_splat_loaders::save_csv(&scene, &[comment], path)?;
-        eprintln!("wrote {} ({} ellipsoids)", path.display(), scene.len());
-    }
+    cli::save_scene(args, &scene, &camera)?;
     let load_time = start.elapsed();
 
-    let mut renderer = render_device::offscreen_renderer(args)?;
-    let setup = start.elapsed() - load_time;
-    renderer.upload(&scene)?;
     // Only the targets of the outputs asked for are allocated, drawn and read back.
     let outputs = plan.outputs;
-    let k = args.supersample;
-    let drawn = supersample::supersampled_camera(&camera, k)?;
-    // The frame written comes after those the plan needs with its camera: where it measures,
-    // it times the candidates first (as FFTW_MEASURE plans).
-    let extent = ash::vk::Extent2D {
-        width: args.width * k,
-        height: args.height * k,
-    };
-    let warm = plan::warm_up(&mut renderer, &drawn, extent, outputs, args.plan)?;
-    let (frame, timing) = renderer.render_views(extent.width, extent.height, &[drawn], outputs)?;
+    let mut prepared = render_device::prepare(args, &scene, &camera, outputs)?;
+    let setup = start.elapsed() - load_time;
+    let (frame, timing) = prepared.draw(args.supersample, outputs)?;
+    let warm = prepared.warm;
+    let renderer = prepared.renderer;
     let plan_line = renderer.last_plan().map(|last| {
         let note = if warm.settled {
             ""
@@ -113,12 +101,6 @@ fn render(args: &RenderArgs) -> Result<()> {
             warm.frames + 1
         )
     });
-    renderer.context().check_validation()?;
-    let frame = if k > 1 {
-        supersample::box_filter(&frame, k)?
-    } else {
-        frame
-    };
 
     for image in Image::all_in(outputs) {
         if let Some(path) = args.file(image) {
@@ -129,7 +111,8 @@ fn render(args: &RenderArgs) -> Result<()> {
     let memory = renderer.gpu_memory_bytes();
     drop(renderer);
     println!(
-        "wrote {} ({}x{}, {} ellipsoids) in {:.0} ms: scene {:.0} ms, device set-up {:.0} ms, \
+        "wrote {} ({}x{}, {} ellipsoids) in {:.0} ms: scene {:.0} ms, set-up (device, upload, \
+         plan) {:.0} ms, \
          frame {:.1} ms (submit to fence) on {device}; GPU memory {:.1} MiB ({:.1} bytes per \
          ellipsoid)",
         args.output.display(),

@@ -1,9 +1,10 @@
 //! A movie of rendered frames (`render --frames ... --movie FILE`): each frame's colour is
 //! piped as raw RGBA to the system's `ffmpeg`, which encodes the container the file's
 //! extension names (`.mp4`, `.mkv`, `.mov`: H.264 in 4:2:0, the form every player opens).
-//! The movie is written under a temporary name beside the target and renamed over it only
-//! once `ffmpeg` has finished, so a failed or interrupted run leaves no broken file in its
-//! place (nor removes one that was there).
+//! The movie is written under a hidden name beside the target (`.NAME.partial.EXT`) and
+//! renamed over it only once `ffmpeg` has finished, so a failed run leaves no broken file in
+//! its place (nor removes one that was there) and removes the partial one; a run killed
+//! outright (Ctrl-C, a signal) may leave the hidden partial file, never a broken `NAME`.
 
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::sync::mpsc::{sync_channel, Receiver, SyncSender};
 use std::time::{Duration, Instant};
 
-use ellipsoid_splat::{supersample, Frame};
+use ellipsoid_splat::Frame;
 use ellipsoid_splat_loaders::{Loaded, Progress, Trajectory};
 
 use crate::cli::{self, RenderArgs, SceneSpec};
@@ -15,8 +15,7 @@ use crate::error::{Error, Result};
 use crate::frame_range::FrameRange;
 use crate::movie::Movie;
 use crate::output::{self, numbered, Image};
-use crate::plan;
-use crate::render_device;
+use crate::render_device::{self, Prepared};
 
 /// What a finished sequence took.
 #[derive(Clone, Debug)]
@@ -55,30 +54,23 @@ pub fn render_sequence(args: &RenderArgs, range: FrameRange) -> Result<SequenceR
     };
     let first = colored(trajectory.frame(indices[0]).map_err(Error::from))?;
     for note in &first.notes {
-        eprintln!("{}: {note}", args.scene);
+        eprintln!("{}: frame {}: {note}", args.scene, indices[0] + 1);
     }
     let camera = cli::camera_for(args, &first.scene)?;
     if let Some(warning) = cli::nothing_in_view(args, &camera, &first.scene) {
         eprintln!("warning: frame {}: {warning}", indices[0] + 1);
     }
+    cli::save_scene(args, &first.scene, &camera)?;
     // Started before the device is looked for, so a missing ffmpeg is said at once.
     let mut movie = match &args.movie {
         Some(file) => Some(Movie::start(file, args.width, args.height, args.fps)?),
         None => None,
     };
-    let mut renderer = render_device::offscreen_renderer(args)?;
-    let k = args.supersample;
-    let drawn = supersample::supersampled_camera(&camera, k)?;
-    let extent = ash::vk::Extent2D {
-        width: args.width * k,
-        height: args.height * k,
-    };
     let outputs = checked.outputs;
-    renderer.upload(&first.scene)?;
     // The plan settles on the first frame's camera; the camera stays, so later frames keep
     // what it learnt (a measuring plan goes on timing them).
-    plan::warm_up(&mut renderer, &drawn, extent, outputs, args.plan)?;
-
+    let mut prepared = render_device::prepare(args, &first.scene, &camera, outputs)
+        .map_err(|e| e.in_frame(indices[0] + 1))?;
     let images: Vec<(Image, PathBuf)> = Image::all_in(outputs)
         .filter(|&image| !(image == Image::Color && movie.is_some()))
         .filter_map(|image| Some((image, args.file(image)?.to_path_buf())))
@@ -107,20 +99,16 @@ pub fn render_sequence(args: &RenderArgs, range: FrameRange) -> Result<SequenceR
             move || write_frames(frame_rx, images, movie, progress)
         });
         let drawing = draw_frames(
-            &mut renderer,
-            (indices[0], first),
+            &mut prepared,
+            indices[0],
             loaded_rx,
             &frame_tx,
-            |renderer| {
-                let (frame, timing) =
-                    renderer.render_views(extent.width, extent.height, &[drawn], outputs)?;
+            |prepared| {
+                let (frame, timing) = prepared.draw(args.supersample, outputs)?;
                 device_times.push(timing.gpu_wall);
-                Ok(if k > 1 {
-                    supersample::box_filter(&frame, k)?
-                } else {
-                    frame
-                })
+                Ok(frame)
             },
+            &args.scene,
         );
         drop(frame_tx);
         let written = writer
@@ -129,7 +117,6 @@ pub fn render_sequence(args: &RenderArgs, range: FrameRange) -> Result<SequenceR
         // The drawing's error first: a writer that stopped early may be its consequence.
         drawing.and(written)
     })?;
-    renderer.context().check_validation()?;
     progress.finish();
     let frames = match movie {
         Some(movie) => movie.finish()?,
@@ -146,25 +133,38 @@ pub fn render_sequence(args: &RenderArgs, range: FrameRange) -> Result<SequenceR
     })
 }
 
-/// Uploads and draws each frame as it arrives (the first already loaded), handing it to the
-/// writer; stops at the first error, or where the writer stopped taking frames.
+/// Draws frame `first` (uploaded already: the plan warmed up on it), then uploads and draws
+/// each frame as it arrives, handing each to the writer; stops at the first error (naming the
+/// frame), or where the writer stopped taking frames. A frame's loader notes (records left
+/// out) are printed as it is drawn.
 fn draw_frames(
-    renderer: &mut ellipsoid_splat::OffscreenRenderer,
-    first: (usize, Loaded),
+    prepared: &mut Prepared,
+    first: usize,
     loaded: Receiver<(usize, Result<Loaded>)>,
     frames: &SyncSender<(usize, Frame)>,
-    mut draw: impl FnMut(&mut ellipsoid_splat::OffscreenRenderer) -> Result<Frame>,
+    mut draw: impl FnMut(&mut Prepared) -> Result<Frame>,
+    scene: &str,
 ) -> Result<()> {
-    let (index, scene) = first;
-    let mut next = Some((index, Ok(scene)));
-    while let Some((index, scene)) = next.take().or_else(|| loaded.recv().ok()) {
-        let scene = scene?.scene;
-        renderer.upload(&scene)?;
-        if frames.send((index, draw(renderer)?)).is_err() {
+    let mut index = first;
+    loop {
+        let frame = draw(prepared).map_err(|e| e.in_frame(index + 1))?;
+        if frames.send((index, frame)).is_err() {
             return Ok(()); // the writer failed: its error is the one to report
         }
+        let Ok((next, loaded)) = loaded.recv() else {
+            return Ok(()); // every frame drawn
+        };
+        // The loaders' errors name the frame and its timestep already.
+        let loaded = loaded?;
+        for note in &loaded.notes {
+            eprintln!("{scene}: frame {}: {note}", next + 1);
+        }
+        prepared
+            .renderer
+            .upload(&loaded.scene)
+            .map_err(|e| Error::from(e).in_frame(next + 1))?;
+        index = next;
     }
-    Ok(())
 }
 
 /// Writes each drawn frame's images to their numbered files and its colour to the movie.
@@ -177,10 +177,11 @@ fn write_frames(
     for (index, frame) in frames {
         let number = index + 1;
         for (image, path) in images {
-            output::write_image(&frame, *image, &numbered(image.flag(), path, number)?)?;
+            output::write_image(&frame, *image, &numbered(image.flag(), path, number)?)
+                .map_err(|e| e.in_frame(number))?;
         }
         if let Some(movie) = movie.as_mut() {
-            movie.push(&frame)?;
+            movie.push(&frame).map_err(|e| e.in_frame(number))?;
         }
         progress.inc(&format!("frame {number}"));
     }

@@ -746,7 +746,22 @@ fn frame_range_and_movie_mistakes_are_named() {
     let out = dir.join("f.png");
     let out = out.to_str().unwrap();
     // Clap refuses what it parses (exit 2), the tool the rest (exit 1).
-    let cases: [(&[&str], i32, &[&str]); 6] = [
+    let cases: [(&[&str], i32, &[&str]); 7] = [
+        // Both number to x_0001.png.
+        (
+            &[
+                "--scene",
+                trajectory,
+                "--frames",
+                "all",
+                "--output",
+                "x.png",
+                "--id",
+                "x_%04d.png",
+            ],
+            1,
+            &["--id", "also the --output file"],
+        ),
         (
             &["--scene", "lattice:3", "--frames", "all"],
             1,

@@ -143,13 +143,9 @@ fn a_movie_holds_every_frame() {
         &[("--movie", &movie), ("--output", &dir.join("c.png"))],
     );
     let said = String::from_utf8_lossy(&run.stdout);
-    let frames: usize = said
-        .split("wrote ")
-        .nth(1)
-        .and_then(|s| s.split(' ').next())
-        .and_then(|n| n.parse().ok())
-        .unwrap_or_else(|| panic!("no frame count in {said}"));
-    assert!(frames > 1, "{said}");
+    // The sample has 8 frames.
+    let frames = 8;
+    assert!(said.starts_with("wrote 8 frames "), "{said}");
     let probe = Command::new("ffprobe")
         .args(["-v", "error", "-count_frames", "-select_streams", "v:0"])
         .args(["-show_entries", "stream=nb_read_frames,width,height"])
@@ -161,5 +157,62 @@ fn a_movie_holds_every_frame() {
     assert_eq!(fields, format!("128,96,{frames}"));
     let files: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
     assert_eq!(files.len(), 1, "only the movie is written");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A frame the loader refuses (frame 3 of the sample, a non-number in its first atom's x)
+/// stops the run with an error naming the frame and its timestep; the frames before it are
+/// written, none after; with a movie, no movie and no partial file is left.
+#[test]
+fn a_bad_frame_stops_the_run_naming_it() {
+    let dir = scratch("bad-frame");
+    let text = std::fs::read_to_string(root().join(LAMMPS)).unwrap();
+    let mut frames: Vec<String> = text.split("ITEM: TIMESTEP").map(str::to_string).collect();
+    let header = "ITEM: ATOMS id type x y z shapex shapey shapez quatw quati quatj quatk\n";
+    let at = frames[3].find(header).expect("frame 3's atoms") + header.len();
+    let mut fields: Vec<&str> = frames[3][at..].lines().next().unwrap().split(' ').collect();
+    fields[2] = "x?";
+    let line_end = at + frames[3][at..].find('\n').unwrap();
+    frames[3] = format!(
+        "{}{}{}",
+        &frames[3][..at],
+        fields.join(" "),
+        &frames[3][line_end..]
+    );
+    let bad = dir.join("bad.lammpstrj");
+    std::fs::write(&bad, frames.join("ITEM: TIMESTEP")).unwrap();
+    let bad = bad.to_str().unwrap();
+    for movie in [false, true] {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_ellipsoid-splat"));
+        command
+            .args(["render", "--validation", "--width", "64", "--height", "48"])
+            .args(["--scene", bad, "--frames", "all", "--output"])
+            .arg(dir.join("f_%d.png"));
+        if movie {
+            command.arg("--movie").arg(dir.join("run.mp4"));
+        }
+        let run = command.output().expect("the binary runs");
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{stderr}");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        assert!(
+            stderr.contains("bad.lammpstrj:") && stderr.contains("frame 3 (timestep 1000), x"),
+            "{stderr}"
+        );
+        let mut written: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|name| name != "bad.lammpstrj")
+            .collect();
+        written.sort();
+        if movie {
+            assert!(written.is_empty(), "{written:?}");
+        } else {
+            assert_eq!(written, ["f_1.png", "f_2.png"]);
+            for name in written {
+                std::fs::remove_file(dir.join(name)).unwrap();
+            }
+        }
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -292,8 +292,9 @@ class Renderer:
         (M, 3), float64 or float32 as for ``upload`` -- and replaces that field; the fields
         not given keep their values (a scene uploaded without colours keeps its shape
         colours). The indices are written as contiguous runs, without uploading the rest.
-        A scene updated within its uploaded bounds draws exactly what uploading it whole
-        draws (glyphs moved far outside them lose some float32 precision). Raises
+        A scene updated within its uploaded bounds and largest semi-axis draws exactly what
+        uploading it whole draws (glyphs moved far outside them lose some float32
+        precision). Raises
         ``ValueError`` naming the argument (and the glyph) for bad input, changing nothing."""
         with self._lock:
             self._update(indices, centers, radii, rotations, colors)
@@ -481,12 +482,15 @@ def type_colors(types: Any, palette: Any = None) -> np.ndarray:
 
 def from_ase(atoms: Any, palette: Any = None) -> dict:
     """The glyphs of an ``ase.Atoms`` as ``render`` takes them (a dict of ``centers``,
-    ``radii``, ``rotations``, ``colors``), read as the extended-XYZ loader reads the same
-    columns: ``atoms.arrays["aspherical_shape"]`` semi-axes (else ``"radius"``, else 0.5),
-    ``atoms.arrays["orientation"]`` quaternions in OVITO's order (x, y, z, w; normalised),
-    colours by ``atoms.arrays["type"]`` if present, else by atomic number (``palette``,
-    default ``TYPE_PALETTE``). ASE itself is not imported: any object with ``positions`` and
-    an ``arrays`` dict serves."""
+    ``radii``, ``rotations``, ``colors``), from the arrays ASE keeps for an extended-XYZ file
+    with OVITO's columns: ``atoms.arrays["aspherical_shape"]`` semi-axes (else ``"radius"``,
+    else 0.5 for every atom), ``atoms.arrays["orientation"]`` quaternions in x, y, z, w order
+    (normalised), colours by ``atoms.arrays["type"]`` if present, else by atomic number
+    (``palette``, default ``TYPE_PALETTE``). For a file with integer types, shapes and
+    orientations it gives the glyphs ``load`` gives (to rounding of the normalisation); the
+    loader's other rules (a zero shape sized by its radius, species names numbered, an error
+    where no size is given) are not repeated here. ASE itself is not imported: any object
+    with ``positions`` and an ``arrays`` dict serves."""
     arrays = getattr(atoms, "arrays", {})
     centers = np.asarray(atoms.positions, dtype=np.float64)
     n = len(centers)
