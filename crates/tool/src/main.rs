@@ -7,7 +7,6 @@ use clap::Parser;
 
 use ellipsoid_splat::research::Intersection;
 use ellipsoid_splat::research::Method;
-use ellipsoid_splat::supersample;
 use ellipsoid_splat::Context;
 use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat_loaders::Progress;
