@@ -15,6 +15,13 @@ pub struct Frame {
     pub color: Vec<[u8; 4]>,
     /// View depth `dot(p - eye, f)`; `f32::INFINITY` where nothing is hit.
     pub depth: Vec<f32>,
+    /// The depth attachment's own value, read with `depth`: in the camera's
+    /// [`DepthConvention`](crate::DepthConvention), its clear value where nothing is hit.
+    /// It is what the renderer compares (the nearer value wins, and of equal ones the lower
+    /// instance index), so frames of parts of one scene drawn apart combine into the whole
+    /// scene's frame exactly by the same rule; view depth, rounded from it, may tie where it
+    /// does not.
+    pub device_depth: Vec<f32>,
     /// World-space unit normal; zero where nothing is hit.
     pub normal: Vec<[f32; 3]>,
     /// Index of the visible ellipsoid in the scene; [`NO_INSTANCE`] where nothing is hit.
@@ -63,6 +70,7 @@ impl Frame {
             height,
             color: rows(&self.color, self, rect),
             depth: rows(&self.depth, self, rect),
+            device_depth: rows(&self.device_depth, self, rect),
             normal: rows(&self.normal, self, rect),
             id: rows(&self.id, self, rect),
         })

@@ -111,28 +111,66 @@ impl PackedInstances {
 /// Packs every ellipsoid of `scene` in the full format; errors name the first ellipsoid
 /// float32 cannot hold.
 pub fn pack_instances(scene: &Scene) -> Result<PackedInstances> {
-    pack_scene(scene, InstanceFormat::Full)
+    pack_scene(scene, InstanceFormat::Full, Placement::of(scene))
 }
 
-/// Packs every ellipsoid of `scene` in `format`.
-pub fn pack_scene(scene: &Scene, format: InstanceFormat) -> Result<PackedInstances> {
+/// Where an uploaded scene's glyphs are stored from: positions as float32 offsets from
+/// `origin`, compact semi-axes in units of `radius_scale`. A scene's own placement
+/// ([`Placement::of`]) keeps float32 precise where its data is; parts of one scene drawn apart
+/// (by several processes) draw the whole scene's bits only when each is uploaded with the
+/// whole's placement ([`Placement::enclosing`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placement {
+    /// The point positions are stored relative to.
+    pub origin: DVec3,
+    /// The unit of compact semi-axes (the scene's largest semi-axis).
+    pub radius_scale: f32,
+}
+
+impl Placement {
+    /// `scene`'s own placement: the centre of its bounds ([`Scene::bounds`]) and its largest
+    /// semi-axis.
+    pub fn of(scene: &Scene) -> Self {
+        let largest = scene
+            .ellipsoids
+            .iter()
+            .map(|e| e.radii.max_element())
+            .fold(0.0, f64::max);
+        Self::enclosing(scene.bounds(), largest)
+    }
+
+    /// The placement of a scene with `bounds` (the union of its parts' [`Scene::bounds`];
+    /// `None` when empty) and largest semi-axis `largest`: what [`Placement::of`] gives the
+    /// whole scene.
+    pub fn enclosing(bounds: Option<(DVec3, DVec3)>, largest: f64) -> Self {
+        Self {
+            origin: bounds
+                .map(|(lo, hi)| (lo + hi) * 0.5)
+                .unwrap_or(DVec3::ZERO),
+            radius_scale: if largest > 0.0 { largest as f32 } else { 1.0 },
+        }
+    }
+}
+
+/// Packs every ellipsoid of `scene` in `format`, placed as `placement` says.
+pub fn pack_scene(
+    scene: &Scene,
+    format: InstanceFormat,
+    placement: Placement,
+) -> Result<PackedInstances> {
     if u32::try_from(scene.len()).is_err() {
         return Err(Error::invalid(
             "scene",
             format!("{} ellipsoids exceed u32", scene.len()),
         ));
     }
-    let origin = scene
-        .bounds()
-        .map(|(lo, hi)| (lo + hi) * 0.5)
-        .unwrap_or(DVec3::ZERO);
-    let largest = scene
-        .ellipsoids
-        .iter()
-        .map(|e| e.radii.max_element())
-        .fold(0.0, f64::max);
-    let radius_scale = if largest > 0.0 { largest as f32 } else { 1.0 };
-    pack_relative(&scene.ellipsoids, origin, 0, format, radius_scale)
+    pack_relative(
+        &scene.ellipsoids,
+        placement.origin,
+        0,
+        format,
+        placement.radius_scale,
+    )
 }
 
 /// Packs `ellipsoids` relative to `origin` in `format` (an update of instances `first..` of a
@@ -247,11 +285,11 @@ mod tests {
         let e =
             |r: f64| Ellipsoid::new(DVec3::ZERO, DVec3::new(r, 1.0, 1.0), DQuat::IDENTITY, None);
         let scene = Scene::new(vec![e(1.0).unwrap(), e(2.0).unwrap()]);
-        let packed = pack_scene(&scene, InstanceFormat::Compact).unwrap();
+        let packed = pack_scene(&scene, InstanceFormat::Compact, Placement::of(&scene)).unwrap();
         assert_eq!(packed.records.bytes().len(), 64);
         assert_eq!(packed.radius_scale, 2.0);
         let wide = Scene::new(vec![e(1e-9).unwrap(), e(1.0).unwrap()]);
-        let err = pack_scene(&wide, InstanceFormat::Compact).unwrap_err();
+        let err = pack_scene(&wide, InstanceFormat::Compact, Placement::of(&wide)).unwrap_err();
         assert!(
             err.to_string().contains("ellipsoid 0") && err.to_string().contains("compact"),
             "{err}"

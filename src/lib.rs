@@ -107,7 +107,7 @@ pub use ellipsoid::Ellipsoid;
 pub use error::{Error, Result};
 pub use features::DeviceFeatures;
 pub use host_camera::HostViewport;
-pub use instances::InstanceFormat;
+pub use instances::{InstanceFormat, Placement};
 pub use renderer::{EllipsoidRenderer, FramePlan};
 pub use scene::Scene;
 pub use settings::{Material, Settings};

@@ -90,6 +90,11 @@ pub fn box_filter(frame: &Frame, k: u32) -> Result<Frame> {
         height,
         color: Vec::with_capacity(if frame.color.is_empty() { 0 } else { pixels }),
         depth: Vec::with_capacity(if frame.depth.is_empty() { 0 } else { pixels }),
+        device_depth: Vec::with_capacity(if frame.device_depth.is_empty() {
+            0
+        } else {
+            pixels
+        }),
         normal: Vec::with_capacity(if frame.normal.is_empty() { 0 } else { pixels }),
         id: Vec::with_capacity(if frame.id.is_empty() { 0 } else { pixels }),
     };
@@ -116,6 +121,9 @@ pub fn box_filter(frame: &Frame, k: u32) -> Result<Frame> {
             let held = frame.index(i * k + k / 2, j * k + k / 2);
             if !frame.depth.is_empty() {
                 out.depth.push(frame.depth[held]);
+            }
+            if !frame.device_depth.is_empty() {
+                out.device_depth.push(frame.device_depth[held]);
             }
             if !frame.normal.is_empty() {
                 out.normal.push(frame.normal[held]);
@@ -153,6 +161,7 @@ mod tests {
                 [0, 0, 0, 255],
             ],
             depth: vec![1.0, 2.0, 3.0, 4.0],
+            device_depth: vec![0.1, 0.2, 0.3, 0.4],
             normal: vec![[0.0; 3]; 4],
             id: vec![7, 8, 9, 10],
         };
@@ -160,6 +169,7 @@ mod tests {
         assert_eq!((out.width, out.height), (1, 1));
         assert_eq!(out.color, vec![[137, 137, 137, 255]]);
         assert_eq!((out.depth[0], out.id[0]), (4.0, 10));
+        assert_eq!(out.device_depth, [0.4]);
         assert!(box_filter(&frame, 3).is_err());
     }
 }

@@ -17,6 +17,7 @@ use crate::error::{Error, Result, VkCall};
 use crate::frame::Frame;
 use crate::gpu::queries::{FrameQueries, QueryResults};
 use crate::gpu::{Context, ContextOptions};
+use crate::instances::Placement;
 use crate::renderer::{EllipsoidRenderer, FramePlan};
 use crate::research;
 use crate::scene::Scene;
@@ -152,6 +153,11 @@ impl OffscreenRenderer {
         self.renderer_mut().set_settings(settings);
     }
 
+    /// The samples per pixel frames are drawn with ([`OffscreenRenderer::set_samples`]).
+    pub fn samples(&self) -> vk::SampleCountFlags {
+        self.samples
+    }
+
     /// Draws later frames with `samples` samples per pixel (1, the default, or a count the
     /// device supports for colour and depth attachments and for sampling depth and integer
     /// images) and reads back the resolved frame: colour is the mean of the samples, the
@@ -239,10 +245,17 @@ impl OffscreenRenderer {
     /// Uploads the scene's instances (replacing the previous scene), in a submission of its
     /// own.
     pub fn upload(&mut self, scene: &Scene) -> Result<()> {
+        self.upload_placed(scene, Placement::of(scene))
+    }
+
+    /// [`OffscreenRenderer::upload`] with the glyphs stored as `placement` says (see
+    /// [`EllipsoidRenderer::upload_placed`]): a process drawing its share of a scene split
+    /// between processes uploads it with the whole scene's placement.
+    pub fn upload_placed(&mut self, scene: &Scene, placement: Placement) -> Result<()> {
         let cmd = self.begin_commands()?;
         let (device, allocator, renderer) = self.parts();
         // SAFETY: `cmd` is recording outside a pass; it is submitted and waited for below.
-        let recorded = unsafe { renderer.upload(device, allocator, cmd, scene) };
+        let recorded = unsafe { renderer.upload_placed(device, allocator, cmd, scene, placement) };
         // SAFETY: `cmd` is recording.
         unsafe { device.end_command_buffer(cmd) }.call("vkEndCommandBuffer")?;
         recorded?;

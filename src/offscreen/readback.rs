@@ -58,6 +58,9 @@ impl OffscreenRenderer {
                     }
                 })
                 .collect();
+            frame.device_depth = (0..pixels)
+                .map(|i| f32::from_ne_bytes(word(base, i)))
+                .collect();
         }
         if let Some(base) = wanted(normal, outputs.normal) {
             frame.normal = (0..pixels)

@@ -489,7 +489,7 @@ mod tests {
     use super::super::estimate::SPLAT_MAX_MEAN_AREA_PX;
     use super::super::plan_reason::Guess;
     use super::*;
-    use crate::instances::pack_scene;
+    use crate::instances::{pack_scene, Placement};
     use crate::path::PathKind;
     use crate::target::Pass;
     use crate::{Ellipsoid, Scene};
@@ -516,7 +516,7 @@ mod tests {
                 Ellipsoid::new(DVec3::ZERO, DVec3::splat(4.0), DQuat::IDENTITY, None).unwrap();
         }
         let scene = Scene::new(glyphs);
-        let packed = pack_scene(&scene, InstanceFormat::Full).unwrap();
+        let packed = pack_scene(&scene, InstanceFormat::Full, Placement::of(&scene)).unwrap();
         let camera =
             Camera::look_at(DVec3::new(0.0, 0.0, 40.0), DVec3::ZERO, 45.0, 1.0, 640, 480).unwrap();
         (UploadedScene::new(&scene, &packed, u32::MAX), camera)

@@ -9,7 +9,7 @@ use crate::ellipsoid::Ellipsoid;
 use crate::error::{Error, Result};
 use crate::frame_slots::Retired;
 use crate::gpu::GpuBuffer;
-use crate::instances::{pack_relative, pack_scene};
+use crate::instances::{pack_relative, pack_scene, Placement};
 use crate::scene::Scene;
 
 use super::buffers::Binding;
@@ -35,7 +35,25 @@ impl EllipsoidRenderer {
         cmd: vk::CommandBuffer,
         scene: &Scene,
     ) -> Result<()> {
-        let packed = pack_scene(scene, self.settings.instance_format)?;
+        // SAFETY: forwarded caller contract.
+        unsafe { self.upload_placed(device, allocator, cmd, scene, Placement::of(scene)) }
+    }
+
+    /// [`EllipsoidRenderer::upload`] with the glyphs stored as `placement` says, not from the
+    /// scene's own bounds: a part of a scene drawn apart from the rest (another process's
+    /// share) draws the whole scene's bits with the whole's [`Placement::enclosing`].
+    ///
+    /// # Safety
+    /// As for [`EllipsoidRenderer::upload`].
+    pub unsafe fn upload_placed(
+        &mut self,
+        device: &ash::Device,
+        allocator: &mut dyn MemoryAllocator,
+        cmd: vk::CommandBuffer,
+        scene: &Scene,
+        placement: Placement,
+    ) -> Result<()> {
+        let packed = pack_scene(scene, self.settings.instance_format, placement)?;
         // A pre-pass recorded before this upload culled the old scene; the stamps of the old
         // scene say nothing of this one.
         for view in &mut self.views {

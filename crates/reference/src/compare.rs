@@ -331,6 +331,7 @@ mod tests {
             height: h,
             color: vec![[0; 4]; n],
             depth: vec![f32::INFINITY; n],
+            device_depth: vec![1.0; n],
             normal: vec![[0.0; 3]; n],
             id: vec![NO_INSTANCE; n],
         };

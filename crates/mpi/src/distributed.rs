@@ -1,0 +1,147 @@
+//! One frame of a scene split between the processes of a communicator: each draws its share
+//! with the whole scene's placement, and the frames are combined at the root into exactly the
+//! frame one process drawing every glyph would read back.
+
+use glam::DVec3;
+use mpi::collective::SystemOperation;
+use mpi::topology::Rank;
+use mpi::traits::*;
+
+use ellipsoid_splat::{Camera, Frame, OffscreenRenderer, Outputs, Placement, Scene};
+
+use crate::binary_swap::{self, Traffic};
+use crate::error::{Error, Result};
+use crate::pixels;
+
+/// A composited frame and what producing it took on this process.
+#[derive(Clone, Debug, Default)]
+pub struct Composited {
+    /// The whole frame, on the root only: IDs are global glyph indices.
+    pub frame: Option<Frame>,
+    /// What this process sent while compositing.
+    pub traffic: Traffic,
+    /// Seconds this process spent drawing and reading back its share.
+    pub draw_seconds: f64,
+    /// Seconds from the end of its drawing to its part of the combined image being done
+    /// (waiting for the others included).
+    pub composite_seconds: f64,
+}
+
+/// Draws `part` (this process's glyphs; its glyph `i` is global glyph `global_ids[i]`) with
+/// `camera` and combines every process's frame over `comm` at `root`. Collective: every
+/// process of `comm` calls it with the same camera, outputs and root. Depth and ID are always
+/// drawn (they decide each pixel); `outputs` adds colour and normal.
+///
+/// A process whose share fails (a bad glyph, out of memory, a device error) makes every
+/// process return an error naming the first failing rank, so none waits for it.
+/// Antialiased frames are refused: a multisampled or supersampled pixel blends several
+/// glyphs, and blends do not combine exactly.
+pub fn render_composited<C: Communicator>(
+    comm: &C,
+    root: Rank,
+    renderer: &mut OffscreenRenderer,
+    part: &Scene,
+    global_ids: &[u32],
+    camera: &Camera,
+    outputs: Outputs,
+) -> Result<Composited> {
+    let started = std::time::Instant::now();
+    let placement = whole_placement(comm, part);
+    let drawn = draw(renderer, part, global_ids, camera, outputs, placement);
+    let draw_seconds = started.elapsed().as_secs_f64();
+    // Every process learns whether any failed before anyone waits on another.
+    let failed_at = match &drawn {
+        Ok(_) => Rank::MAX,
+        Err(_) => comm.rank(),
+    };
+    let mut first_failed = Rank::MAX;
+    comm.all_reduce_into(&failed_at, &mut first_failed, SystemOperation::min());
+    let words = match drawn {
+        Err(error) => return Err(error),
+        Ok(_) if first_failed != Rank::MAX => return Err(Error::OtherRank { rank: first_failed }),
+        Ok(words) => words,
+    };
+    let like = Frame {
+        color: if outputs.color {
+            vec![[0; 4]]
+        } else {
+            Vec::new()
+        },
+        normal: if outputs.normal {
+            vec![[0.0; 3]]
+        } else {
+            Vec::new()
+        },
+        ..Frame::default()
+    };
+    let pixels = camera.width as usize * camera.height as usize;
+    let (_, mine, mut traffic) = binary_swap::composite(comm, words, pixels);
+    let composite_seconds = started.elapsed().as_secs_f64() - draw_seconds;
+    let image = binary_swap::gather(comm, root, mine, pixels, &mut traffic);
+    Ok(Composited {
+        frame: image.map(|words| pixels::decode(&words, camera.width, camera.height, &like)),
+        traffic,
+        draw_seconds,
+        composite_seconds,
+    })
+}
+
+/// The placement of the union of every process's `part` (what [`Placement::of`] gives the
+/// whole scene): each part uploaded with it draws the whole scene's bits.
+pub fn whole_placement<C: Communicator>(comm: &C, part: &Scene) -> Placement {
+    let (lo, hi) = part
+        .bounds()
+        .unwrap_or((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)));
+    let largest = part
+        .ellipsoids
+        .iter()
+        .map(|e| e.radii.max_element())
+        .fold(0.0, f64::max);
+    let mut low = [0.0f64; 3];
+    let mut high = [0.0f64; 3];
+    let mut most = 0.0f64;
+    comm.all_reduce_into(&lo.to_array()[..], &mut low[..], SystemOperation::min());
+    comm.all_reduce_into(&hi.to_array()[..], &mut high[..], SystemOperation::max());
+    comm.all_reduce_into(&largest, &mut most, SystemOperation::max());
+    let bounds = (low[0] <= high[0]).then(|| (DVec3::from(low), DVec3::from(high)));
+    Placement::enclosing(bounds, most)
+}
+
+/// This process's frame as compositing words.
+fn draw(
+    renderer: &mut OffscreenRenderer,
+    part: &Scene,
+    global_ids: &[u32],
+    camera: &Camera,
+    outputs: Outputs,
+    placement: Placement,
+) -> Result<Vec<u64>> {
+    if renderer.samples() != ash::vk::SampleCountFlags::TYPE_1 {
+        return Err(Error::NotComposited(
+            "multisampled frames: a pixel blends several glyphs, and blends do not combine \
+             exactly (draw one sample per pixel)"
+                .into(),
+        ));
+    }
+    if camera.viewport_origin != [0, 0] {
+        return Err(Error::NotComposited(
+            "a camera drawn into a viewport of a larger image: composite the camera's own image"
+                .into(),
+        ));
+    }
+    if global_ids.len() != part.len() {
+        return Err(Error::Invalid(format!(
+            "{} global indices for {} glyphs",
+            global_ids.len(),
+            part.len()
+        )));
+    }
+    let reversed = camera.depth.reversed;
+    // An empty share draws too: its background is the renderer's own, bit for bit.
+    let mut asked = outputs;
+    asked.depth = true;
+    asked.id = true;
+    renderer.upload_placed(part, placement)?;
+    let (frame, _) = renderer.render_views(camera.width, camera.height, &[*camera], asked)?;
+    pixels::encode(&frame, reversed, global_ids).map_err(Error::Invalid)
+}
