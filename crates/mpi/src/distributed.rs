@@ -22,8 +22,9 @@ pub struct Composited {
     pub traffic: Traffic,
     /// Seconds this process spent drawing and reading back its share.
     pub draw_seconds: f64,
-    /// Seconds from the end of its drawing to its part of the combined image being done
-    /// (waiting for the others included).
+    /// Seconds of the compositing itself: from every process having drawn (the all-reduce
+    /// that also checks for failures) to this process's part of the gathered image sent (or,
+    /// at the root, the whole image received).
     pub composite_seconds: f64,
 }
 
@@ -56,6 +57,7 @@ pub fn render_composited<C: Communicator>(
     };
     let mut first_failed = Rank::MAX;
     comm.all_reduce_into(&failed_at, &mut first_failed, SystemOperation::min());
+    let synced = std::time::Instant::now();
     let words = match drawn {
         Err(error) => return Err(error),
         Ok(_) if first_failed != Rank::MAX => return Err(Error::OtherRank { rank: first_failed }),
@@ -76,8 +78,8 @@ pub fn render_composited<C: Communicator>(
     };
     let pixels = camera.width as usize * camera.height as usize;
     let (_, mine, mut traffic) = binary_swap::composite(comm, words, pixels);
-    let composite_seconds = started.elapsed().as_secs_f64() - draw_seconds;
     let image = binary_swap::gather(comm, root, mine, pixels, &mut traffic);
+    let composite_seconds = synced.elapsed().as_secs_f64();
     Ok(Composited {
         frame: image.map(|words| pixels::decode(&words, camera.width, camera.height, &like)),
         traffic,
