@@ -1,15 +1,15 @@
 //! Sort-last compositing under `mpirun` (Debian's OpenMPI, scripts/setup.sh): 1, 2, 3, 4 and 8
 //! ranks as processes on this machine, every case of `composite-check` bit-identical to one
 //! process drawing every glyph, under validation; and the bytes a rank sends stay below one
-//! image however many ranks there are.
+//! image however many ranks there are; a rank that fails stops them all with named errors.
 
 use std::process::Command;
 
 /// Bytes a 160 x 120 image takes in compositing words (32 a pixel).
 const IMAGE_BYTES: u64 = 160 * 120 * 32;
 
-fn run(ranks: u32) -> String {
-    let output = Command::new("mpirun")
+fn mpirun(ranks: u32, args: &[&str]) -> std::process::Output {
+    Command::new("mpirun")
         .args([
             "--oversubscribe",
             "--allow-run-as-root",
@@ -17,8 +17,13 @@ fn run(ranks: u32) -> String {
             &ranks.to_string(),
         ])
         .arg(env!("CARGO_BIN_EXE_composite-check"))
+        .args(args)
         .output()
-        .expect("mpirun (Debian's openmpi-bin, scripts/setup.sh) runs");
+        .expect("mpirun (Debian's openmpi-bin, scripts/setup.sh) runs")
+}
+
+fn run(ranks: u32) -> String {
+    let output = mpirun(ranks, &[]);
     let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
     assert!(
         output.status.success(),
@@ -47,4 +52,25 @@ fn composited_frames_equal_one_process_for_1_2_3_4_and_8_ranks() {
             }
         }
     }
+}
+
+/// A rank whose share fails (a glyph float32 cannot hold) makes every rank stop with an
+/// error: the failing rank names the glyph, the others name the failing rank; nobody waits
+/// for the image it will not send.
+#[test]
+fn a_failing_rank_stops_every_rank_with_named_errors() {
+    let started = std::time::Instant::now();
+    let output = mpirun(3, &["--fail-rank", "1"]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success(), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        stderr.contains("composite-check: rank 1: ") && stderr.contains("ellipsoid 7"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("rank 1 failed drawing its share"),
+        "the other ranks name rank 1: {stderr}"
+    );
+    assert!(started.elapsed().as_secs() < 60, "{:?}", started.elapsed());
 }

@@ -7,6 +7,9 @@
 //! line a case (`case NAME: match, N pixels shown, most bytes sent by a rank B`) and exits 1
 //! on any mismatch; any rank's error ends every rank with status 1.
 //!
+//! With `--fail-rank R`, rank R's share holds a glyph float32 cannot store: every rank must
+//! return an error (R its own, the others naming R) and exit with status 1, none waiting.
+//!
 //! Not part of the library: a test driver (`tests/mpirun.rs`), and an example of the API.
 
 use std::process::ExitCode;
@@ -169,8 +172,10 @@ fn main() -> ExitCode {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::FAILURE,
         Err(e) => {
+            // No abort: the ranks fail together (render_composited's all-reduce), and a rank
+            // that exits with an error makes mpirun end the others.
             eprintln!("composite-check: rank {}: {e}", world.rank());
-            world.abort(1)
+            ExitCode::FAILURE
         }
     }
 }
@@ -178,6 +183,23 @@ fn main() -> ExitCode {
 fn run<C: Communicator>(world: &C) -> Result<bool, Box<dyn std::error::Error>> {
     let (rank, size) = (world.rank(), world.size());
     let mut renderer = OffscreenRenderer::new(&ContextOptions::validated())?;
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(failing) = args.iter().position(|a| a == "--fail-rank") {
+        let failing: i32 = args
+            .get(failing + 1)
+            .and_then(|r| r.parse().ok())
+            .ok_or("--fail-rank needs a rank")?;
+        let mut part = cloud(100)?;
+        if rank == failing {
+            // Semi-axes float32 rounds to 0: the upload refuses the glyph (and the whole
+            // scene's bounds, which every rank's placement comes from, stay sound).
+            part.ellipsoids[7].radii = DVec3::splat(1e-50);
+        }
+        let ids: Vec<u32> = (0..100).collect();
+        let camera = cases(size)?.remove(0).camera;
+        render_composited(world, 0, &mut renderer, &part, &ids, &camera, Outputs::ALL)?;
+        return Err("the failing rank's error did not reach this rank".into());
+    }
     let mut all_match = true;
     for case in cases(size)? {
         let mine: Vec<usize> = case
