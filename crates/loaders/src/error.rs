@@ -1,7 +1,7 @@
 //! The loaders' error: which file, line and field is bad and why, what could not be read, or
 //! what the renderer's types refused.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Everything that can go wrong loading or generating a scene.
 #[derive(Debug, thiserror::Error)]
@@ -50,5 +50,28 @@ impl Error {
             what: what.into(),
             reason: reason.into(),
         }
+    }
+}
+
+/// Maps an I/O error on `path` to [`Error::Io`].
+pub(crate) fn io_error(path: &Path) -> impl Fn(std::io::Error) -> Error + Copy + '_ {
+    move |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// An [`Error::Parse`]: `line` is 1-based, 0 when the problem is not tied to a line.
+pub(crate) fn parse_error(
+    file: &Path,
+    line: usize,
+    column: impl Into<String>,
+    reason: impl Into<String>,
+) -> Error {
+    Error::Parse {
+        file: file.to_path_buf(),
+        line,
+        column: column.into(),
+        reason: reason.into(),
     }
 }
