@@ -1,5 +1,6 @@
 //! The loaders' error: which file, line and field is bad and why, what could not be read, or
-//! what the renderer's types refused.
+//! what the renderer's types refused; and the helpers that build one (a parse error, an I/O
+//! error naming its file, the line of a byte).
 
 use std::path::{Path, PathBuf};
 
@@ -74,4 +75,14 @@ pub(crate) fn parse_error(
         column: column.into(),
         reason: reason.into(),
     }
+}
+
+/// The whole content of `path`, or an [`Error::Io`] naming it.
+pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>> {
+    std::fs::read(path).map_err(io_error(path))
+}
+
+/// The 1-based line of byte `offset` in `bytes`.
+pub(crate) fn line_at(bytes: &[u8], offset: usize) -> usize {
+    1 + bytes[..offset].iter().filter(|&&b| b == b'\n').count()
 }

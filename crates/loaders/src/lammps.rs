@@ -13,13 +13,13 @@
 //! - `ITEM: ATOMS` and the column names, then one line per atom;
 //! - other items (`ITEM: UNITS`, `ITEM: TIME`) are skipped with their values.
 //!
-//! Columns read, as OVITO reads them (our standard names; others are ignored and named once in
-//! the notes):
+//! Columns read (our standard names; others are ignored and named once in the notes):
 //!
 //! - the position: `x y z`, else unwrapped `xu yu zu`, else scaled `xs ys zs`, else
 //!   `xsu ysu zsu` (scaled are mapped through the box, triclinic included); required;
-//! - the size: `shapex shapey shapez`, the ellipsoid's three DIAMETERS (LAMMPS writes
-//!   diameters since its July 2020 release; the semi-axes drawn are half of them), else
+//! - the size: `shapex shapey shapez`, the ellipsoid's three DIAMETERS (the semi-axes drawn
+//!   are half of them; a dump whose shape columns hold radii loads at half size: map the
+//!   columns or scale the data), else
 //!   `radius`, else `diameter`, for spheres. A particle whose shape is `0 0 0` (a point
 //!   particle of the ellipsoid style) is a sphere of its `radius`/`diameter` if the file has
 //!   one. A file with neither is an error: map a column with [`LoadOptions::columns`];
@@ -72,7 +72,7 @@ const DIAMETER: usize = 22;
 const COLOR: usize = 23;
 
 /// Reads frame 1 of a LAMMPS dump (plain or gzipped), with a note giving the number of frames
-/// when there are several; [`Trajectory`] reads the others.
+/// when there are several; [`Trajectory`](crate::Trajectory) reads the others.
 pub fn load_lammps(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     first_frame(read_gunzipped(path)?, path, options, scan, parse_frame)
 }
@@ -130,8 +130,8 @@ pub(crate) fn scan(bytes: &[u8], file: &Path) -> Result<Vec<Span>> {
 /// The simulation box: `origin + s.x * a + s.y * b + s.z * c` is the point of scaled
 /// coordinates `s`.
 ///
-/// A triclinic dump gives, per axis, the bounding box of the tilted cell and the tilt factors;
-/// LAMMPS documents `xlo_bound = xlo + min(0, xy, xz, xy + xz)`,
+/// A triclinic dump gives, per axis, the bounding box of the tilted cell and the tilt factors:
+/// `xlo_bound = xlo + min(0, xy, xz, xy + xz)`,
 /// `xhi_bound = xhi + max(0, xy, xz, xy + xz)`, `ylo_bound = ylo + min(0, yz)`,
 /// `yhi_bound = yhi + max(0, yz)` (z unchanged), and the cell's edges `a = (xhi - xlo, 0, 0)`,
 /// `b = (xy, yhi - ylo, 0)`, `c = (xz, yz, zhi - zlo)` from the origin `(xlo, ylo, zlo)`.

@@ -1,11 +1,11 @@
 //! Reads a scene file of any supported format: the format is chosen by extension, or by
-//! content when the extension says nothing. Also the small helpers the single-frame loaders
-//! have in common (reading a file, the line of a byte). The options and the report live in
-//! `options` and `loaded`, and are re-exported here.
+//! content when the extension says nothing. The options and the report of a load live in
+//! `options` and `loaded` (so that the loaders need not import this module, which imports
+//! them) and are re-exported here.
 
 use std::path::Path;
 
-pub(crate) use crate::error::{io_error, parse_error};
+use crate::error::io_error;
 pub use crate::loaded::{Loaded, Origins};
 pub use crate::options::{LoadOptions, TensorOrder};
 use crate::Result;
@@ -159,14 +159,4 @@ pub(crate) fn load_format(path: &Path, format: Format, options: &LoadOptions) ->
         Format::LammpsDump => crate::lammps::load_lammps(path, options),
         Format::ExtendedXyz => crate::xyz::load_xyz(path, options),
     }
-}
-
-/// The whole content of `path`, or an [`Error::Io`] naming it.
-pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>> {
-    std::fs::read(path).map_err(io_error(path))
-}
-
-/// The 1-based line of byte `offset` in `bytes`.
-pub(crate) fn line_at(bytes: &[u8], offset: usize) -> usize {
-    1 + bytes[..offset].iter().filter(|&&b| b == b'\n').count()
 }

@@ -16,7 +16,7 @@ pub enum TensorOrder {
 /// What the loaders may be told.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LoadOptions {
-    /// Drop invalid records (counted in [`Loaded::skipped`]) instead of failing on the first.
+    /// Drop invalid records (counted in [`Loaded::skipped`](crate::Loaded::skipped)) instead of failing on the first.
     pub skip_invalid: bool,
     /// 3D Gaussian Splatting: radii are `sigma * exp(scale)` (the iso-level in standard
     /// deviations).
@@ -36,7 +36,7 @@ pub struct LoadOptions {
     /// Show a progress bar on stderr while reading large files (only when it is a terminal).
     pub progress: bool,
     /// Particle files (LAMMPS dumps, extended XYZ): `(our standard name, the file's column
-    /// name)` pairs, like a column mapping of OVITO, e.g. `("shapex", "c_shape[1]")` for a dump of
+    /// name)` pairs, e.g. `("shapex", "c_shape[1]")` for a dump of
     /// a compute's output. A standard name not mapped is looked for under its own name; a
     /// mapping to a column the file lacks is an error. The standard names are listed in the
     /// [`lammps`](crate::lammps) and [`xyz`](crate::xyz) modules.

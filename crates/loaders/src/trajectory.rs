@@ -8,8 +8,9 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::error::read_file;
 use crate::gzip::gunzip_if_compressed;
-use crate::load::{detect_format, load_format, read_file, Format, LoadOptions, Loaded};
+use crate::load::{detect_format, load_format, Format, LoadOptions, Loaded};
 pub use crate::particles::TYPE_PALETTE;
 use crate::particles::{check_options, FrameRef, Span};
 use crate::{Error, Result};

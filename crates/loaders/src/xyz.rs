@@ -12,19 +12,23 @@
 //! Properties read (our standard names; others are ignored and named once in the notes):
 //!
 //! - `pos:R:3`, the centre (required);
-//! - `aspherical_shape:R:3`: the SEMI-AXES, as OVITO's "Aspherical Shape" particle property
-//!   (OVITO's manual describes the ellipsoid by its half-lengths; its reader of LAMMPS dumps,
-//!   whose `shapex` columns hold diameters, is why ellipsoids from such dumps showed twice as
-//!   large there); else `radius:R:1`, for spheres. A zero shape takes the `radius`, if any.
-//!   A file with neither is an error (map a property with [`LoadOptions::columns`]);
-//! - `orientation:R:4`: the quaternion in OVITO's order `x y z w` (OVITO's manual: its
-//!   "Orientation" property is `(X, Y, Z, W)`, after Shoemake), rotating the particle's frame
-//!   into the lab frame; without it ellipsoids are drawn unrotated, with a note;
+//! - `aspherical_shape:R:3`: the SEMI-AXES (half-lengths, not the diameters of a LAMMPS
+//!   dump's `shapex` columns); else `radius:R:1`, for spheres. A zero shape takes the
+//!   `radius`, if any. A file with neither is an error (map a property with
+//!   [`LoadOptions::columns`]);
+//! - `orientation:R:4`: the quaternion, holding x, y, z, w in that order, rotating the
+//!   particle's frame into the lab frame; without it ellipsoids are drawn unrotated, with a
+//!   note;
 //! - `id:I:1`: frames are sorted by it; `species` (else `type`), `S` or `I`: the colour, from
-//!   [`LoadOptions::type_colors`] or [`TYPE_PALETTE`]: an integer species is that type, a
-//!   name (`C`, `A`) is numbered by its first appearance in the frame (1, 2, ...);
+//!   [`LoadOptions::type_colors`] or [`TYPE_PALETTE`]: an integer species is that type; names
+//!   (`C`, `A`) are numbered 1, 2, ... by first appearance in id order, after the sort, so in
+//!   a trajectory whose atoms keep their ids and species a name keeps its colour in every
+//!   frame, whatever the order of the lines (without `id`, id order is file order);
 //!   `color:R:3` (each in [0, 1]) gives colours directly. Without either, glyphs are coloured
 //!   by shape.
+//!
+//! A `Properties` key declares at most [`MAX_FIELDS`] fields in all (a larger header is an
+//! error, not an allocation).
 //!
 //! [`LoadOptions::columns`] maps our names to the file's property names
 //! (`("aspherical_shape", "shape")`). Every rejection is an [`Error::Parse`](crate::Error::Parse)
