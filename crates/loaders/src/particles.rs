@@ -336,8 +336,9 @@ pub(crate) struct FrameParticles {
     pub ellipsoids: Vec<Ellipsoid>,
     /// `(line, id)` of each.
     pub origins: Vec<(u32, i64)>,
-    /// The species name of each ([`Paint::Name`]), when the frame's species are names.
-    pub names: Vec<u32>,
+    /// The species name of each ([`Paint::Name`]), if it has one: a species column may mix
+    /// names and type numbers.
+    pub names: Vec<Option<u32>>,
     pub has_ids: bool,
     pub skipped: usize,
     pub first_skipped: Option<Error>,
@@ -378,17 +379,18 @@ impl FrameParticles {
             }
             self.ellipsoids = order.iter().map(|&i| self.ellipsoids[i as usize]).collect();
             self.origins = order.iter().map(|&i| self.origins[i as usize]).collect();
-            if !self.names.is_empty() {
-                self.names = order.iter().map(|&i| self.names[i as usize]).collect();
-            }
+            self.names = order.iter().map(|&i| self.names[i as usize]).collect();
         }
-        if !self.names.is_empty() {
+        if self.names.iter().any(Option::is_some) {
             // File-order name number -> id-order number (0 = not seen yet). Names of skipped
             // lines count in the file order, hence the maximum, not the length.
-            let size = self.names.iter().max().map_or(0, |&m| m as usize + 1);
+            let size = self.names.iter().flatten().max().map_or(0, |&m| m as usize + 1);
             let mut number = vec![0i64; size];
             let mut seen = 0;
-            for (e, &name) in self.ellipsoids.iter_mut().zip(&self.names) {
+            for (e, name) in self.ellipsoids.iter_mut().zip(&self.names) {
+                let Some(name) = *name else {
+                    continue;
+                };
                 let n = &mut number[name as usize];
                 if *n == 0 {
                     seen += 1;
@@ -423,9 +425,7 @@ impl FrameParticles {
             Ok((e, line, id)) => {
                 self.ellipsoids.push(e);
                 self.origins.push((line, id));
-                if let Some(name) = name {
-                    self.names.push(name);
-                }
+                self.names.push(name);
             }
             Err(e) if skip_invalid => {
                 self.skipped += 1;

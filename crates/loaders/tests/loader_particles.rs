@@ -688,3 +688,14 @@ fn properties_declaring_too_many_fields_are_a_parse_error_not_an_allocation() {
     assert_eq!(e.column, "frame 1, pos[2] (field 4002)");
     assert_eq!(e.reason, "not a number: \"y\"");
 }
+
+#[test]
+fn a_species_column_may_mix_names_and_type_numbers() {
+    // Found by the xyz fuzz target: a name among integers (and the id sort) indexed past
+    // the names. Integers are types; names are numbered 1, 2, ... in id order.
+    let text = "3\nProperties=id:I:1:species:S:1:pos:R:3:radius:R:1\n\
+                3 C 0 0 0 1\n1 3 1 0 0 1\n2 O 2 0 0 1\n";
+    let loaded = xyz(text);
+    let colors: Vec<[f32; 3]> = loaded.scene.ellipsoids.iter().map(|e| e.color).collect();
+    assert_eq!(colors, [TYPE_PALETTE[2], TYPE_PALETTE[0], TYPE_PALETTE[1]]);
+}
