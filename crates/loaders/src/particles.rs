@@ -384,7 +384,12 @@ impl FrameParticles {
         if self.names.iter().any(Option::is_some) {
             // File-order name number -> id-order number (0 = not seen yet). Names of skipped
             // lines count in the file order, hence the maximum, not the length.
-            let size = self.names.iter().flatten().max().map_or(0, |&m| m as usize + 1);
+            let size = self
+                .names
+                .iter()
+                .flatten()
+                .max()
+                .map_or(0, |&m| m as usize + 1);
             let mut number = vec![0i64; size];
             let mut seen = 0;
             for (e, name) in self.ellipsoids.iter_mut().zip(&self.names) {

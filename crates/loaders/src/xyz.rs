@@ -457,6 +457,7 @@ impl Header {
         (result, name)
     }
 
+    /// [`Header::atom`]'s body: `name` is set even when the line fails, so `?` can be used.
     #[allow(clippy::too_many_arguments)]
     fn read_atom<'a>(
         &self,
@@ -497,7 +498,7 @@ impl Header {
                                 species_names.len() - 1
                             }
                         };
-                        // At most one name per atom line: fewer than the file's lines.
+                        // A new name takes a line of its own: n is below the frame's lines.
                         *name = Some(u32::try_from(n).unwrap_or(u32::MAX));
                     }
                 },
