@@ -21,7 +21,9 @@ use std::path::Path;
 
 use glam::{DMat3, DQuat, DVec3};
 
-use crate::load::{line_at, parse_error, read_file, LoadOptions, Loaded};
+use crate::error::{line_at, parse_error, read_file};
+use crate::loaded::{Loaded, Origins};
+use crate::options::LoadOptions;
 use crate::{Error, Result};
 use ellipsoid_splat::Ellipsoid;
 use ellipsoid_splat::Scene;
@@ -169,7 +171,7 @@ fn parse_rows(text: &str, file: &Path, skip_invalid: bool) -> Result<Loaded> {
         scene: Scene::new(ellipsoids),
         skipped,
         notes,
-        origins: crate::load::Origins::Lines(origins),
+        origins: Origins::Lines(origins),
     })
 }
 

@@ -1,7 +1,8 @@
 //! The loaders' error: which file, line and field is bad and why, what could not be read, or
-//! what the renderer's types refused.
+//! what the renderer's types refused; and the helpers that build one (a parse error, an I/O
+//! error naming its file, the line of a byte).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Everything that can go wrong loading or generating a scene.
 #[derive(Debug, thiserror::Error)]
@@ -51,4 +52,37 @@ impl Error {
             reason: reason.into(),
         }
     }
+}
+
+/// Maps an I/O error on `path` to [`Error::Io`].
+pub(crate) fn io_error(path: &Path) -> impl Fn(std::io::Error) -> Error + Copy + '_ {
+    move |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// An [`Error::Parse`]: `line` is 1-based, 0 when the problem is not tied to a line.
+pub(crate) fn parse_error(
+    file: &Path,
+    line: usize,
+    column: impl Into<String>,
+    reason: impl Into<String>,
+) -> Error {
+    Error::Parse {
+        file: file.to_path_buf(),
+        line,
+        column: column.into(),
+        reason: reason.into(),
+    }
+}
+
+/// The whole content of `path`, or an [`Error::Io`] naming it.
+pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>> {
+    std::fs::read(path).map_err(io_error(path))
+}
+
+/// The 1-based line of byte `offset` in `bytes`.
+pub(crate) fn line_at(bytes: &[u8], offset: usize) -> usize {
+    1 + bytes[..offset].iter().filter(|&&b| b == b'\n').count()
 }

@@ -13,13 +13,13 @@
 //! - `ITEM: ATOMS` and the column names, then one line per atom;
 //! - other items (`ITEM: UNITS`, `ITEM: TIME`) are skipped with their values.
 //!
-//! Columns read, as OVITO reads them (our standard names; others are ignored and named once in
-//! the notes):
+//! Columns read (our standard names; others are ignored and named once in the notes):
 //!
 //! - the position: `x y z`, else unwrapped `xu yu zu`, else scaled `xs ys zs`, else
 //!   `xsu ysu zsu` (scaled are mapped through the box, triclinic included); required;
-//! - the size: `shapex shapey shapez`, the ellipsoid's three DIAMETERS (LAMMPS writes
-//!   diameters since its July 2020 release; the semi-axes drawn are half of them), else
+//! - the size: `shapex shapey shapez`, the ellipsoid's three DIAMETERS (the semi-axes drawn
+//!   are half of them; a dump whose shape columns hold radii loads at half size: map the
+//!   columns or scale the data), else
 //!   `radius`, else `diameter`, for spheres. A particle whose shape is `0 0 0` (a point
 //!   particle of the ellipsoid style) is a sphere of its `radius`/`diameter` if the file has
 //!   one. A file with neither is an error: map a column with [`LoadOptions::columns`];
@@ -40,16 +40,19 @@
 //!
 //! [`Ellipsoid::rotation`]: ellipsoid_splat::Ellipsoid::rotation
 //! [`Trajectory`]: crate::Trajectory
-//! [`TYPE_PALETTE`]: crate::trajectory::TYPE_PALETTE
+//! [`TYPE_PALETTE`]: crate::TYPE_PALETTE
 
 use std::path::Path;
 
 use glam::{DQuat, DVec3};
 
-use crate::load::{parse_error, Format, LoadOptions, Loaded};
-use crate::trajectory::{
-    check_mapping_names, ellipsoid, fields, integer, mapped, real, shown, type_color,
-    FrameParticles, FrameRef, Lines, Particle, Span, Trajectory,
+use crate::error::parse_error;
+use crate::gzip::read_gunzipped;
+use crate::loaded::Loaded;
+use crate::options::LoadOptions;
+use crate::particles::{
+    atom_ellipsoid, check_mapping_names, fields, first_frame, integer, mapped, real, shown, Atom,
+    AtomColumns, FrameParticles, FrameRef, Lines, Paint, Span,
 };
 use crate::Result;
 
@@ -69,15 +72,15 @@ const DIAMETER: usize = 22;
 const COLOR: usize = 23;
 
 /// Reads frame 1 of a LAMMPS dump (plain or gzipped), with a note giving the number of frames
-/// when there are several; [`Trajectory`] reads the others.
+/// when there are several; [`Trajectory`](crate::Trajectory) reads the others.
 pub fn load_lammps(path: &Path, options: &LoadOptions) -> Result<Loaded> {
-    crate::trajectory::load_first(path, Format::LammpsDump, options)
+    first_frame(read_gunzipped(path)?, path, options, scan, parse_frame)
 }
 
 /// Parses frame 1 of the LAMMPS dump in `bytes` (plain or gzipped); `file` only names the
 /// source in errors.
 pub fn parse_lammps(bytes: &[u8], file: &Path, options: &LoadOptions) -> Result<Loaded> {
-    Trajectory::from_bytes(bytes.to_vec(), file, Format::LammpsDump, options)?.first()
+    first_frame(bytes.to_vec(), file, options, scan, parse_frame)
 }
 
 /// The frames of a dump: each starts at an `ITEM: TIMESTEP` line (the first also takes any
@@ -127,8 +130,8 @@ pub(crate) fn scan(bytes: &[u8], file: &Path) -> Result<Vec<Span>> {
 /// The simulation box: `origin + s.x * a + s.y * b + s.z * c` is the point of scaled
 /// coordinates `s`.
 ///
-/// A triclinic dump gives, per axis, the bounding box of the tilted cell and the tilt factors;
-/// LAMMPS documents `xlo_bound = xlo + min(0, xy, xz, xy + xz)`,
+/// A triclinic dump gives, per axis, the bounding box of the tilted cell and the tilt factors:
+/// `xlo_bound = xlo + min(0, xy, xz, xy + xz)`,
 /// `xhi_bound = xhi + max(0, xy, xz, xy + xz)`, `ylo_bound = ylo + min(0, yz)`,
 /// `yhi_bound = yhi + max(0, yz)` (z unchanged), and the cell's edges `a = (xhi - xlo, 0, 0)`,
 /// `b = (xy, yhi - ylo, 0)`, `c = (xz, yz, zhi - zlo)` from the origin `(xlo, ylo, zlo)`.
@@ -368,65 +371,47 @@ impl Header {
             // Checked when the ATOMS item is read.
             (true, None) => triple(first),
         };
-        let sphere = |c: usize| {
-            let r = if c == DIAMETER {
+        let sphere = self.sphere.map(|c| {
+            if c == DIAMETER {
                 0.5 * values[c]
             } else {
                 values[c]
-            };
-            DVec3::splat(r)
-        };
-        let semi_axes = if self.shape {
-            let d = triple(SHAPE);
-            match self.sphere {
-                Some(c) if d == DVec3::ZERO => sphere(c),
-                // Diameters: halving is exact in binary, so semi-axes written in decimal
-                // elsewhere match bit for bit.
-                _ => 0.5 * d,
             }
-        } else {
-            sphere(self.sphere.unwrap_or(RADIUS))
-        };
-        let rotation = if self.quaternion {
-            let [w, i, j, k] = [0, 1, 2, 3].map(|n| values[QUAT + n]);
-            if [w, i, j, k] == [0.0; 4] {
-                return Err(frame.error(
-                    line,
-                    "quatw quati quatj quatk",
-                    "zero quaternion: it must be non-zero to define a rotation",
-                ));
-            }
-            DQuat::from_xyzw(i, j, k, w)
-        } else {
-            DQuat::IDENTITY
-        };
-        let color = if self.color {
-            let c = triple(COLOR);
-            Some([c.x as f32, c.y as f32, c.z as f32])
+        });
+        let paint = if self.color {
+            Paint::Rgb(triple(COLOR).to_array())
         } else if self.kind {
-            Some(type_color(options, kind))
+            Paint::Type(kind)
         } else {
-            None
+            Paint::Shape
         };
-        let particle = Particle {
+        let atom = Atom {
             center,
-            semi_axes,
-            rotation,
-            color,
+            // Diameters: halving is exact in binary, so semi-axes written in decimal elsewhere
+            // match bit for bit.
+            shape: self.shape.then(|| 0.5 * triple(SHAPE)),
+            radius: sphere,
+            rotation: self.quaternion.then(|| {
+                let [w, i, j, k] = [0, 1, 2, 3].map(|n| values[QUAT + n]);
+                DQuat::from_xyzw(i, j, k, w)
+            }),
+            paint,
         };
-        let built = ellipsoid(&particle).map_err(|(blame, reason)| {
-            let columns = match blame {
-                "size" if self.shape && semi_axes != DVec3::ZERO => "shapex shapey shapez".into(),
-                "size" if self.shape => "shapex shapey shapez (a zero shape is a point particle: \
-                                         give it a radius or diameter column)"
-                    .into(),
-                "size" => COLUMNS[self.sphere.unwrap_or(RADIUS)].to_string(),
-                "colour" => "r g b".into(),
-                "position" => COLUMNS[first..first + 3].join(" "),
-                _ => "quatw quati quatj quatk".into(),
-            };
-            frame.error(line, &columns, reason)
-        })?;
+        let columns = AtomColumns {
+            position: match first {
+                2 => "x y z",
+                5 => "xu yu zu",
+                8 => "xs ys zs",
+                _ => "xsu ysu zsu",
+            },
+            shape: "shapex shapey shapez",
+            zero_shape: "shapex shapey shapez (a zero shape is a point particle: give it a \
+                         radius or diameter column)",
+            radius: COLUMNS[self.sphere.unwrap_or(RADIUS)],
+            orientation: "quatw quati quatj quatk",
+            color: "r g b",
+        };
+        let built = atom_ellipsoid(&atom, &columns, options, frame, line)?;
         Ok((built, u32::try_from(line).unwrap_or(u32::MAX), id))
     }
 }
@@ -541,7 +526,7 @@ pub(crate) fn parse_frame(bytes: &[u8], frame: FrameRef, options: &LoadOptions) 
                     ));
                 };
                 let atom = header.atom(text, n, ordinal, cell.as_ref(), &frame, options);
-                out.push(atom, options.skip_invalid)?;
+                out.push(atom, None, options.skip_invalid)?;
             }
             particles = Some(out);
         } else {
@@ -556,7 +541,7 @@ pub(crate) fn parse_frame(bytes: &[u8], frame: FrameRef, options: &LoadOptions) 
             "the frame has no ITEM: ATOMS",
         ));
     };
-    particles.finish(&frame)
+    particles.finish(&frame, options)
 }
 
 /// The three lines after `ITEM: BOX BOUNDS`, orthogonal or triclinic.
@@ -632,30 +617,6 @@ mod tests {
         assert_eq!(
             cell.point(DVec3::new(0.5, 0.5, 0.5)),
             DVec3::new(5.5, 4.75, 3.0)
-        );
-    }
-
-    #[test]
-    fn errors_name_the_frame_and_timestep() {
-        let text = "ITEM: TIMESTEP\n100\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp pp\n\
-                    0 1\n0 1\n0 1\nITEM: ATOMS id x y z radius\n1 0 0 0 0.5\n\
-                    ITEM: TIMESTEP\n200\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp pp\n\
-                    0 1\n0 1\n0 1\nITEM: ATOMS id x y z radius\n1 0 0 zz 0.5\n";
-        let t = Trajectory::from_bytes(
-            text.as_bytes().to_vec(),
-            Path::new("t.lammpstrj"),
-            Format::LammpsDump,
-            &LoadOptions::default(),
-        )
-        .unwrap();
-        assert_eq!(
-            (t.len(), t.timestep(0), t.timestep(1)),
-            (2, Some(100), Some(200))
-        );
-        let e = t.frame(1).unwrap_err().to_string();
-        assert_eq!(
-            e,
-            "t.lammpstrj:20:frame 2 (timestep 200), z (field 4): not a number: \"zz\""
         );
     }
 }

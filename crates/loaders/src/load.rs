@@ -1,130 +1,14 @@
 //! Reads a scene file of any supported format: the format is chosen by extension, or by
-//! content when the extension says nothing. Also the options every loader shares, the report of
-//! what it did, and the small helpers the loaders have in common (reading a file, building a
-//! parse error).
+//! content when the extension says nothing. The options and the report of a load live in
+//! `options` and `loaded` (so that the loaders need not import this module, which imports
+//! them) and are re-exported here.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use crate::{Error, Result};
-use ellipsoid_splat::Scene;
-
-/// The order of the six components of a symmetric tensor stored per voxel.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum TensorOrder {
-    /// FSL (`dtifit --save_tensor`): `xx, xy, xz, yy, yz, zz`.
-    #[default]
-    Fsl,
-    /// The NIfTI standard (`NIFTI_INTENT_SYMMATRIX`, lower triangle row by row), also DIPY's:
-    /// `xx, yx, yy, zx, zy, zz`.
-    Nifti,
-}
-
-/// What the loaders may be told.
-#[derive(Clone, Debug, PartialEq)]
-pub struct LoadOptions {
-    /// Drop invalid records (counted in [`Loaded::skipped`]) instead of failing on the first.
-    pub skip_invalid: bool,
-    /// 3D Gaussian Splatting: radii are `sigma * exp(scale)` (the iso-level in standard
-    /// deviations).
-    pub sigma: f64,
-    /// 3D Gaussian Splatting: splats whose opacity (after the sigmoid) is below this are left
-    /// out (not counted as invalid).
-    pub min_opacity: f64,
-    /// Tensor volumes: the component order of the stored tensors.
-    pub tensor_order: TensorOrder,
-    /// Tensor volumes: voxels with fractional anisotropy below this are left out.
-    pub min_fa: f64,
-    /// Tensor volumes: a mask volume of the same grid; voxels where it is 0 are left out.
-    pub mask: Option<PathBuf>,
-    /// Tensor volumes: glyph semi-axes are the tensor's eigenvalues scaled so that the
-    /// largest in the volume is `glyph_scale` voxels (the smallest voxel edge).
-    pub glyph_scale: f64,
-    /// Show a progress bar on stderr while reading large files (only when it is a terminal).
-    pub progress: bool,
-    /// Particle files (LAMMPS dumps, extended XYZ): `(our standard name, the file's column
-    /// name)` pairs, as OVITO's column mapping, e.g. `("shapex", "c_shape[1]")` for a dump of
-    /// a compute's output. A standard name not mapped is looked for under its own name; a
-    /// mapping to a column the file lacks is an error. The standard names are listed in the
-    /// [`lammps`](crate::lammps) and [`xyz`](crate::xyz) modules.
-    pub columns: Vec<(String, String)>,
-    /// Particle files: the colours of types 1, 2, 3, ... (cycling), each component in [0, 1];
-    /// empty means [`TYPE_PALETTE`](crate::trajectory::TYPE_PALETTE).
-    pub type_colors: Vec<[f32; 3]>,
-}
-
-impl Default for LoadOptions {
-    fn default() -> Self {
-        Self {
-            skip_invalid: false,
-            sigma: 2.0,
-            min_opacity: 0.0,
-            tensor_order: TensorOrder::Fsl,
-            min_fa: 0.0,
-            mask: None,
-            glyph_scale: 0.5,
-            progress: false,
-            columns: Vec::new(),
-            type_colors: Vec::new(),
-        }
-    }
-}
-
-/// A loaded scene and what the loader has to say about it.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Loaded {
-    /// The ellipsoids.
-    pub scene: Scene,
-    /// Records dropped as invalid (only with `skip_invalid`).
-    pub skipped: usize,
-    /// Lines for the user: parameters in effect, records filtered out and why.
-    pub notes: Vec<String>,
-    /// Where each glyph came from in the file (a viewer's pick reports it).
-    pub origins: Origins,
-}
-
-/// Where each glyph of a loaded file came from, one entry per glyph in scene order (a few
-/// bytes each: kept for every glyph so that a pick can name its record).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub enum Origins {
-    /// Not recorded (generated scenes: the index says it all).
-    #[default]
-    None,
-    /// The 1-based line of each glyph's row (Ellipsoid CSV).
-    Lines(Vec<u32>),
-    /// The 0-based vertex index of each splat (3D Gaussian Splatting PLY); described 1-based,
-    /// as the PLY loader's errors number vertices.
-    Vertices(Vec<u32>),
-    /// The voxel `(i, j, k)` of each glyph (NIfTI tensor volumes).
-    Voxels(Vec<[u16; 3]>),
-    /// The line and label (`atom 5 CA (ALA A 1)`) of each atom (PDB, mmCIF).
-    Atoms(Vec<(u32, String)>),
-    /// The 1-based line and the atom id of each particle (LAMMPS dumps, extended XYZ); where
-    /// the file has no `id` column, the id is the particle's 1-based place in its frame.
-    Particles(Vec<(u32, i64)>),
-}
-
-impl Origins {
-    /// What glyph `index` came from, in words, if recorded.
-    pub fn describe(&self, index: usize) -> Option<String> {
-        match self {
-            Origins::None => None,
-            Origins::Lines(lines) => lines.get(index).map(|l| format!("line {l}")),
-            // 1-based like the loader's "vertex N" errors; u64 so u32::MAX cannot overflow.
-            Origins::Vertices(v) => v
-                .get(index)
-                .map(|&v| format!("splat (vertex) {}", u64::from(v) + 1)),
-            Origins::Voxels(v) => v
-                .get(index)
-                .map(|[i, j, k]| format!("voxel (i, j, k) = ({i}, {j}, {k})")),
-            Origins::Atoms(a) => a
-                .get(index)
-                .map(|(line, label)| format!("{label}, line {line}")),
-            Origins::Particles(p) => p
-                .get(index)
-                .map(|(line, id)| format!("atom id {id}, line {line}")),
-        }
-    }
-}
+use crate::error::io_error;
+pub use crate::loaded::{Loaded, Origins};
+pub use crate::options::{LoadOptions, TensorOrder};
+use crate::Result;
 
 /// The file formats `load` reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -188,7 +72,7 @@ pub fn detect_format(path: &Path) -> Result<Format> {
     let head = &head[..read];
     // gzip is NIfTI unless the stream inside is a particle file: look at its first bytes.
     if head.starts_with(&[0x1f, 0x8b]) {
-        let inner = crate::trajectory::gzip_head(path, 4096)?;
+        let inner = crate::gzip::gzip_head(path, 4096)?;
         let format = particle_format(&inner).unwrap_or(Format::Nifti);
         log::debug!(
             "{}: gzip, read as {format:?} by its content",
@@ -272,41 +156,7 @@ pub(crate) fn load_format(path: &Path, format: Format, options: &LoadOptions) ->
         Format::GaussianPly => crate::ply::load_ply(path, options),
         Format::Nifti => crate::nifti::load_nifti(path, options),
         Format::Pdb | Format::MmCif => crate::pdb::load_structure(path, options),
-        Format::LammpsDump | Format::ExtendedXyz => {
-            crate::trajectory::load_first(path, format, options)
-        }
+        Format::LammpsDump => crate::lammps::load_lammps(path, options),
+        Format::ExtendedXyz => crate::xyz::load_xyz(path, options),
     }
-}
-
-/// Maps an I/O error on `path` to [`Error::Io`].
-pub(crate) fn io_error(path: &Path) -> impl Fn(std::io::Error) -> Error + Copy + '_ {
-    move |source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    }
-}
-
-/// The whole content of `path`, or an [`Error::Io`] naming it.
-pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>> {
-    std::fs::read(path).map_err(io_error(path))
-}
-
-/// An [`Error::Parse`]: `line` is 1-based, 0 when the problem is not tied to a line.
-pub(crate) fn parse_error(
-    file: &Path,
-    line: usize,
-    column: impl Into<String>,
-    reason: impl Into<String>,
-) -> Error {
-    Error::Parse {
-        file: file.to_path_buf(),
-        line,
-        column: column.into(),
-        reason: reason.into(),
-    }
-}
-
-/// The 1-based line of byte `offset` in `bytes`.
-pub(crate) fn line_at(bytes: &[u8], offset: usize) -> usize {
-    1 + bytes[..offset].iter().filter(|&&b| b == b'\n').count()
 }

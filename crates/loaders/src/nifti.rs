@@ -59,7 +59,9 @@ use glam::{DMat3, DVec3};
 use nifti::{Endianness, InMemNiftiVolume, IntoNdArray, NiftiHeader, NiftiType};
 
 use crate::anisotropy::fractional_anisotropy;
-use crate::load::{read_file, LoadOptions, Loaded, TensorOrder};
+use crate::error::read_file;
+use crate::loaded::{Loaded, Origins};
+use crate::options::{LoadOptions, TensorOrder};
 use crate::{Error, Result};
 use ellipsoid_splat::Scene;
 use ellipsoid_splat::{internals::symmetric_eigen, Ellipsoid};
@@ -121,7 +123,7 @@ fn check_options(options: &LoadOptions) -> Result<()> {
 
 /// A parse error at a place that is not a line (a header field, a voxel).
 fn parse_error(file: &Path, column: impl Into<String>, reason: impl Into<String>) -> Error {
-    crate::load::parse_error(file, 0, column, reason)
+    crate::error::parse_error(file, 0, column, reason)
 }
 
 /// What a volume is read for: the shapes and datatypes accepted differ.
@@ -989,7 +991,7 @@ fn build_glyphs(
         scene: Scene::new(ellipsoids),
         skipped: counts.skipped,
         notes,
-        origins: crate::load::Origins::Voxels(voxel_of),
+        origins: Origins::Voxels(voxel_of),
     })
 }
 

@@ -78,7 +78,9 @@ use std::path::Path;
 
 use glam::{DMat3, DQuat, DVec3};
 
-use crate::load::{line_at, parse_error, read_file, LoadOptions, Loaded};
+use crate::error::{line_at, parse_error, read_file};
+use crate::loaded::{Loaded, Origins};
+use crate::options::LoadOptions;
 use crate::{Error, Result};
 use ellipsoid_splat::Scene;
 use ellipsoid_splat::{internals::symmetric_eigen, Ellipsoid};
@@ -447,7 +449,7 @@ fn build(structure: Structure, file: &Path, options: &LoadOptions) -> Result<Loa
         scene: Scene::new(ellipsoids),
         skipped,
         notes,
-        origins: crate::load::Origins::Atoms(origins),
+        origins: Origins::Atoms(origins),
     })
 }
 

@@ -48,7 +48,9 @@ use glam::{DQuat, DVec3};
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{DefaultElement, Encoding, PropertyType, ScalarType};
 
-use crate::load::{io_error, parse_error, LoadOptions, Loaded};
+use crate::error::{io_error, parse_error};
+use crate::loaded::{Loaded, Origins};
+use crate::options::LoadOptions;
 use crate::progress::Progress;
 use crate::{Error, Result};
 use ellipsoid_splat::Ellipsoid;
@@ -905,7 +907,7 @@ impl Splats<'_> {
             scene: Scene::new(self.ellipsoids),
             skipped: self.skipped,
             notes,
-            origins: crate::load::Origins::Vertices(self.vertices),
+            origins: Origins::Vertices(self.vertices),
         })
     }
 }

@@ -12,19 +12,23 @@
 //! Properties read (our standard names; others are ignored and named once in the notes):
 //!
 //! - `pos:R:3`, the centre (required);
-//! - `aspherical_shape:R:3`: the SEMI-AXES, as OVITO's "Aspherical Shape" particle property
-//!   (OVITO's manual describes the ellipsoid by its half-lengths; its reader of LAMMPS dumps,
-//!   whose `shapex` columns hold diameters, is why ellipsoids from such dumps showed twice as
-//!   large there); else `radius:R:1`, for spheres. A zero shape takes the `radius`, if any.
-//!   A file with neither is an error (map a property with [`LoadOptions::columns`]);
-//! - `orientation:R:4`: the quaternion in OVITO's order `x y z w` (OVITO's manual: its
-//!   "Orientation" property is `(X, Y, Z, W)`, after Shoemake), rotating the particle's frame
-//!   into the lab frame; without it ellipsoids are drawn unrotated, with a note;
+//! - `aspherical_shape:R:3`: the SEMI-AXES (half-lengths, not the diameters of a LAMMPS
+//!   dump's `shapex` columns); else `radius:R:1`, for spheres. A zero shape takes the
+//!   `radius`, if any. A file with neither is an error (map a property with
+//!   [`LoadOptions::columns`]);
+//! - `orientation:R:4`: the quaternion, holding x, y, z, w in that order, rotating the
+//!   particle's frame into the lab frame; without it ellipsoids are drawn unrotated, with a
+//!   note;
 //! - `id:I:1`: frames are sorted by it; `species` (else `type`), `S` or `I`: the colour, from
-//!   [`LoadOptions::type_colors`] or [`TYPE_PALETTE`]: an integer species is that type, a
-//!   name (`C`, `A`) is numbered by its first appearance in the frame (1, 2, ...);
+//!   [`LoadOptions::type_colors`] or [`TYPE_PALETTE`]: an integer species is that type; names
+//!   (`C`, `A`) are numbered 1, 2, ... by first appearance in id order, after the sort, so in
+//!   a trajectory whose atoms keep their ids and species a name keeps its colour in every
+//!   frame, whatever the order of the lines (without `id`, id order is file order);
 //!   `color:R:3` (each in [0, 1]) gives colours directly. Without either, glyphs are coloured
 //!   by shape.
+//!
+//! A `Properties` key declares at most [`MAX_FIELDS`] fields in all (a larger header is an
+//! error, not an allocation).
 //!
 //! [`LoadOptions::columns`] maps our names to the file's property names
 //! (`("aspherical_shape", "shape")`). Every rejection is an [`Error::Parse`](crate::Error::Parse)
@@ -32,16 +36,19 @@
 //! the property: `run.extxyz:9:frame 1, pos[2] (field 3): not a number: "x"`.
 //!
 //! [`Trajectory::timestep`]: crate::Trajectory::timestep
-//! [`TYPE_PALETTE`]: crate::trajectory::TYPE_PALETTE
+//! [`TYPE_PALETTE`]: crate::TYPE_PALETTE
 
 use std::path::Path;
 
 use glam::{DQuat, DVec3};
 
-use crate::load::{parse_error, Format, LoadOptions, Loaded};
-use crate::trajectory::{
-    check_mapping_names, ellipsoid, fields, integer, mapped, real, shown, type_color,
-    FrameParticles, FrameRef, Lines, Particle, Span, Trajectory,
+use crate::error::parse_error;
+use crate::gzip::read_gunzipped;
+use crate::loaded::Loaded;
+use crate::options::LoadOptions;
+use crate::particles::{
+    atom_ellipsoid, check_mapping_names, fields, first_frame, integer, mapped, real, shown, Atom,
+    AtomColumns, FrameParticles, FrameRef, Lines, Paint, Span,
 };
 use crate::Result;
 
@@ -70,15 +77,15 @@ enum Quantity {
 }
 
 /// Reads frame 1 of an extended XYZ file (plain or gzipped), with a note giving the number of
-/// frames when there are several; [`Trajectory`] reads the others.
+/// frames when there are several; [`Trajectory`](crate::Trajectory) reads the others.
 pub fn load_xyz(path: &Path, options: &LoadOptions) -> Result<Loaded> {
-    crate::trajectory::load_first(path, Format::ExtendedXyz, options)
+    first_frame(read_gunzipped(path)?, path, options, scan, parse_frame)
 }
 
 /// Parses frame 1 of the extended XYZ text in `bytes` (plain or gzipped); `file` only names
 /// the source in errors.
 pub fn parse_xyz(bytes: &[u8], file: &Path, options: &LoadOptions) -> Result<Loaded> {
-    Trajectory::from_bytes(bytes.to_vec(), file, Format::ExtendedXyz, options)?.first()
+    first_frame(bytes.to_vec(), file, options, scan, parse_frame)
 }
 
 /// The frames of the file: each is its count line, its comment line and that many atom lines;
@@ -233,6 +240,11 @@ fn timestep_of(keys: &[KeyValue]) -> Option<i64> {
         .find_map(|k| key_value(keys, k).and_then(|v| integer(v.trim_ascii()).ok()))
 }
 
+/// The most fields a `Properties` key may declare, all properties together. Each field costs a
+/// slot per atom line's parse, and a count is a few bytes of text: without a cap a 1 MB
+/// comment line of `a:R:1024:` triplets would ask for gigabytes. Real files have tens.
+pub const MAX_FIELDS: usize = 4096;
+
 /// One `Properties` entry.
 struct Property {
     name: String,
@@ -246,8 +258,8 @@ struct Property {
 struct Header {
     /// For each field, what it holds (and which component), if read.
     slots: Vec<Option<(Quantity, usize)>>,
-    /// For each field, its name in errors (`pos[2]`).
-    names: Vec<String>,
+    /// The properties, for the name of a field in errors (`pos[2]`).
+    props: Vec<Property>,
     shape: bool,
     orientation: bool,
     radius: bool,
@@ -291,13 +303,20 @@ impl Header {
             let count = integer(t[2])
                 .ok()
                 .and_then(|c| usize::try_from(c).ok())
-                .filter(|c| (1..=1024).contains(c))
+                .filter(|c| (1..=MAX_FIELDS).contains(c))
                 .ok_or_else(|| {
                     err(format!(
-                        "property \"{name}\" has count \"{}\": expected 1 to 1024",
+                        "property \"{name}\" has count \"{}\": expected 1 to {MAX_FIELDS}",
                         shown(t[2])
                     ))
                 })?;
+            if first + count > MAX_FIELDS {
+                return Err(err(format!(
+                    "property \"{name}\" would make field {}: at most {MAX_FIELDS} fields are \
+                     read per atom line",
+                    first + count
+                )));
+            }
             props.push(Property {
                 name,
                 kind,
@@ -380,16 +399,6 @@ impl Header {
                     .join(" ")
             )));
         }
-        let mut names = Vec::with_capacity(first);
-        for p in &props {
-            for c in 0..p.count {
-                names.push(if p.count == 1 {
-                    p.name.clone()
-                } else {
-                    format!("{}[{}]", p.name, c + 1)
-                });
-            }
-        }
         let ignored = props
             .iter()
             .filter(|p| slots[p.first].is_none())
@@ -398,7 +407,7 @@ impl Header {
         Ok((
             Header {
                 slots,
-                names,
+                props,
                 shape: has(Quantity::Shape),
                 orientation: has(Quantity::Orientation),
                 radius: has(Quantity::Radius),
@@ -411,13 +420,52 @@ impl Header {
         ))
     }
 
-    /// One atom line as a particle: its ellipsoid, line and id (`ordinal` without an `id`).
+    /// The name of field `k` (0-based) in errors: `pos[2]`, or `radius` for a count of 1.
+    fn field_name(&self, k: usize) -> String {
+        match self
+            .props
+            .iter()
+            .find(|p| (p.first..p.first + p.count).contains(&k))
+        {
+            Some(p) if p.count == 1 => p.name.clone(),
+            Some(p) => format!("{}[{}]", p.name, k - p.first + 1),
+            None => format!("field {}", k + 1),
+        }
+    }
+
+    /// One atom line as a particle: its ellipsoid, line and id (`ordinal` without an `id`),
+    /// and its species name's number in `species_names` (file order), if the species is a name.
     fn atom<'a>(
         &self,
         text: &'a [u8],
         line: usize,
         ordinal: usize,
         species_names: &mut Vec<&'a [u8]>,
+        frame: &FrameRef,
+        options: &LoadOptions,
+    ) -> (Result<(ellipsoid_splat::Ellipsoid, u32, i64)>, Option<u32>) {
+        let mut name = None;
+        let result = self.read_atom(
+            text,
+            line,
+            ordinal,
+            species_names,
+            &mut name,
+            frame,
+            options,
+        );
+        (result, name)
+    }
+
+    /// [`Header::atom`]'s body: `name` is set even when the line fails, so `?` can be used.
+    #[allow(clippy::too_many_arguments)]
+    fn read_atom<'a>(
+        &self,
+        text: &'a [u8],
+        line: usize,
+        ordinal: usize,
+        species_names: &mut Vec<&'a [u8]>,
+        name: &mut Option<u32>,
         frame: &FrameRef,
         options: &LoadOptions,
     ) -> Result<(ellipsoid_splat::Ellipsoid, u32, i64)> {
@@ -433,28 +481,27 @@ impl Header {
             let Some(&Some((quantity, c))) = self.slots.get(k) else {
                 continue;
             };
-            let at = || format!("{} (field {})", self.names[k], k + 1);
+            let at = || format!("{} (field {})", self.field_name(k), k + 1);
             let value = || real(field).map_err(|r| frame.error(line, &at(), r));
             match quantity {
                 Quantity::Id => id = integer(field).map_err(|r| frame.error(line, &at(), r))?,
                 Quantity::Species if self.species_integer => {
                     kind = integer(field).map_err(|r| frame.error(line, &at(), r))?;
                 }
-                Quantity::Species => {
-                    kind = match integer(field) {
-                        Ok(t) => t,
-                        Err(_) => {
-                            let n = match species_names.iter().position(|s| *s == field) {
-                                Some(n) => n,
-                                None => {
-                                    species_names.push(field);
-                                    species_names.len() - 1
-                                }
-                            };
-                            n as i64 + 1
-                        }
-                    };
-                }
+                Quantity::Species => match integer(field) {
+                    Ok(t) => kind = t,
+                    Err(_) => {
+                        let n = match species_names.iter().position(|s| *s == field) {
+                            Some(n) => n,
+                            None => {
+                                species_names.push(field);
+                                species_names.len() - 1
+                            }
+                        };
+                        // A new name takes a line of its own: n is below the frame's lines.
+                        *name = Some(u32::try_from(n).unwrap_or(u32::MAX));
+                    }
+                },
                 Quantity::Pos => pos[c] = value()?,
                 Quantity::Shape => shape[c] = value()?,
                 Quantity::Orientation => quat[c] = value()?,
@@ -472,53 +519,33 @@ impl Header {
                 ),
             ));
         }
-        let shape = DVec3::from_array(shape);
-        let semi_axes = if self.shape && (shape != DVec3::ZERO || !self.radius) {
-            shape
-        } else {
-            DVec3::splat(radius)
-        };
-        let rotation = if self.orientation {
-            if quat == [0.0; 4] {
-                return Err(frame.error(
-                    line,
-                    "orientation",
-                    "zero quaternion: it must be non-zero to define a rotation",
-                ));
-            }
-            DQuat::from_array(quat)
-        } else {
-            DQuat::IDENTITY
-        };
-        let color = if self.color {
-            Some(color.map(|c| c as f32))
+        let paint = if self.color {
+            Paint::Rgb(color)
+        } else if let Some(n) = *name {
+            Paint::Name(n)
         } else if self.species {
-            Some(type_color(options, kind))
+            Paint::Type(kind)
         } else {
-            None
+            Paint::Shape
         };
-        let particle = Particle {
+        let atom = Atom {
             center: DVec3::from_array(pos),
-            semi_axes,
-            rotation,
-            color,
+            shape: self.shape.then(|| DVec3::from_array(shape)),
+            radius: self.radius.then_some(radius),
+            // `orientation` holds x, y, z, w.
+            rotation: self.orientation.then(|| DQuat::from_array(quat)),
+            paint,
         };
-        let built = ellipsoid(&particle).map_err(|(blame, reason)| {
-            let column = match blame {
-                "size" if self.shape && semi_axes == shape => {
-                    if shape == DVec3::ZERO {
-                        "aspherical_shape (a zero shape is a point particle: give a radius property)"
-                    } else {
-                        "aspherical_shape"
-                    }
-                }
-                "size" => "radius",
-                "colour" => "color",
-                "position" => "pos",
-                _ => "orientation",
-            };
-            frame.error(line, column, reason)
-        })?;
+        let columns = AtomColumns {
+            position: "pos",
+            shape: "aspherical_shape",
+            zero_shape: "aspherical_shape (a zero shape is a point particle: give a radius \
+                         property)",
+            radius: "radius",
+            orientation: "orientation",
+            color: "color",
+        };
+        let built = atom_ellipsoid(&atom, &columns, options, frame, line)?;
         Ok((built, u32::try_from(line).unwrap_or(u32::MAX), id))
     }
 }
@@ -563,10 +590,10 @@ pub(crate) fn parse_frame(bytes: &[u8], frame: FrameRef, options: &LoadOptions) 
                 ),
             ));
         };
-        let atom = header.atom(text, n, ordinal, &mut species_names, &frame, options);
-        out.push(atom, options.skip_invalid)?;
+        let (atom, name) = header.atom(text, n, ordinal, &mut species_names, &frame, options);
+        out.push(atom, name, options.skip_invalid)?;
     }
-    out.finish(&frame)
+    out.finish(&frame, options)
 }
 
 #[cfg(test)]

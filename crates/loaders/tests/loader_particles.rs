@@ -549,9 +549,9 @@ fn extended_xyz_reads_species_ids_and_colours() {
     let loaded = xyz(text);
     let xs: Vec<f64> = loaded.scene.ellipsoids.iter().map(|e| e.center.x).collect();
     assert_eq!(xs, [1.0, 2.0, 0.0]);
-    // Names are numbered by first appearance: Ar 1, Ne 2.
+    // Names are numbered by first appearance in id order: Ne (id 1) 1, Ar 2.
     let colors: Vec<[f32; 3]> = loaded.scene.ellipsoids.iter().map(|e| e.color).collect();
-    assert_eq!(colors, [TYPE_PALETTE[1], TYPE_PALETTE[0], TYPE_PALETTE[0]]);
+    assert_eq!(colors, [TYPE_PALETTE[0], TYPE_PALETTE[1], TYPE_PALETTE[1]]);
     assert_eq!(loaded.notes, ["properties not read: forces"]);
     assert_eq!(
         loaded.origins,
@@ -559,4 +559,143 @@ fn extended_xyz_reads_species_ids_and_colours() {
     );
     let colored = xyz("1\nProperties=pos:R:3:radius:R:1:color:R:3\n0 0 0 1 0.25 0.5 1\n");
     assert_eq!(colored.scene.ellipsoids[0].color, [0.25, 0.5, 1.0]);
+}
+
+#[test]
+fn lammps_errors_name_the_frame_and_timestep() {
+    let text = "ITEM: TIMESTEP\n100\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp pp\n\
+                0 1\n0 1\n0 1\nITEM: ATOMS id x y z radius\n1 0 0 0 0.5\n\
+                ITEM: TIMESTEP\n200\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp pp\n\
+                0 1\n0 1\n0 1\nITEM: ATOMS id x y z radius\n1 0 0 zz 0.5\n";
+    let t = Trajectory::from_bytes(
+        text.as_bytes().to_vec(),
+        Path::new("t.lammpstrj"),
+        Format::LammpsDump,
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(
+        (t.len(), t.timestep(0), t.timestep(1)),
+        (2, Some(100), Some(200))
+    );
+    let e = t.frame(1).unwrap_err().to_string();
+    assert_eq!(
+        e,
+        "t.lammpstrj:20:frame 2 (timestep 200), z (field 4): not a number: \"zz\""
+    );
+}
+
+#[test]
+fn species_names_keep_their_colours_when_frames_reorder_their_lines() {
+    // The same three atoms (fixed ids and species), listed in another order in frame 2.
+    let text = "3\nProperties=species:S:1:pos:R:3:radius:R:1:id:I:1 Timestep=0\n\
+                C 0 0 0 1 3\nO 1 0 0 1 1\nH 2 0 0 1 2\n\
+                3\nProperties=species:S:1:pos:R:3:radius:R:1:id:I:1 Timestep=10\n\
+                H 2 0 0 1 2\nC 0 0 0 1 3\nO 1 0 0 1 1\n";
+    let t = Trajectory::from_bytes(
+        text.as_bytes().to_vec(),
+        Path::new("md.extxyz"),
+        Format::ExtendedXyz,
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    let colors = |i: usize| -> Vec<[f32; 3]> {
+        let frame = t.frame(i).unwrap();
+        frame.scene.ellipsoids.iter().map(|e| e.color).collect()
+    };
+    // Id order O (1), H (2), C (3): O is species 1, H 2, C 3 in both frames.
+    let expected = [TYPE_PALETTE[0], TYPE_PALETTE[1], TYPE_PALETTE[2]];
+    assert_eq!(colors(0), expected);
+    assert_eq!(colors(1), expected);
+    // `load` gives frame 1 the same colours.
+    let first = parse_xyz(
+        text.as_bytes(),
+        Path::new("md.extxyz"),
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    let first: Vec<[f32; 3]> = first.scene.ellipsoids.iter().map(|e| e.color).collect();
+    assert_eq!(first, expected);
+}
+
+#[test]
+fn species_names_of_skipped_lines_do_not_count() {
+    // "Xe" first appears on a bad line; with skip_invalid the kept atoms number Ar 1, Ne 2.
+    let text = "4\nProperties=species:S:1:pos:R:3:radius:R:1:id:I:1\n\
+                Xe 0 0 0 -1 1\nKr 0 0 0 -1 2\nNe 1 0 0 1 4\nAr 2 0 0 1 3\n";
+    let loaded = parse_xyz(
+        text.as_bytes(),
+        Path::new("skip.extxyz"),
+        &options(|o| o.skip_invalid = true),
+    )
+    .unwrap();
+    assert_eq!(loaded.skipped, 2);
+    let colors: Vec<[f32; 3]> = loaded.scene.ellipsoids.iter().map(|e| e.color).collect();
+    assert_eq!(colors, [TYPE_PALETTE[0], TYPE_PALETTE[1]]);
+}
+
+#[test]
+fn properties_declaring_too_many_fields_are_a_parse_error_not_an_allocation() {
+    // One huge count.
+    let text = "1\nProperties=pos:R:3:radius:R:1:a:R:100000000\n0 0 0 1 0\n";
+    let e = parse_err(
+        parse_xyz(
+            text.as_bytes(),
+            Path::new("big.extxyz"),
+            &LoadOptions::default(),
+        ),
+        "big.extxyz",
+    );
+    assert_eq!((e.line, e.column.as_str()), (2, "frame 1, Properties"));
+    assert_contains(&e.reason, &["a", "100000000", "expected 1 to 4096"]);
+    // Many triplets, each within the per-property count: 10,000 of a:R:1024 would be ten
+    // million fields.
+    let text = format!(
+        "1\nProperties=pos:R:3:radius:R:1{}\n0 0 0 1\n",
+        ":a:R:1024".repeat(10_000)
+    );
+    let e = parse_err(
+        parse_xyz(
+            text.as_bytes(),
+            Path::new("many.extxyz"),
+            &LoadOptions::default(),
+        ),
+        "many.extxyz",
+    );
+    assert_eq!((e.line, e.column.as_str()), (2, "frame 1, Properties"));
+    assert_contains(&e.reason, &["field 4100", "at most 4096 fields"]);
+    // Up to the cap is read; a field's name in errors is built from its property.
+    let fill = " 0".repeat(4000);
+    let good = format!(
+        "1\nProperties=a:R:4000:pos:R:3:radius:R:1:b:R:92\n{fill} 0 0 0 1{}\n",
+        " 0".repeat(92)
+    );
+    let loaded = xyz(&good);
+    assert_eq!(loaded.scene.len(), 1);
+    assert_eq!(loaded.notes, ["properties not read: a b"]);
+    let bad = format!(
+        "1\nProperties=a:R:4000:pos:R:3:radius:R:1:b:R:92\n{fill} 0 y 0 1{}\n",
+        " 0".repeat(92)
+    );
+    let e = parse_err(
+        parse_xyz(
+            bad.as_bytes(),
+            Path::new("cap.extxyz"),
+            &LoadOptions::default(),
+        ),
+        "cap.extxyz",
+    );
+    assert_eq!(e.column, "frame 1, pos[2] (field 4002)");
+    assert_eq!(e.reason, "not a number: \"y\"");
+}
+
+#[test]
+fn a_species_column_may_mix_names_and_type_numbers() {
+    // Found by the xyz fuzz target: a name among integers (and the id sort) indexed past
+    // the names. Integers are types; names are numbered 1, 2, ... in id order.
+    let text = "3\nProperties=id:I:1:species:S:1:pos:R:3:radius:R:1\n\
+                3 C 0 0 0 1\n1 3 1 0 0 1\n2 O 2 0 0 1\n";
+    let loaded = xyz(text);
+    let colors: Vec<[f32; 3]> = loaded.scene.ellipsoids.iter().map(|e| e.color).collect();
+    assert_eq!(colors, [TYPE_PALETTE[2], TYPE_PALETTE[0], TYPE_PALETTE[1]]);
 }
