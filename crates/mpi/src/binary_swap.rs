@@ -75,7 +75,10 @@ pub fn composite<C: Communicator>(
         comm.process_at_rank(rank + q).receive_into(&mut theirs[..]);
         pixels::merge(&mut words, &theirs);
     }
+    // The range held shrinks in place: `words` stays the whole image's buffer, the received
+    // half lands in one buffer made once, and merging writes into the kept half.
     let mut range = 0..pixels;
+    let mut theirs = vec![0u64; pixels.div_ceil(2) * WORDS];
     let mut bit = q / 2;
     while bit >= 1 {
         let partner = comm.process_at_rank(rank ^ bit);
@@ -85,17 +88,15 @@ pub fn composite<C: Communicator>(
         } else {
             (middle..range.end, range.start..middle)
         };
-        let offset = range.start;
-        let local = |r: &Range<usize>| (r.start - offset) * WORDS..(r.end - offset) * WORDS;
-        let mut theirs = vec![0u64; (keep.end - keep.start) * WORDS];
-        p2p::send_receive_into(&words[local(&give)], &partner, &mut theirs[..], &partner);
+        let words_of = |r: &Range<usize>| r.start * WORDS..r.end * WORDS;
+        let received = &mut theirs[..(keep.end - keep.start) * WORDS];
+        p2p::send_receive_into(&words[words_of(&give)], &partner, &mut *received, &partner);
         sent((give.end - give.start) * WORDS);
-        let mut kept = words[local(&keep)].to_vec();
-        pixels::merge(&mut kept, &theirs);
-        words = kept;
+        pixels::merge(&mut words[words_of(&keep)], received);
         range = keep;
         bit /= 2;
     }
+    let words = words[range.start * WORDS..range.end * WORDS].to_vec();
     (range, words, traffic)
 }
 
