@@ -1,5 +1,5 @@
 //! Binary-swap compositing: every process ends with an equal slice of the combined image,
-//! having sent less than one whole image, however many processes there are. With P processes
+//! having sent at most one whole image, however many processes there are. With P processes
 //! and Q the largest power of two not above P, the P - Q extra processes first hand their
 //! whole image to a partner among the first Q; then in log2(Q) rounds each of the Q swaps half
 //! of its current range with the process whose rank differs in one bit, keeping the half the

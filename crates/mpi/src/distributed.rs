@@ -20,7 +20,8 @@ pub struct Composited {
     pub frame: Option<Frame>,
     /// What this process sent while compositing.
     pub traffic: Traffic,
-    /// Seconds this process spent drawing and reading back its share.
+    /// Seconds this process spent agreeing on the placement with the others, drawing and
+    /// reading back its share.
     pub draw_seconds: f64,
     /// Seconds of the compositing itself: from every process having drawn (the all-reduce
     /// that also checks for failures) to this process's part of the gathered image sent (or,
@@ -28,15 +29,19 @@ pub struct Composited {
     pub composite_seconds: f64,
 }
 
-/// Draws `part` (this process's glyphs; its glyph `i` is global glyph `global_ids[i]`) with
-/// `camera` and combines every process's frame over `comm` at `root`. Collective: every
-/// process of `comm` calls it with the same camera, outputs and root. Depth and ID are always
-/// drawn (they decide each pixel); `outputs` adds colour and normal.
+/// Draws `part` (this process's glyphs; its glyph `i` is global glyph `global_ids[i]`,
+/// strictly increasing, so that of two glyphs at one depth the lower global index wins here
+/// as in one process) with `camera` and combines every process's frame over `comm` at `root`.
+/// Collective: every process of `comm` calls it, with the same camera, outputs, root and
+/// renderer settings (a process that does not call it leaves the others waiting). Depth and
+/// ID are always drawn (they decide each pixel); `outputs` adds colour and normal. The
+/// exchange runs on a duplicate of `comm`, so the caller's own messages are never taken.
 ///
-/// A process whose share fails (a bad glyph, out of memory, a device error) makes every
-/// process return an error naming the first failing rank, so none waits for it.
-/// Antialiased frames are refused: a multisampled or supersampled pixel blends several
-/// glyphs, and blends do not combine exactly.
+/// A process whose share fails (a bad glyph, out of memory, a device error), or whose image
+/// size, depth convention or root differs from the others', makes every process return an
+/// error naming the first such rank, so none waits for it. Multisampled frames are refused:
+/// a multisampled pixel blends several glyphs, and blends do not combine exactly (a frame
+/// drawn larger and filtered after compositing does).
 pub fn render_composited<C: Communicator>(
     comm: &C,
     root: Rank,
@@ -46,9 +51,11 @@ pub fn render_composited<C: Communicator>(
     camera: &Camera,
     outputs: Outputs,
 ) -> Result<Composited> {
+    let comm = &comm.duplicate();
     let started = std::time::Instant::now();
     let placement = whole_placement(comm, part);
-    let drawn = draw(renderer, part, global_ids, camera, outputs, placement);
+    let drawn = agreed(comm, root, camera)
+        .and_then(|()| draw(renderer, part, global_ids, camera, outputs, placement));
     let draw_seconds = started.elapsed().as_secs_f64();
     // Every process learns whether any failed before anyone waits on another.
     let failed_at = match &drawn {
@@ -109,6 +116,34 @@ pub fn whole_placement<C: Communicator>(comm: &C, part: &Scene) -> Placement {
     Placement::enclosing(bounds, most)
 }
 
+/// Checks that every process passes the same root, image size and depth convention (their
+/// least and greatest values over `comm` agree), and that the root is a rank of `comm`.
+fn agreed<C: Communicator>(comm: &C, root: Rank, camera: &Camera) -> Result<()> {
+    let mine = [
+        i64::from(root),
+        i64::from(camera.width),
+        i64::from(camera.height),
+        i64::from(camera.depth.reversed),
+    ];
+    let (mut least, mut most) = ([0i64; 4], [0i64; 4]);
+    comm.all_reduce_into(&mine[..], &mut least[..], SystemOperation::min());
+    comm.all_reduce_into(&mine[..], &mut most[..], SystemOperation::max());
+    if least != most {
+        return Err(Error::Invalid(format!(
+            "the processes disagree on the root, image size or depth convention (this one: \
+             root {root}, {}x{}, reversed depth {})",
+            camera.width, camera.height, camera.depth.reversed
+        )));
+    }
+    if !(0..comm.size()).contains(&root) {
+        return Err(Error::Invalid(format!(
+            "root {root} is not a rank of a communicator of {}",
+            comm.size()
+        )));
+    }
+    Ok(())
+}
+
 /// This process's frame as compositing words.
 fn draw(
     renderer: &mut OffscreenRenderer,
@@ -136,6 +171,20 @@ fn draw(
             "{} global indices for {} glyphs",
             global_ids.len(),
             part.len()
+        )));
+    }
+    if let Some(k) = global_ids.windows(2).position(|w| w[0] >= w[1]) {
+        return Err(Error::Invalid(format!(
+            "global indices must increase: glyph {} has {} after {}",
+            k + 1,
+            global_ids[k + 1],
+            global_ids[k]
+        )));
+    }
+    if global_ids.last() == Some(&ellipsoid_splat::NO_INSTANCE) {
+        return Err(Error::Invalid(format!(
+            "global index {} marks the background; glyph indices stay below it",
+            ellipsoid_splat::NO_INSTANCE
         )));
     }
     let reversed = camera.depth.reversed;

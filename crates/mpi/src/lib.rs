@@ -1,7 +1,8 @@
 //! Sort-last rendering over MPI: each process of a communicator draws its own share of the
 //! glyphs with a common camera, and the frames are combined pixel by pixel at a root process
 //! into exactly the frame one process drawing every glyph reads back -- colour, view depth,
-//! normal and (global) glyph index, bit for bit.
+//! normal and (global) glyph index, bit for bit where the renderer's paths agree bit for bit
+//! (lavapipe; see the design document's compositing section for other drivers).
 //!
 //! Exact because every pixel's winner is decided by one number, the key of
 //! [`pixels::key`]: the depth attachment's value (what the renderer's own depth test
@@ -9,7 +10,7 @@
 //! nearer glyph wins and of equal depths the lower index, as in one process; and because
 //! each process uploads its share with the whole scene's placement
 //! ([`distributed::whole_placement`]), so a glyph's float32 data is the same wherever it is
-//! drawn. The combining is binary swap ([`binary_swap`]): each process sends less than one
+//! drawn. The combining is binary swap ([`binary_swap`]): each process sends at most one
 //! image, however many processes there are.
 //!
 //! ```no_run

@@ -10,10 +10,11 @@ pub const WORDS: usize = 4;
 /// What a pixel shows, as one number that orders like the renderer's own depth test: the
 /// depth attachment's value in the upper 32 bits (turned so that nearer is smaller in either
 /// depth convention), the global glyph index below (so of equal depths the lower index wins,
-/// as in one process). The background (the clear value, no glyph) is the largest key.
+/// as in one process). The background (the clear value, no glyph) is the largest key. The
+/// value must lie in [0, 1] ([`encode`] checks it): there the bits order as the values do
+/// (-0.0 is taken as 0.0, which the depth test holds equal).
 pub fn key(device_depth: f32, reversed: bool, global_id: u32) -> u64 {
-    // Depth values lie in [0, 1]: their bits order as the values do.
-    let bits = device_depth.to_bits();
+    let bits = (device_depth + 0.0).to_bits();
     let nearer_smaller = if reversed { u32::MAX - bits } else { bits };
     (u64::from(nearer_smaller) << 32) | u64::from(global_id)
 }
@@ -40,6 +41,10 @@ pub fn encode(frame: &Frame, reversed: bool, global_ids: &[u32]) -> Result<Vec<u
                 )
             })?
         };
+        let z = frame.device_depth[i];
+        if !(0.0..=1.0).contains(&z) {
+            return Err(format!("pixel {i}'s depth {z} lies outside [0, 1]"));
+        }
         let color = frame.color.get(i).map_or(0, |c| u32::from_le_bytes(*c));
         let normal = frame.normal.get(i).copied().unwrap_or([0.0; 3]);
         words.push(key(frame.device_depth[i], reversed, global));
@@ -113,6 +118,8 @@ mod tests {
         // The background (clear value, no glyph) loses to every glyph.
         assert!(key(0.999_999_9, false, 5) < key(1.0, false, NO_INSTANCE));
         assert!(key(1e-30, true, 5) < key(0.0, true, NO_INSTANCE));
+        // -0.0 is 0.0 to the depth test, so to the key.
+        assert_eq!(key(-0.0, false, 3), key(0.0, false, 3));
     }
 
     #[test]
@@ -139,6 +146,13 @@ mod tests {
         assert!(encode(&frame, false, &[40])
             .unwrap_err()
             .contains("1 global"));
+        let nan = Frame {
+            device_depth: vec![f32::NAN, 1.0],
+            ..frame.clone()
+        };
+        assert!(encode(&nan, false, &[40, 41])
+            .unwrap_err()
+            .contains("outside [0, 1]"));
     }
 
     #[test]

@@ -3,12 +3,14 @@
 //! scene alone and compares the two bit for bit (colour, view and device depth, normal,
 //! global IDs). Cases: glyphs split at random, by space (slabs along x), exact duplicates on
 //! different ranks (ties: the lower index must win), one rank with nothing, a glyph cut by the
-//! near plane, an orthographic camera, and reversed depth. Validation is on. Rank 0 prints one
+//! near plane, an orthographic camera, and reversed depth (the ties and reversed depth
+//! composited at the last rank, the others at rank 0). Validation is on. The root prints one
 //! line a case (`case NAME: match, N pixels shown, most bytes sent by a rank B`) and exits 1
 //! on any mismatch; any rank's error ends every rank with status 1.
 //!
 //! With `--fail-rank R`, rank R's share holds a glyph float32 cannot store: every rank must
-//! return an error (R its own, the others naming R) and exit with status 1, none waiting.
+//! get an error (R its own, the others naming R), print it as `rank K stopped: ERROR` and
+//! exit with status 0; a rank left waiting would keep `mpirun` from ending.
 //!
 //! Not part of the library: a test driver (`tests/mpirun.rs`), and an example of the API.
 
@@ -57,6 +59,9 @@ type Owner = Box<dyn Fn(usize, &Ellipsoid) -> i32>;
 
 struct Case {
     name: &'static str,
+    /// Where the frame is composited: rank 0, or the last rank (an extra, folded one when the
+    /// count is not a power of two).
+    at_last_rank: bool,
     scene: Scene,
     camera: Camera,
     /// The rank each glyph goes to.
@@ -102,12 +107,14 @@ fn cases(size: i32) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
     Ok(vec![
         Case {
             name: "random",
+            at_last_rank: false,
             scene: cloud.clone(),
             camera: perspective(far_eye, 5.0)?,
             owner: Box::new(random),
         },
         Case {
             name: "space",
+            at_last_rank: false,
             scene: cloud.clone(),
             camera: perspective(far_eye, 5.0)?,
             owner: Box::new(move |_, e| {
@@ -116,12 +123,14 @@ fn cases(size: i32) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
         },
         Case {
             name: "ties",
+            at_last_rank: true,
             scene: Scene::new(doubled),
             camera: perspective(far_eye, 5.0)?,
             owner: Box::new(move |i, _| ((i % n) as i32 + i32::from(i >= n)) % size),
         },
         Case {
             name: "one-empty",
+            at_last_rank: false,
             scene: cloud.clone(),
             camera: perspective(far_eye, 5.0)?,
             // The last rank gets nothing (with one rank: everything, as ever).
@@ -135,12 +144,14 @@ fn cases(size: i32) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
         },
         Case {
             name: "near-cut",
+            at_last_rank: false,
             scene: cloud.clone(),
             camera: cut_camera,
             owner: Box::new(random),
         },
         Case {
             name: "orthographic",
+            at_last_rank: false,
             scene: cloud.clone(),
             camera: Camera::new(
                 far_eye,
@@ -155,6 +166,7 @@ fn cases(size: i32) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
         },
         Case {
             name: "reversed-depth",
+            at_last_rank: true,
             scene: cloud,
             camera: perspective(far_eye, 5.0)?.with_depth(DepthConvention::REVERSED_INFINITE)?,
             owner: Box::new(random),
@@ -173,8 +185,10 @@ fn main() -> ExitCode {
         Ok(false) => ExitCode::FAILURE,
         Err(e) => {
             // No abort: the ranks fail together (render_composited's all-reduce), and a rank
-            // that exits with an error makes mpirun end the others.
-            eprintln!("composite-check: rank {}: {e}", world.rank());
+            // that exits with an error makes mpirun end the others. One write, so the
+            // processes' lines do not interleave.
+            let line = format!("composite-check: rank {}: {e}\n", world.rank());
+            let _ = std::io::Write::write_all(&mut std::io::stderr(), line.as_bytes());
             ExitCode::FAILURE
         }
     }
@@ -197,8 +211,22 @@ fn run<C: Communicator>(world: &C) -> Result<bool, Box<dyn std::error::Error>> {
         }
         let ids: Vec<u32> = (0..100).collect();
         let camera = cases(size)?.remove(0).camera;
-        render_composited(world, 0, &mut renderer, &part, &ids, &camera, Outputs::ALL)?;
-        return Err("the failing rank's error did not reach this rank".into());
+        let error =
+            match render_composited(world, 0, &mut renderer, &part, &ids, &camera, Outputs::ALL) {
+                Ok(_) => return Err("the failing rank's error did not reach this rank".into()),
+                Err(error) => error,
+            };
+        let expected = match &error {
+            ellipsoid_splat_mpi::Error::Renderer(_) => rank == failing,
+            ellipsoid_splat_mpi::Error::OtherRank { rank: named } => *named == failing,
+            _ => false,
+        };
+        if !expected {
+            return Err(format!("rank {rank} got the wrong error: {error}").into());
+        }
+        let line = format!("rank {rank} stopped: {error}\n");
+        std::io::Write::write_all(&mut std::io::stdout(), line.as_bytes())?;
+        return Ok(true);
     }
     let mut all_match = true;
     for case in cases(size)? {
@@ -212,9 +240,10 @@ fn run<C: Communicator>(world: &C) -> Result<bool, Box<dyn std::error::Error>> {
             .collect();
         let part = Scene::new(mine.iter().map(|&i| case.scene.ellipsoids[i]).collect());
         let ids: Vec<u32> = mine.iter().map(|&i| i as u32).collect();
+        let root = if case.at_last_rank { size - 1 } else { 0 };
         let done = render_composited(
             world,
-            0,
+            root,
             &mut renderer,
             &part,
             &ids,
