@@ -51,6 +51,20 @@ fn pixels(path: &Path) -> Vec<u8> {
         .into_raw()
 }
 
+/// The depth samples of an EXR file, as bits (the file's bytes may differ for the same
+/// samples: its tiles are compressed in parallel and written in the order they finish).
+fn depth_bits(path: &Path) -> Vec<u32> {
+    exr::prelude::read_first_flat_layer_from_file(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .layer_data
+        .channel_data
+        .list[0]
+        .sample_data
+        .values_as_f32()
+        .map(f32::to_bits)
+        .collect()
+}
+
 /// The first frame of the sample trajectory, read from each of its three files, gives the
 /// same colour, depth and ID images bit for bit (the camera frames each scene alike only if
 /// the scenes are the same to the last bit too).
@@ -66,12 +80,7 @@ fn one_frame_in_three_formats_draws_one_picture() {
             &["--scene", scene],
             &[("--output", &color), ("--depth", &depth), ("--id", &id)],
         );
-        images.push((
-            name,
-            pixels(&color),
-            std::fs::read(&depth).unwrap(),
-            pixels(&id),
-        ));
+        images.push((name, pixels(&color), depth_bits(&depth), pixels(&id)));
     }
     let (_, color, depth, id) = &images[2];
     let drawn = id.chunks(4).filter(|p| p != &[255; 4]).count();
