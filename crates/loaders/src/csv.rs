@@ -93,12 +93,16 @@ pub fn csv_text(scene: &Scene, comments: &[String]) -> String {
     text
 }
 
-/// Writes `scene` as Ellipsoid CSV ([`csv_text`]) to `path`.
+/// Writes `scene` as Ellipsoid CSV ([`csv_text`]) to `path`, whole or not at all
+/// ([`write_atomically`](crate::write_atomically)).
 pub fn save_csv(scene: &Scene, comments: &[String], path: &Path) -> Result<()> {
-    std::fs::write(path, csv_text(scene, comments)).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+    let text = csv_text(scene, comments);
+    crate::write_atomically(path, |w| std::io::Write::write_all(w, text.as_bytes())).map_err(
+        |source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        },
+    )
 }
 
 /// Parses Ellipsoid CSV text; `file` is only used to name the source in errors.

@@ -35,6 +35,7 @@
 //! ([`LoadOptions::progress`]) and only on a terminal.
 
 pub mod anisotropy;
+pub mod atomic_file;
 pub mod color_mode;
 pub mod csv;
 mod error;
@@ -53,6 +54,7 @@ pub mod trajectory;
 pub mod xyz;
 
 pub use self::anisotropy::fractional_anisotropy;
+pub use self::atomic_file::write_atomically;
 pub use self::color_mode::{principal_color, principal_direction, ColorMode, UNIFORM_GREY};
 pub use self::csv::{csv_text, load_csv, parse_csv, save_csv};
 pub use self::error::{Error, Result};

@@ -1,8 +1,6 @@
 //! Pictures as files and bytes, written as the command-line tool writes them: sRGB colour
 //! PNG, float32 EXR channels (lossless), 32-bit IDs as EXR or packed into PNG.
 
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
 use exr::block::chunk::Chunk;
@@ -171,18 +169,6 @@ impl<T: Sample> Samples<T> {
             .map(|&c| ChannelDescription::named(self.names[c].as_str(), self.sample_type))
             .collect();
         let header = Header::new("ellipsoid-splat".into(), (width, height), channels);
-        // Written beside the target under a hidden name and renamed over it when complete, so
-        // a failed write never leaves a broken file where a good one was.
-        let partial = path.with_file_name(format!(
-            ".{}.partial",
-            path.file_name().map_or("frame.exr".into(), |n| n.to_string_lossy())
-        ));
-        let failed = |e: exr::error::Error| {
-            let _ = std::fs::remove_file(&partial);
-            PyOSError::new_err(format!("{}: {e}", path.display()))
-        };
-        let file = File::create(&partial)
-            .map_err(|e| PyOSError::new_err(format!("{}: {e}", path.display())))?;
         let headers: exr::meta::Headers = SmallVec::from_vec(vec![header]);
         let blocks: Vec<(usize, BlockIndex)> =
             exr::block::enumerate_ordered_header_block_indices(&headers).collect();
@@ -217,28 +203,22 @@ impl<T: Sample> Samples<T> {
                 .collect()
         });
         if chunks.len() != blocks.len() {
-            let _ = std::fs::remove_file(&partial);
             return Err(PyOSError::new_err(format!(
                 "{}: a thread compressing the tiles failed",
                 path.display()
             )));
         }
-        exr::block::write(
-            BufWriter::with_capacity(1 << 20, file),
-            headers.clone(),
-            true,
-            |_, writer| {
+        // Whole or not at all: a failed write never leaves a broken file where a good one was.
+        ellipsoid_splat_loaders::write_atomically(path, |file| {
+            exr::block::write(file, headers.clone(), true, |_, writer| {
                 for ((index, _), chunk) in blocks.iter().zip(chunks) {
                     writer.write_chunk(*index, chunk?)?;
                 }
                 Ok(())
-            },
-        )
-        .map_err(failed)?;
-        std::fs::rename(&partial, path).map_err(|e| {
-            let _ = std::fs::remove_file(&partial);
-            PyOSError::new_err(format!("{}: {e}", path.display()))
+            })
+            .map_err(std::io::Error::other)
         })
+        .map_err(|e| PyOSError::new_err(format!("{}: {e}", path.display())))
     }
 }
 

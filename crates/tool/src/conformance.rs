@@ -406,8 +406,5 @@ pub fn write_junit(path: &Path, summary: &str, outcomes: &[Outcome]) -> Result<(
         xml.push_str("</testcase>\n");
     }
     xml.push_str("</testsuite>\n");
-    std::fs::write(path, xml).map_err(|e| crate::error::Error::Io {
-        path: path.to_path_buf(),
-        source: e,
-    })
+    crate::output::write_file(path, |w| std::io::Write::write_all(w, xml.as_bytes()))
 }

@@ -14,6 +14,7 @@ use exr::prelude::{
 use crate::error::{Error, Result};
 use ellipsoid_splat::Frame;
 use ellipsoid_splat::Outputs;
+use ellipsoid_splat_loaders::write_atomically;
 
 fn encode_error(path: &Path, reason: impl ToString) -> Error {
     Error::Encode {
@@ -22,21 +23,29 @@ fn encode_error(path: &Path, reason: impl ToString) -> Error {
     }
 }
 
-fn write_rgba8_png(frame: &Frame, path: &Path, bytes: &[u8]) -> Result<()> {
-    image::save_buffer(
-        path,
-        bytes,
-        frame.width,
-        frame.height,
-        image::ExtendedColorType::Rgba8,
-    )
-    .map_err(|e| encode_error(path, e))
+/// Writes `path` whole or not at all ([`write_atomically`]): an error names the file and the
+/// reason (the encoder's or the operating system's), and leaves any old file as it was.
+pub fn write_file(
+    path: &Path,
+    write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
+) -> Result<()> {
+    write_atomically(path, write).map_err(|e| encode_error(path, e))
+}
+
+/// `bytes` (`width x height` RGBA8) as a PNG file, whole or not at all.
+pub fn write_rgba8_png(path: &Path, bytes: &[u8], width: u32, height: u32) -> Result<()> {
+    use image::ImageEncoder;
+    write_file(path, |w| {
+        image::codecs::png::PngEncoder::new(w)
+            .write_image(bytes, width, height, image::ExtendedColorType::Rgba8)
+            .map_err(std::io::Error::other)
+    })
 }
 
 /// sRGB colour as an 8-bit RGBA PNG.
 pub fn write_color_png(frame: &Frame, path: &Path) -> Result<()> {
     let bytes: Vec<u8> = frame.color.iter().flatten().copied().collect();
-    write_rgba8_png(frame, path, &bytes)
+    write_rgba8_png(path, &bytes, frame.width, frame.height)
 }
 
 fn write_exr(path: &Path, frame: &Frame, channels: Vec<AnyChannel<FlatSamples>>) -> Result<()> {
@@ -47,10 +56,10 @@ fn write_exr(path: &Path, frame: &Frame, channels: Vec<AnyChannel<FlatSamples>>)
         Encoding::FAST_LOSSLESS,
         AnyChannels::sort(SmallVec::from_vec(channels)),
     );
-    ExrImage::from_layer(layer)
-        .write()
-        .to_file(path)
-        .map_err(|e| encode_error(path, e))
+    let image = ExrImage::from_layer(layer);
+    write_file(path, |w| {
+        image.write().to_buffered(w).map_err(std::io::Error::other)
+    })
 }
 
 /// View depth `dot(p - eye, f)` as a float32 EXR channel `Z`; background is +inf.
@@ -82,7 +91,7 @@ pub fn write_id_image(frame: &Frame, path: &Path) -> Result<()> {
         .is_some_and(|e| e.eq_ignore_ascii_case("png"));
     if is_png {
         let bytes: Vec<u8> = frame.id.iter().flat_map(|id| id.to_le_bytes()).collect();
-        write_rgba8_png(frame, path, &bytes)
+        write_rgba8_png(path, &bytes, frame.width, frame.height)
     } else {
         let id = AnyChannel::new("ID", FlatSamples::U32(frame.id.clone()));
         write_exr(path, frame, vec![id])

@@ -141,8 +141,21 @@ class Frame:
             else:
                 _native.write_exr_u32(path, "ID", np.asarray(self.id, dtype=np.uint32))
             return
-        with open(path, "wb") as file:
-            file.write(data)
+        # Whole or not at all: a hidden file beside the target, renamed over it when complete.
+        directory, name = os.path.split(os.path.abspath(path))
+        partial = os.path.join(directory, f".{name}.{os.getpid()}.partial")
+        try:
+            with open(partial, "xb") as file:
+                file.write(data)
+                file.flush()
+                os.fsync(file.fileno())
+            os.replace(partial, path)
+        except BaseException:
+            try:
+                os.remove(partial)
+            except OSError:
+                pass
+            raise
 
 
 class Renderer:

@@ -381,17 +381,15 @@ fn render(
         draw(&root).map_err(encode)?;
         root.present().map_err(|e| encode(text(e)))?;
     }
-    let image = image::RgbImage::from_raw(WIDTH, HEIGHT, buffer)
-        .ok_or_else(|| encode("chart buffer has the wrong size".to_string()))?;
-    image
-        .save_with_format(path, image::ImageFormat::Png)
-        .map_err(|e| match e {
-            image::ImageError::IoError(source) => Error::Io {
-                path: path.to_path_buf(),
-                source,
-            },
-            other => encode(other.to_string()),
-        })
+    if buffer.len() != WIDTH as usize * HEIGHT as usize * 3 {
+        return Err(encode("chart buffer has the wrong size".to_string()));
+    }
+    crate::output::write_file(path, |w| {
+        use image::ImageEncoder;
+        image::codecs::png::PngEncoder::new(w)
+            .write_image(&buffer, WIDTH, HEIGHT, image::ExtendedColorType::Rgb8)
+            .map_err(std::io::Error::other)
+    })
 }
 
 /// Everything a line or scatter chart draws.

@@ -202,12 +202,27 @@ pub fn write_csv(path: &Path, header: &[&str], rows: &[Vec<String>]) -> Result<(
             )),
         }
     };
-    let mut writer = csv::Writer::from_path(path).map_err(csv_error)?;
-    writer.write_record(header).map_err(csv_error)?;
-    for row in rows {
-        writer.write_record(row).map_err(csv_error)?;
+    // Written whole or not at all (ellipsoid_splat_loaders::write_atomically).
+    let mut failed = None;
+    let written = ellipsoid_splat_loaders::write_atomically(path, |file| {
+        let mut writer = csv::Writer::from_writer(file);
+        let mut rows_written = || -> std::result::Result<(), csv::Error> {
+            writer.write_record(header)?;
+            for row in rows {
+                writer.write_record(row)?;
+            }
+            Ok(())
+        };
+        if let Err(e) = rows_written() {
+            failed = Some(csv_error(e));
+            return Err(std::io::Error::other("a row could not be written"));
+        }
+        writer.flush()
+    });
+    match (failed, written) {
+        (Some(error), _) => Err(error),
+        (None, written) => written.map_err(io),
     }
-    writer.flush().map_err(io)
 }
 
 #[cfg(test)]

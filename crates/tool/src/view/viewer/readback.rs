@@ -5,7 +5,7 @@ use std::path::Path;
 
 use ash::vk;
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 
 use super::{to_host, Drawn, Probe, Viewer, NO_INSTANCE};
 use crate::view::targets::ReadbackBuffer;
@@ -43,19 +43,7 @@ impl Viewer {
                 }
             })
             .collect();
-        image::save_buffer(
-            path,
-            &rgba,
-            extent.width,
-            extent.height,
-            image::ExtendedColorType::Rgba8,
-        )
-        .map_err(|e| {
-            Error::invalid(
-                "screenshot",
-                format!("cannot write '{}': {e}", path.display()),
-            )
-        })
+        crate::output::write_rgba8_png(path, &rgba, extent.width, extent.height)
     }
 
     /// Reads the ID and depth outputs of the last frame drawn at pixel `(x, y)`: submits a
