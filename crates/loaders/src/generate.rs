@@ -195,7 +195,7 @@ impl SplitMix64 {
         lo + (hi - lo) * self.unit()
     }
 
-    /// A uniformly distributed rotation (Shoemake, "Uniform random rotations", Graphics Gems III).
+    /// A uniformly distributed rotation: a unit quaternion made from three uniform numbers.
     fn rotation(&mut self) -> DQuat {
         let (u1, u2, u3) = (self.unit(), TAU * self.unit(), TAU * self.unit());
         let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());

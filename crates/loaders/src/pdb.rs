@@ -538,7 +538,7 @@ const COORDINATE_FIELDS: [(&str, usize, usize); 3] = [("x", 31, 38), ("y", 39, 4
 /// Where the coordinate fields are, for messages.
 const COORDINATES_AT: &str = "coordinates are in columns 31-54";
 
-/// Columns `first..=last` (1-based, inclusive, as the PDB format documents them) of an ASCII
+/// Columns `first..=last` (1-based, inclusive: the PDB format's own column numbers) of an ASCII
 /// line; a short line gives what it has.
 fn cols(line: &str, first: usize, last: usize) -> &str {
     let end = last.min(line.len());
