@@ -1,8 +1,9 @@
 //! A movie of rendered frames (`render --frames ... --movie FILE`): each frame's colour is
 //! piped as raw RGBA to the system's `ffmpeg`, which encodes the container the file's
 //! extension names (`.mp4`, `.mkv`, `.mov`: H.264 in 4:2:0, the form every player opens).
-//! The movie is written under a hidden name beside the target (`.NAME.partial.EXT`) and
-//! renamed over it only once `ffmpeg` has finished, so a failed run leaves no broken file in
+//! The movie is written under a hidden name beside the target (`.NAME.PID-N.partial.EXT`,
+//! as `ellipsoid_splat_loaders::atomic_file` names partial files) and synced and renamed over
+//! it only once `ffmpeg` has finished, so a failed run leaves no broken file in
 //! its place (nor removes one that was there) and removes the partial one; a run killed
 //! outright (Ctrl-C, a signal) may leave the hidden partial file, never a broken `NAME`.
 
@@ -13,6 +14,7 @@ use std::thread::JoinHandle;
 
 use crate::error::{Error, Result};
 use ellipsoid_splat::Frame;
+use ellipsoid_splat_loaders::atomic_file::partial_name;
 
 /// The program encoding the movie, looked up on `PATH`.
 const FFMPEG: &str = "ffmpeg";
@@ -33,7 +35,7 @@ impl Movie {
     /// Starts `ffmpeg` writing `target` from `width x height` frames at `fps` frames a
     /// second. A missing `ffmpeg` is an error naming `--movie` and the package to install.
     pub fn start(target: &Path, width: u32, height: u32, fps: u32) -> Result<Movie> {
-        let partial = partial_name(target);
+        let partial = partial_movie(target)?;
         let extension = target
             .extension()
             .and_then(|e| e.to_str())
@@ -131,6 +133,12 @@ impl Movie {
                 return Err(self.encode_error(format!("waiting for ffmpeg: {e}")));
             }
         }
+        // On disk before it takes the target's name.
+        let synced = std::fs::File::open(&self.partial).and_then(|file| file.sync_data());
+        if let Err(e) = synced {
+            let _ = std::fs::remove_file(&self.partial);
+            return Err(self.encode_error(format!("cannot sync the movie: {e}")));
+        }
         std::fs::rename(&self.partial, &self.target).map_err(|e| {
             let _ = std::fs::remove_file(&self.partial);
             self.encode_error(format!("cannot put the movie in place: {e}"))
@@ -184,16 +192,13 @@ impl Drop for Movie {
     }
 }
 
-/// `dir/.name.partial.ext` for `dir/name.ext`: the same directory (so the rename is atomic)
-/// and the same extension (so `ffmpeg` picks the same container).
-fn partial_name(target: &Path) -> PathBuf {
-    let name = target
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
+/// A fresh hidden name beside `target` ([`partial_name`], this process's own) with the
+/// target's extension added, so that `ffmpeg` picks the same container.
+fn partial_movie(target: &Path) -> Result<PathBuf> {
+    let partial = partial_name(target).map_err(|e| Error::invalid("--movie", e.to_string()))?;
     let extension = target
         .extension()
         .map(|e| format!(".{}", e.to_string_lossy()))
         .unwrap_or_default();
-    target.with_file_name(format!(".{name}.partial{extension}"))
+    Ok(PathBuf::from(format!("{}{extension}", partial.display())))
 }

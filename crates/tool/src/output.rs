@@ -229,6 +229,22 @@ pub fn check_writable(flag: &str, path: &Path) -> Result<()> {
             .map_err(|e| refuse(e.to_string()))
     };
     if path.exists() {
+        // A regular file is replaced by a rename of a file made in its directory
+        // (`write_atomically`): that directory must take a new file. Anything else (a
+        // device, a pipe) is written in place.
+        if std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+            let probe = ellipsoid_splat_loaders::atomic_file::partial_name(
+                &std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()),
+            )
+            .map_err(|e| refuse(e.to_string()))?;
+            return OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&probe)
+                .and_then(|_| std::fs::remove_file(&probe))
+                .map_err(|e| refuse(e.to_string()))
+                .and_then(|()| open_existing());
+        }
         return open_existing();
     }
     match OpenOptions::new().write(true).create_new(true).open(path) {
