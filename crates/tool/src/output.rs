@@ -413,4 +413,28 @@ mod tests {
         );
         assert!(error("d_%d_%d.exr").contains("more than one"));
     }
+
+    /// An image whose encoder fails (an EXR of no pixels) leaves the old file as it was and
+    /// no partial file beside it: every image kind is written through `write_file`.
+    #[test]
+    fn a_failed_encoder_keeps_the_old_file() {
+        let dir = std::env::temp_dir().join(format!("es-output-failed-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let empty = Frame::default();
+        for (image, name) in [
+            (Image::Depth, "d.exr"),
+            (Image::Normal, "n.exr"),
+            (Image::Id, "i.exr"),
+        ] {
+            let path = dir.join(name);
+            std::fs::write(&path, b"old").unwrap();
+            let error = write_image(&empty, image, &path).unwrap_err().to_string();
+            assert!(error.contains(name), "{error}");
+            assert_eq!(std::fs::read(&path).unwrap(), b"old");
+        }
+        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+        assert_eq!(left.len(), 3, "no partial file left");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

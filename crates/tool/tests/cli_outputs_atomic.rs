@@ -2,6 +2,10 @@
 //! that runs past it fails (SIGXFSZ ignored: the write returns an error) or kills the process
 //! (SIGXFSZ's default) part-way through. Either way the good file that was there before is
 //! still there, byte for byte; a failed write also leaves no partial file and names the file.
+//! The file is the saved scene, written before any device is made: a driver's own files under
+//! the limit (Mesa 25's lavapipe backs device memory with memory files, which the limit cuts
+//! short) cannot fail first. The images go through the same writer; their encoders failing is
+//! `output.rs`'s unit test.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -44,19 +48,16 @@ fn names(dir: &Path) -> Vec<String> {
     names
 }
 
-/// The colour image and the saved scene (each over 4 KiB): a failed write keeps the old file
-/// and leaves nothing else; a killed one keeps the old file.
+/// The saved scene (over 4 KiB): a failed write keeps the old file and leaves nothing else; a
+/// killed one keeps the old file beside the 4 KiB partial one.
 #[test]
 fn a_failed_or_killed_write_keeps_the_old_file() {
     let old = b"a good file written before";
-    for (flag, file) in [("--output", "a.png"), ("--save-scene", "scene.csv")] {
+    let (flag, file) = ("--save-scene", "scene.csv");
+    {
         let dir = scratch(file);
         std::fs::write(dir.join(file), old).unwrap();
-        // The colour image goes elsewhere when the scene is the file under test.
-        let mut args = vec![flag, file];
-        if flag != "--output" {
-            args.extend(["--output", "colour.png"]);
-        }
+        let args = [flag, file, "--output", "colour.png"];
         let failed = limited_render(&dir, &args, true);
         let stderr = String::from_utf8_lossy(&failed.stderr);
         assert_eq!(failed.status.code(), Some(1), "{flag}: {stderr}");
