@@ -70,25 +70,12 @@ pub fn render_composited<C: Communicator>(
         Ok(_) if first_failed != Rank::MAX => return Err(Error::OtherRank { rank: first_failed }),
         Ok(words) => words,
     };
-    let like = Frame {
-        color: if outputs.color {
-            vec![[0; 4]]
-        } else {
-            Vec::new()
-        },
-        normal: if outputs.normal {
-            vec![[0.0; 3]]
-        } else {
-            Vec::new()
-        },
-        ..Frame::default()
-    };
     let pixels = camera.width as usize * camera.height as usize;
     let (_, mine, mut traffic) = binary_swap::composite(comm, words, pixels);
     let image = binary_swap::gather(comm, root, mine, pixels, &mut traffic);
     let composite_seconds = synced.elapsed().as_secs_f64();
     Ok(Composited {
-        frame: image.map(|words| pixels::decode(&words, camera.width, camera.height, &like)),
+        frame: image.map(|words| pixels::decode(&words, camera.width, camera.height, outputs)),
         traffic,
         draw_seconds,
         composite_seconds,

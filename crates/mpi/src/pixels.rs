@@ -2,7 +2,7 @@
 //! key that decides which glyph a pixel shows, then colour and view depth, then the normal --
 //! so one message carries a range of pixels whole.
 
-use ellipsoid_splat::{Frame, NO_INSTANCE};
+use ellipsoid_splat::{Frame, Outputs, NO_INSTANCE};
 
 /// Words a pixel takes.
 pub const WORDS: usize = 4;
@@ -66,9 +66,9 @@ pub fn merge(mine: &mut [u64], theirs: &[u64]) {
     }
 }
 
-/// The frame of `width x height` pixels in `words`, with the outputs `like` holds (the
-/// others left empty); IDs are the global indices.
-pub fn decode(words: &[u64], width: u32, height: u32, like: &Frame) -> Frame {
+/// The frame of `width x height` pixels in `words`: depth and ID always (IDs are the global
+/// indices), colour and normal where `outputs` asks for them.
+pub fn decode(words: &[u64], width: u32, height: u32, outputs: Outputs) -> Frame {
     let pixels = words.chunks_exact(WORDS);
     let mut frame = Frame {
         width,
@@ -84,13 +84,13 @@ pub fn decode(words: &[u64], width: u32, height: u32, like: &Frame) -> Frame {
         .clone()
         .map(|p| f32::from_bits((p[3] >> 32) as u32))
         .collect();
-    if !like.color.is_empty() {
+    if outputs.color {
         frame.color = pixels
             .clone()
             .map(|p| (p[1] as u32).to_le_bytes())
             .collect();
     }
-    if !like.normal.is_empty() {
+    if outputs.normal {
         frame.normal = pixels
             .map(|p| {
                 [
@@ -134,7 +134,7 @@ mod tests {
             id: vec![1, NO_INSTANCE],
         };
         let words = encode(&frame, false, &[40, 41]).unwrap();
-        let back = decode(&words, 2, 1, &frame);
+        let back = decode(&words, 2, 1, Outputs::ALL);
         assert_eq!(back.id, [41, NO_INSTANCE]);
         assert_eq!(
             Frame {

@@ -78,19 +78,8 @@ fn parse_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<(LoadOptions, 
                     value.extract().map_err(bad)?;
                 load.columns = map.into_iter().collect();
             }
-            "type_colors" => {
-                let colors: Vec<[f32; 3]> = value.extract().map_err(bad)?;
-                if let Some((k, c)) = colors
-                    .iter()
-                    .enumerate()
-                    .find(|(_, c)| c.iter().any(|v| !(0.0..=1.0).contains(v)))
-                {
-                    return Err(PyValueError::new_err(format!(
-                        "type_colors[{k}] = {c:?} has a component outside [0, 1]"
-                    )));
-                }
-                load.type_colors = colors;
-            }
+            // Checked (components in [0, 1]) by the loaders, as for the tool's flag.
+            "type_colors" => load.type_colors = value.extract().map_err(bad)?,
             _ => {
                 return Err(PyValueError::new_err(format!(
                     "unknown option {key:?}; the options are {}",

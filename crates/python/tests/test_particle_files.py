@@ -53,7 +53,7 @@ def test_frames_iterate_index_and_carry_timesteps():
 def test_options_are_checked_and_columns_map(tmp_path):
     with pytest.raises(ValueError, match='unknown option "colour"'):
         es.load(LAMMPS, colour="shape")
-    with pytest.raises(ValueError, match=r"type_colors\[1\]"):
+    with pytest.raises(ValueError, match=r"type colour: entry 1 \(type 2\)"):
         es.load(LAMMPS, type_colors=[(0, 0, 1), (2, 0, 0)])
     # Type colours given replace the palette, cycling.
     blue = es.load(LAMMPS, type_colors=[(0.0, 0.0, 1.0)])

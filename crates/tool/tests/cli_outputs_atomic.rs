@@ -28,6 +28,7 @@ fn limited_render(dir: &Path, args: &[&str], ignore: bool) -> Output {
             &script,
             env!("CARGO_BIN_EXE_ellipsoid-splat"),
             "render",
+            "--validation",
         ])
         .args(["--scene", "lattice:6", "--width", "320", "--height", "240"])
         .args(args)
@@ -106,6 +107,7 @@ fn every_output_kind_replaces_its_file_whole() {
         let run = Command::new(env!("CARGO_BIN_EXE_ellipsoid-splat"))
             .args([
                 "render",
+                "--validation",
                 "--scene",
                 "lattice:4",
                 "--width",
