@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The report of one Vulkan device: `info`, `conformance`, the tests that draw and
-# `bench --quick` (with the plan's regret) into one folder, and the README's per-device table
-# row made from them (table.md).
+# `bench --quick` (with the plan's regret) into one folder, and the per-device table row made
+# from them (table.md; committed under docs/results/devices/ and linked from docs/conformance.md).
 #
 #   bash scripts/device-report.sh [--out DIR] [--device NAME|INDEX] [--tests DIR] [--frames N]
 #   bash scripts/device-report.sh --prepare DIR

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""The README's per-device rows, made from one folder of scripts/device-report.sh: the device
-and driver, conformance, the tests that draw, and per bench scene the plan's path and regret
-(the first guess's and after learning: the plan's time over the fastest fixed path's, from
-one interleaved run). Figures come from the run's files only; nothing is typed by hand.
+"""The per-device rows that docs/conformance.md links, made from one folder of
+scripts/device-report.sh: the device and driver, conformance, the tests that draw, and per
+bench scene the plan's path and regret (the first guess's and after learning: the plan's time
+over the fastest fixed path's, from one interleaved run). Figures come from the run's files
+only; nothing is typed by hand.
 
     python3 scripts/device-table.py REPORT_DIR
 """

@@ -40,7 +40,7 @@ impl Culling {
 
 impl Default for Culling {
     /// Every kind: each is exact, and each costs little where it finds nothing to drop
-    /// (README, "Skipping what a scene doesn't need").
+    /// (`docs/culling.md`).
     fn default() -> Self {
         Self::ON
     }

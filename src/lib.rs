@@ -3,8 +3,8 @@
 //!
 //! [`EllipsoidRenderer`] records into a host's command buffers: the host's device, allocator
 //! (through [`MemoryAllocator`]), render pass (or dynamic rendering), sample count, projection
-//! and viewport, one or several views a frame (see `examples/minimal.rs` and the README's
-//! "Embedding" section). With the default feature `offscreen`, `OffscreenRenderer` owns its
+//! and viewport, one or several views a frame (see `examples/minimal.rs` and
+//! `docs/embedding.md`). With the default feature `offscreen`, `OffscreenRenderer` owns its
 //! Vulkan device and reads frames back.
 //!
 //! Features:

@@ -282,7 +282,7 @@ fn views_that_overlap_or_leave_the_attachments_are_refused() {
     finish_validated(renderer);
 }
 
-// README: stereo_taa_cameras
+// docs/embedding.md: stereo_taa_cameras
 /// The two cameras of frame `frame` of a stereo headset with temporal antialiasing: each eye's
 /// view and Vulkan projection (asymmetric frusta, as OpenXR gives them) jittered by the frame's
 /// Halton (2, 3) offset, the left eye drawn in the left half of the attachment, the right eye
@@ -322,13 +322,13 @@ fn stereo_taa_cameras(
     };
     Ok([camera(0)?, camera(1)?])
 }
-// README: end
+// docs/embedding.md: end
 
-/// The README's stereo-and-TAA cameras: each eye's jittered camera samples the unjittered
+/// The embedding guide's stereo-and-TAA cameras (`docs/embedding.md`): each eye's jittered camera samples the unjittered
 /// one's image at the Halton offset, and two frames of the pair drawn as two views of one
 /// attachment are exact in both eyes.
 #[test]
-fn the_readme_stereo_taa_frames_are_exact() {
+fn the_embedding_guides_stereo_taa_frames_are_exact() {
     let scene = random_cloud(2000, 5, 5.0, 0.6);
     let centre = base();
     let right = centre.basis().right;

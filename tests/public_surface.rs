@@ -99,25 +99,25 @@ fn the_minimal_host_reads_on_150_lines() {
     assert!(lines <= 150, "examples/minimal.rs has {lines} lines");
 }
 
-/// The README's stereo-and-TAA example is the code `tests/cameras.rs` runs against the
-/// reference, line for line.
+/// The embedding guide's stereo-and-TAA example (`docs/embedding.md`) is the code
+/// `tests/cameras.rs` runs against the reference, line for line.
 #[test]
-fn the_readme_stereo_taa_example_is_the_tested_code() {
+fn the_embedding_guides_stereo_taa_example_is_the_tested_code() {
     let read = |path: &str| {
         std::fs::read_to_string(format!("{}/{path}", env!("CARGO_MANIFEST_DIR"))).unwrap()
     };
-    let (tests, readme) = (read("tests/cameras.rs"), read("README.md"));
+    let (tests, guide) = (read("tests/cameras.rs"), read("docs/embedding.md"));
     let start = tests
-        .find("// README: stereo_taa_cameras\n")
+        .find("// docs/embedding.md: stereo_taa_cameras\n")
         .expect("start marker");
-    let end = tests.find("// README: end").expect("end marker");
+    let end = tests.find("// docs/embedding.md: end").expect("end marker");
     let block = tests[start..end]
         .split_once('\n')
         .map(|(_, code)| code)
         .unwrap();
     assert!(block.lines().count() > 20, "the example is there");
     assert!(
-        readme.contains(block),
-        "README.md does not hold tests/cameras.rs's stereo_taa_cameras verbatim"
+        guide.contains(block),
+        "docs/embedding.md does not hold tests/cameras.rs's stereo_taa_cameras verbatim"
     );
 }

@@ -1,5 +1,6 @@
 //! The frame plan's first guess: which path pays, from the scene's size on screen, by
-//! thresholds measured on lavapipe (README). On other devices the plan measures the
+//! thresholds measured on lavapipe (`docs/compute-splat.md`,
+//! `docs/hidden-layers.md`). On other devices the plan measures the
 //! candidates and keeps the fastest (`learning.rs`); this is where it starts, and all of
 //! [`crate::plan::PlanMode::Estimate`].
 

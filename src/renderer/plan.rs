@@ -24,13 +24,14 @@ use super::uploaded::UploadedScene;
 
 /// The largest mean projected glyph area (square pixels) for which the pre-pass sets up the
 /// impostors once. On lavapipe the fragment stage's record loads cost more than the flat
-/// varyings they replace once glyphs cover more than a few pixels (README, `bench --skip`).
+/// varyings they replace once glyphs cover more than a few pixels (`docs/culling.md`).
 pub const SETUP_ONCE_MAX_AREA_PX: f64 = 12.0;
 
 /// The most pixel centres a glyph's box may hold for the compute splat to walk it; larger
 /// glyphs are drawn in the same frame. One invocation walks each glyph, so a much larger one
 /// would hold up its workgroup. Measured at 50,000 glyphs of 946 px^2 on average: 1,024 takes
-/// 458-461 ms (many glyphs drawn), 4,096 271-284 ms, 16,384 277-278 ms (README).
+/// 458-461 ms (many glyphs drawn), 4,096 271-284 ms, 16,384 277-278 ms
+/// (`docs/compute-splat.md`).
 pub const SPLAT_MAX_BOX_PIXELS: u32 = 4096;
 
 /// The most chunks a splatted frame may have: each chunk resolves over every marked tile.

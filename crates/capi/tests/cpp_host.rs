@@ -248,7 +248,7 @@ fn a_cpp_host_draws_a_mesh_the_ellipsoids_and_imgui_in_one_render_pass() {
         &mut Command::new(&static_binary),
         "the C11 program, linked statically",
     );
-    // The README's C example is this file, and compiles the same way.
+    // The C example of docs/c-and-cpp.md is this file, and compiles the same way.
     let example = root.join("crates/capi/tests/c/embed.c");
     run(
         Command::new("cc")
@@ -264,13 +264,13 @@ fn a_cpp_host_draws_a_mesh_the_ellipsoids_and_imgui_in_one_render_pass() {
             .arg(&example)
             .arg("-o")
             .arg(work.join("embed.o")),
-        "cc (the README's example)",
+        "cc (the example of docs/c-and-cpp.md)",
     );
-    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let guide = std::fs::read_to_string(root.join("docs/c-and-cpp.md")).unwrap();
     let example = std::fs::read_to_string(&example).unwrap();
     assert!(
-        readme.contains(&example),
-        "README.md does not hold crates/capi/tests/c/embed.c verbatim"
+        guide.contains(&example),
+        "docs/c-and-cpp.md does not hold crates/capi/tests/c/embed.c verbatim"
     );
 
     // The C++ host, found and built by CMake as any project would.

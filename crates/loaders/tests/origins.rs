@@ -74,7 +74,7 @@ fn atoms_are_named_with_residue_and_line() {
             "{name}: {label}"
         );
     }
-    // The README's pick example: the sample's atom 5 is the second with ANISOU parameters.
+    // docs/viewer.md's pick example: the sample's atom 5 is the second with ANISOU parameters.
     let loaded = load(&sample("thermal.pdb"), &LoadOptions::default()).unwrap();
     assert_eq!(
         loaded.origins.describe(1).as_deref(),

@@ -191,10 +191,11 @@ def test_arrays_changed_in_place_are_uploaded_again(renderer):
     assert renderer.upload_ms > 0.0 and (moved.id == es.NO_GLYPH).all()
 
 
-def test_the_readme_example_runs_and_is_the_readmes(tmp_path):
+def test_the_readme_example_runs_and_is_the_guides(tmp_path):
     example = os.path.join(ROOT, "crates", "python", "examples", "readme.py")
     code = open(example).read()
-    assert code in open(os.path.join(ROOT, "README.md")).read(), "README.md lacks readme.py"
+    guide = os.path.join(ROOT, "docs", "python.md")
+    assert code in open(guide).read(), "docs/python.md lacks readme.py"
     out = tmp_path / "glyphs.png"
     done = subprocess.run([os.sys.executable, example, str(out)], cwd=ROOT, check=True,
                           capture_output=True, text=True)
