@@ -46,7 +46,7 @@ if [ -n "$prepare" ]; then
     | python3 -c '
 import json, shutil, sys, os
 dest = sys.argv[1]
-skip = {"public_surface", "committed_spirv"}  # they read the sources, draw nothing
+skip = {"public_surface", "committed_spirv", "docs_told_once"}  # they read the sources, draw nothing
 for line in sys.stdin:
     message = json.loads(line)
     if message.get("reason") == "compiler-artifact" and message.get("executable") \

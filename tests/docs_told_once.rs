@@ -1,0 +1,195 @@
+//! The documentation tells each fact once: no paragraph of at least `PARAGRAPH_WORDS` words and
+//! no sentence of at least `SENTENCE_WORDS` words appears twice across `README.md` and
+//! `docs/**/*.md` (the measurements' own files under `docs/results/` aside). A repeat is a fact
+//! kept in two places that will drift apart; keep it in the better one and link it from the
+//! other. Code blocks, tables, headings and pictures are not prose and are not compared.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The shortest paragraph, in words, whose repeat fails the test.
+const PARAGRAPH_WORDS: usize = 25;
+/// The shortest sentence, in words, whose repeat fails the test.
+const SENTENCE_WORDS: usize = 20;
+
+/// One paragraph of prose: where it starts (`file:line`) and its words.
+struct Paragraph {
+    place: String,
+    words: Vec<String>,
+}
+
+/// The prose paragraphs of a Markdown text: blank lines end them, and so do code fences,
+/// tables, headings and pictures; each list item is a paragraph of its own.
+fn paragraphs(file: &str, markdown: &str) -> Vec<Paragraph> {
+    let mut found = Vec::new();
+    let mut current: Option<Paragraph> = None;
+    let mut in_code = false;
+    for (index, line) in markdown.lines().enumerate() {
+        let text = line.trim();
+        let fence = text.starts_with("```");
+        let not_prose = fence
+            || in_code
+            || text.is_empty()
+            || text.starts_with('|')
+            || text.starts_with('#')
+            || text.starts_with("![");
+        let list_item = text.starts_with("- ")
+            || text.starts_with("* ")
+            || text
+                .split_once(". ")
+                .is_some_and(|(n, _)| !n.is_empty() && n.chars().all(|c| c.is_ascii_digit()));
+        if not_prose || list_item {
+            found.extend(current.take());
+        }
+        if fence {
+            in_code = !in_code;
+        }
+        if not_prose {
+            continue;
+        }
+        current
+            .get_or_insert_with(|| Paragraph {
+                place: format!("{file}:{}", index + 1),
+                words: Vec::new(),
+            })
+            .words
+            .extend(text.split_whitespace().map(str::to_string));
+    }
+    found.extend(current);
+    found
+}
+
+/// The sentences of a paragraph: a word ending in `.`, `!` or `?` ends one when the next word
+/// starts like a sentence (a capital, a bracket, code or emphasis), so "e.g. the" does not.
+fn sentences(words: &[String]) -> Vec<&[String]> {
+    let mut found = Vec::new();
+    let mut start = 0;
+    for i in 0..words.len() {
+        let ends = words[i]
+            .trim_end_matches([')', '*', '"', '_'])
+            .ends_with(['.', '!', '?']);
+        let next_starts = words.get(i + 1).is_none_or(|next| {
+            next.starts_with(|c: char| c.is_uppercase() || "([`*\"".contains(c))
+        });
+        if ends && next_starts {
+            found.push(&words[start..=i]);
+            start = i + 1;
+        }
+    }
+    if start < words.len() {
+        found.push(&words[start..]);
+    }
+    found
+}
+
+/// Every paragraph and sentence long enough to count that appears more than once, with all
+/// the places it appears, as lines of a report.
+fn repeats(documents: &[(String, String)]) -> Vec<String> {
+    let all: Vec<Paragraph> = documents
+        .iter()
+        .flat_map(|(file, text)| paragraphs(file, text))
+        .collect();
+    let mut by_paragraph: BTreeMap<String, Vec<&str>> = BTreeMap::new();
+    let mut by_sentence: BTreeMap<String, Vec<&str>> = BTreeMap::new();
+    for paragraph in &all {
+        if paragraph.words.len() >= PARAGRAPH_WORDS {
+            by_paragraph
+                .entry(paragraph.words.join(" "))
+                .or_default()
+                .push(&paragraph.place);
+        }
+        for sentence in sentences(&paragraph.words) {
+            if sentence.len() >= SENTENCE_WORDS {
+                by_sentence
+                    .entry(sentence.join(" "))
+                    .or_default()
+                    .push(&paragraph.place);
+            }
+        }
+    }
+    let mut report = Vec::new();
+    for (kind, repeated) in [("paragraph", &by_paragraph), ("sentence", &by_sentence)] {
+        for (text, places) in repeated {
+            // A repeated paragraph's own sentences are reported with it.
+            let within_repeated_paragraph = kind == "sentence"
+                && by_paragraph
+                    .iter()
+                    .any(|(p, at)| at.len() > 1 && p.contains(text.as_str()));
+            if places.len() > 1 && !within_repeated_paragraph {
+                report.push(format!("{kind} at {}: \"{text}\"", places.join(" and ")));
+            }
+        }
+    }
+    report
+}
+
+/// README.md and every Markdown file under docs/ but docs/results/, by path from the root.
+fn documentation(root: &Path) -> Vec<(String, String)> {
+    fn walk(root: &Path, dir: &Path, out: &mut Vec<(String, String)>) {
+        let mut entries: Vec<_> = std::fs::read_dir(dir)
+            .unwrap_or_else(|e| panic!("reading {}: {e}", dir.display()))
+            .map(|entry| entry.unwrap().path())
+            .collect();
+        entries.sort();
+        for path in entries {
+            let name = path
+                .strip_prefix(root)
+                .unwrap()
+                .to_string_lossy()
+                .into_owned();
+            if path.is_dir() {
+                if name != "docs/results" {
+                    walk(root, &path, out);
+                }
+            } else if name.ends_with(".md") {
+                out.push((name, std::fs::read_to_string(&path).unwrap()));
+            }
+        }
+    }
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let mut documents = vec![("README.md".to_string(), readme)];
+    walk(root, &root.join("docs"), &mut documents);
+    documents
+}
+
+#[test]
+fn no_paragraph_or_sentence_of_the_documentation_is_told_twice() {
+    let documents = documentation(Path::new(env!("CARGO_MANIFEST_DIR")));
+    assert!(
+        documents.len() > 10 && documents.iter().any(|(f, _)| f == "docs/design.md"),
+        "README.md and docs/ are read"
+    );
+    let report = repeats(&documents);
+    assert!(
+        report.is_empty(),
+        "told twice (keep one, link it from the other):\n{}",
+        report.join("\n")
+    );
+}
+
+/// The check itself: a planted repeat is found in prose, named at both places, and the same
+/// words in code, tables and headings are not prose.
+#[test]
+fn a_planted_repeat_is_named_at_both_places() {
+    let fact = "The renderer never submits and never waits, so the host decides when its command \
+                buffers go to the queue and which fences it waits for before reusing them.";
+    let short = "Too short to count, however often it is said.";
+    let first = format!("# Title\n\nIntro line.\n{fact}\n\n{short}\n\n```\n{fact}\n```\n");
+    let second = format!("| {fact} |\n\n## {fact}\n\n- An item. {fact}\n\n{short}\n");
+    let report = repeats(&[("a.md".into(), first), ("b.md".into(), second)]);
+    assert_eq!(report.len(), 1, "{report:?}");
+    assert!(
+        report[0].starts_with("sentence at a.md:3 and b.md:5:"),
+        "{report:?}"
+    );
+    let twice = format!("{fact} And it says so in one more sentence of its own.");
+    let report = repeats(&[
+        ("a.md".into(), twice.clone()),
+        ("b.md".into(), format!("Other.\n\n{twice}")),
+    ]);
+    assert_eq!(report.len(), 1, "{report:?}");
+    assert!(
+        report[0].starts_with("paragraph at a.md:1 and b.md:3:"),
+        "{report:?}"
+    );
+}
