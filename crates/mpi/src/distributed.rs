@@ -11,6 +11,7 @@ use ellipsoid_splat::{Camera, Frame, OffscreenRenderer, Outputs, Placement, Scen
 
 use crate::binary_swap::{self, Traffic};
 use crate::error::{Error, Result};
+use crate::failure::first_failed;
 use crate::pixels;
 
 /// A composited frame and what producing it took on this process.
@@ -58,17 +59,12 @@ pub fn render_composited<C: Communicator>(
         .and_then(|()| draw(renderer, part, global_ids, camera, outputs, placement));
     let draw_seconds = started.elapsed().as_secs_f64();
     // Every process learns whether any failed before anyone waits on another.
-    let failed_at = match &drawn {
-        Ok(_) => Rank::MAX,
-        Err(_) => comm.rank(),
-    };
-    let mut first_failed = Rank::MAX;
-    comm.all_reduce_into(&failed_at, &mut first_failed, SystemOperation::min());
+    let failed = first_failed(comm, drawn.is_err());
     let synced = std::time::Instant::now();
-    let words = match drawn {
-        Err(error) => return Err(error),
-        Ok(_) if first_failed != Rank::MAX => return Err(Error::OtherRank { rank: first_failed }),
-        Ok(words) => words,
+    let words = match (drawn, failed) {
+        (Err(error), _) => return Err(error),
+        (Ok(_), Some(rank)) => return Err(Error::OtherRank { rank }),
+        (Ok(words), None) => words,
     };
     let pixels = camera.width as usize * camera.height as usize;
     let (_, mine, mut traffic) = binary_swap::composite(comm, words, pixels);

@@ -21,6 +21,9 @@ pub enum Error {
     /// An argument is inconsistent.
     #[error("invalid compositing input: {0}")]
     Invalid(String),
+    /// The host's communicator cannot be used ([`HostCommunicator`](crate::HostCommunicator)).
+    #[error("communicator refused: {0}")]
+    Communicator(String),
 }
 
 /// Shorthand for `Result<T, ellipsoid_splat_mpi::Error>`.

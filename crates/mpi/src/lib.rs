@@ -30,12 +30,22 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
+//! An application in another language hands over its communicator by its Fortran handle
+//! ([`HostCommunicator`]) and its share as that language's arguments ([`share`]): the C ABI
+//! (`crates/capi`, feature `mpi`) and the Python package (`crates/python`, feature `mpi`) draw
+//! in situ through them.
+//!
 //! The core crate never links MPI; only this one does.
 
 pub mod binary_swap;
 pub mod distributed;
 mod error;
+pub mod failure;
+mod host_communicator;
 pub mod pixels;
+pub mod share;
 
 pub use distributed::{render_composited, Composited};
 pub use error::{Error, Result};
+pub use host_communicator::HostCommunicator;
+pub use share::{render_share, Share, ShareError};
