@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The tests that draw: the workspace's, the host on VMA, the Python package's. They run on the
-# Vulkan driver the environment selects (the system's lavapipe unless VK_ICD_FILENAMES names
-# another: scripts/test-drivers.sh). Cargo arguments, if any, go to both cargo runs (the
+# The tests that draw: the workspace's, the host on VMA, in situ from C, the Python package's.
+# They run on the Vulkan driver the environment selects (the system's lavapipe unless
+# VK_ICD_FILENAMES names another: scripts/test-drivers.sh). Cargo arguments, if any, go to the
+# workspace's and the VMA host's cargo runs; in situ from C runs only without them (the
 # Python tests always run whole).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
@@ -12,5 +13,7 @@ target/release/ellipsoid-splat info | sed -n 's/^\(device\|driver\|Vulkan\): */s
 cargo test --release --workspace "$@"
 # The host on VMA needs the library's `vk-mem` feature.
 cargo test --release -p ellipsoid-splat --features vk-mem --test vk_mem_host "$@"
+# In situ from C under mpirun needs the C ABI's `mpi` feature.
+[ $# -gt 0 ] || cargo test --release -p ellipsoid-splat-capi --features mpi --test insitu_mpi
 # The Python package (crates/python), built and installed into a virtual environment.
 bash "$here/scripts/test-python.sh"

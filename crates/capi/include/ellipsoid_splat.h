@@ -56,6 +56,11 @@
 #define ES_FEATURE_SHADER_BUFFER_INT64_ATOMICS 16
 
 /**
+ * The `id` of a pixel where no glyph is hit.
+ */
+#define ES_NO_GLYPH UINT32_MAX
+
+/**
  * What a call did.
  */
 typedef enum EsStatus {
@@ -91,6 +96,11 @@ typedef enum EsStatus {
    * Any other failure (the message says what).
    */
   ES_STATUS_ERROR_OTHER = 7,
+  /**
+   * Another process of the communicator failed (its own call reports why; the message
+   * names its rank): nothing was composited. Only `es_offscreen_render_composited`.
+   */
+  ES_STATUS_ERROR_OTHER_RANK = 8,
 } EsStatus;
 
 /**
@@ -234,6 +244,11 @@ typedef enum EsPlanReasonKind {
 } EsPlanReasonKind;
 
 /**
+ * An offscreen renderer: opaque to the host.
+ */
+typedef struct EsOffscreenRenderer EsOffscreenRenderer;
+
+/**
  * A renderer: opaque to the host.
  */
 typedef struct EsRenderer EsRenderer;
@@ -328,6 +343,162 @@ typedef struct EsCamera {
    */
   double depth_far;
 } EsCamera;
+
+/**
+ * One ellipsoid.
+ */
+typedef struct EsGlyph {
+  /**
+   * Centre in world coordinates.
+   */
+  double center[3];
+  /**
+   * Semi-axes along the local x, y, z axes (finite, > 0).
+   */
+  double radii[3];
+  /**
+   * The rotation of the local axes into world axes, a quaternion `(w, x, y, z)` (normalised
+   * by the library; not zero).
+   */
+  double rotation[4];
+  /**
+   * Display (sRGB) colour, each channel in [0, 1].
+   */
+  float color[3];
+} EsGlyph;
+
+/**
+ * Where a frame's outputs go: arrays the host allocated, each of `width * height` pixels
+ * (the camera's), row by row from the top; a null pointer skips that output.
+ */
+typedef struct EsFrameBuffers {
+  /**
+   * `sizeof(EsFrameBuffers)`.
+   */
+  uint32_t struct_size;
+  /**
+   * RGBA8 colour, sRGB-encoded: 4 bytes a pixel.
+   */
+  uint8_t *color;
+  /**
+   * View depth (the distance along the view axis): 1 float a pixel, `+inf` where no glyph
+   * is hit.
+   */
+  float *depth;
+  /**
+   * World-space unit normal: 3 floats a pixel, zero where no glyph is hit.
+   */
+  float *normal;
+  /**
+   * The index of the glyph shown: 1 `uint32_t` a pixel, `ES_NO_GLYPH` where none is.
+   */
+  uint32_t *id;
+} EsFrameBuffers;
+
+/**
+ * The shading: Blinn-Phong weights and highlight colour.
+ */
+typedef struct EsMaterial {
+  /**
+   * Ambient weight.
+   */
+  float ambient;
+  /**
+   * Diffuse weight.
+   */
+  float diffuse;
+  /**
+   * Specular weight.
+   */
+  float specular;
+  /**
+   * Phong exponent.
+   */
+  float shininess;
+  /**
+   * Colour of highlights (linear RGB).
+   */
+  float specular_color[3];
+} EsMaterial;
+
+/**
+ * What a host may tune. Start from `es_settings_default`; every field but the material only
+ * changes the work done and leaves the picture the same.
+ *
+ * Versions: the first (`struct_size` 52) ends at `per_sample_shading`; the second adds
+ * `plan_mode` and `fixed_path`. The library reads only the version `struct_size` names, and
+ * a first-version struct keeps its meaning: `compute_splat` zero keeps every frame on the
+ * draw; non-zero lets the plan choose as the renderer's settings had it (measuring unless a
+ * second-version struct chose otherwise).
+ */
+typedef struct EsSettings {
+  /**
+   * `sizeof(EsSettings)`.
+   */
+  uint32_t struct_size;
+  /**
+   * The shading.
+   */
+  struct EsMaterial material;
+  /**
+   * Non-zero: cull glyphs wholly outside the view.
+   */
+  uint32_t culling_frustum;
+  /**
+   * Non-zero: cull glyphs that cover no pixel centre.
+   */
+  uint32_t culling_pixel_centres;
+  /**
+   * Non-zero: cull glyphs hidden behind nearer ones (needs a `D32_SFLOAT` depth
+   * attachment).
+   */
+  uint32_t culling_occlusion;
+  /**
+   * Deprecated (leave it at the default 1 and use `plan_mode`): zero keeps every frame on
+   * the draw whatever `plan_mode` says, as `ES_PLAN_MODE_FIXED` with `ES_PATH_KIND_DRAW`
+   * does; zero with a `plan_mode` that fixes a splat path is refused.
+   */
+  uint32_t compute_splat;
+  /**
+   * Non-zero: multisampled targets shade every sample (exact depth per sample) instead of
+   * once per pixel with exact per-sample coverage.
+   */
+  uint32_t per_sample_shading;
+  /**
+   * How the frame plan chooses its path: an `EsPlanMode` value (second version).
+   */
+  uint32_t plan_mode;
+  /**
+   * With `ES_PLAN_MODE_FIXED`, the path: an `EsPathKind` value other than
+   * `ES_PATH_KIND_NONE`; otherwise ignored (`es_settings_default` writes
+   * `ES_PATH_KIND_NONE`). Second version.
+   */
+  uint32_t fixed_path;
+} EsSettings;
+
+/**
+ * What an offscreen renderer is made with.
+ */
+typedef struct EsOffscreenCreateInfo {
+  /**
+   * `sizeof(EsOffscreenCreateInfo)`.
+   */
+  uint32_t struct_size;
+  /**
+   * Non-zero: the Khronos validation layer (with synchronization checks) is on, and any
+   * message it reports makes the call that caused it fail with `ES_STATUS_ERROR_VULKAN`.
+   */
+  uint32_t validation;
+  /**
+   * The device: its index or a part of its name (a NUL-terminated string), or null for
+   * the environment's `ELLIPSOID_SPLAT_DEVICE`, else a real GPU, else lavapipe.
+   */
+  const char *device;
+  /**
+   * The settings, or null for `es_settings_default`'s.
+   */
+  const struct EsSettings *settings;
+} EsOffscreenCreateInfo;
 
 /**
  * The plan of a frame: the path `es_renderer_record_prepass` and `es_renderer_record`
@@ -580,87 +751,6 @@ typedef struct EsAllocatorCallbacks {
 } EsAllocatorCallbacks;
 
 /**
- * The shading: Blinn-Phong weights and highlight colour.
- */
-typedef struct EsMaterial {
-  /**
-   * Ambient weight.
-   */
-  float ambient;
-  /**
-   * Diffuse weight.
-   */
-  float diffuse;
-  /**
-   * Specular weight.
-   */
-  float specular;
-  /**
-   * Phong exponent.
-   */
-  float shininess;
-  /**
-   * Colour of highlights (linear RGB).
-   */
-  float specular_color[3];
-} EsMaterial;
-
-/**
- * What a host may tune. Start from `es_settings_default`; every field but the material only
- * changes the work done and leaves the picture the same.
- *
- * Versions: the first (`struct_size` 52) ends at `per_sample_shading`; the second adds
- * `plan_mode` and `fixed_path`. The library reads only the version `struct_size` names, and
- * a first-version struct keeps its meaning: `compute_splat` zero keeps every frame on the
- * draw; non-zero lets the plan choose as the renderer's settings had it (measuring unless a
- * second-version struct chose otherwise).
- */
-typedef struct EsSettings {
-  /**
-   * `sizeof(EsSettings)`.
-   */
-  uint32_t struct_size;
-  /**
-   * The shading.
-   */
-  struct EsMaterial material;
-  /**
-   * Non-zero: cull glyphs wholly outside the view.
-   */
-  uint32_t culling_frustum;
-  /**
-   * Non-zero: cull glyphs that cover no pixel centre.
-   */
-  uint32_t culling_pixel_centres;
-  /**
-   * Non-zero: cull glyphs hidden behind nearer ones (needs a `D32_SFLOAT` depth
-   * attachment).
-   */
-  uint32_t culling_occlusion;
-  /**
-   * Deprecated (leave it at the default 1 and use `plan_mode`): zero keeps every frame on
-   * the draw whatever `plan_mode` says, as `ES_PLAN_MODE_FIXED` with `ES_PATH_KIND_DRAW`
-   * does; zero with a `plan_mode` that fixes a splat path is refused.
-   */
-  uint32_t compute_splat;
-  /**
-   * Non-zero: multisampled targets shade every sample (exact depth per sample) instead of
-   * once per pixel with exact per-sample coverage.
-   */
-  uint32_t per_sample_shading;
-  /**
-   * How the frame plan chooses its path: an `EsPlanMode` value (second version).
-   */
-  uint32_t plan_mode;
-  /**
-   * With `ES_PLAN_MODE_FIXED`, the path: an `EsPathKind` value other than
-   * `ES_PATH_KIND_NONE`; otherwise ignored (`es_settings_default` writes
-   * `ES_PATH_KIND_NONE`). Second version.
-   */
-  uint32_t fixed_path;
-} EsSettings;
-
-/**
  * What a renderer is made from.
  */
 typedef struct EsRendererCreateInfo {
@@ -694,29 +784,6 @@ typedef struct EsRendererCreateInfo {
    */
   VkPipelineCache pipeline_cache;
 } EsRendererCreateInfo;
-
-/**
- * One ellipsoid.
- */
-typedef struct EsGlyph {
-  /**
-   * Centre in world coordinates.
-   */
-  double center[3];
-  /**
-   * Semi-axes along the local x, y, z axes (finite, > 0).
-   */
-  double radii[3];
-  /**
-   * The rotation of the local axes into world axes, a quaternion `(w, x, y, z)` (normalised
-   * by the library; not zero).
-   */
-  double rotation[4];
-  /**
-   * Display (sRGB) colour, each channel in [0, 1].
-   */
-  float color[3];
-} EsGlyph;
 
 #ifdef __cplusplus
 extern "C" {
@@ -759,6 +826,85 @@ enum EsStatus es_camera_look_at(const double *eye,
                                 uint32_t width,
                                 uint32_t height,
                                 struct EsCamera *out_camera);
+
+#if defined(ELLIPSOID_SPLAT_MPI)
+/**
+ * Draws this process's `count` glyphs (`glyphs`; glyph `i` is glyph `global_ids[i]` of the
+ * whole scene, the indices strictly increasing) with `camera`, and composites the frames of
+ * every process of the communicator at rank `root`: there the outputs `buffers` asks for are
+ * written (each array `camera->width * camera->height` pixels), exactly what one process
+ * drawing every glyph with `es_offscreen_render` writes (`id` holds global indices).
+ *
+ * The rules of this layer:
+ * - `communicator` is the communicator's Fortran handle, `MPI_Comm_c2f(comm)`, so this
+ *   header needs no `mpi.h`. It is borrowed: never freed; MPI is never initialised or
+ *   finalised here (the application does both, around every call). The exchange runs on a
+ *   duplicate, so the application's own messages are never taken.
+ * - Collective: every process of the communicator calls it, with the same root, camera and
+ *   image size, and renderers of the same settings.
+ * - `buffers` is read at the root only (elsewhere it may be null).
+ * - A process whose arguments or drawing fail makes every process return an error: that
+ *   one its own, the others `ES_STATUS_ERROR_OTHER_RANK` naming the lowest failing rank.
+ *   None waits for an image that will not come.
+ *
+ * Only in a library built with the `mpi` feature; declared when `ELLIPSOID_SPLAT_MPI` is
+ * defined before the header is included. Thread: the renderer's, one the application's MPI
+ * threading level allows to call MPI.
+ *
+ * # Safety
+ * `communicator` is the Fortran handle of a live communicator of this process (or
+ * `MPI_COMM_NULL`'s, refused); `renderer` is live; `glyphs` and `global_ids` point at
+ * `count` values each; `camera` at a valid `EsCamera`; at the root, `buffers` at a valid
+ * `EsFrameBuffers` whose arrays are writable, large enough and apart.
+ */
+enum EsStatus es_offscreen_render_composited(struct EsOffscreenRenderer *renderer,
+                                             int communicator,
+                                             int root,
+                                             const struct EsGlyph *glyphs,
+                                             const uint32_t *global_ids,
+                                             size_t count,
+                                             const struct EsCamera *camera,
+                                             const struct EsFrameBuffers *buffers);
+#endif
+
+/**
+ * Makes an offscreen renderer (its own Vulkan instance and device) and writes its handle to
+ * `out_renderer` (null on failure). Any thread.
+ *
+ * # Safety
+ * `info` points at a valid `EsOffscreenCreateInfo` (its `device` null or a NUL-terminated
+ * string, its `settings` null or a valid `EsSettings`); `out_renderer` at a writable
+ * pointer.
+ */
+enum EsStatus es_offscreen_create(const struct EsOffscreenCreateInfo *info,
+                                  struct EsOffscreenRenderer **out_renderer);
+
+/**
+ * Destroys `renderer` with its device and instance (a null `renderer` is fine). The handle
+ * is gone after the call whatever the status: a failure reports what a clean shutdown must
+ * not have (validation messages, memory still allocated). Thread: the renderer's.
+ *
+ * # Safety
+ * A non-null `renderer` came from `es_offscreen_create` and is not used again.
+ */
+enum EsStatus es_offscreen_destroy(struct EsOffscreenRenderer *renderer);
+
+/**
+ * Uploads the `count` glyphs of `glyphs` (read during the call only), draws them with
+ * `camera` and writes the outputs `buffers` asks for (each array `camera->width *
+ * camera->height` pixels). The camera draws its own image: its `viewport_origin` is
+ * (0, 0). Thread: the renderer's.
+ *
+ * # Safety
+ * `renderer` is live; `glyphs` points at `count` glyphs; `camera` at a valid `EsCamera`;
+ * `buffers` at a valid `EsFrameBuffers` whose arrays are writable and large enough, and do
+ * not overlap.
+ */
+enum EsStatus es_offscreen_render(struct EsOffscreenRenderer *renderer,
+                                  const struct EsGlyph *glyphs,
+                                  size_t count,
+                                  const struct EsCamera *camera,
+                                  const struct EsFrameBuffers *buffers);
 
 /**
  * The plan the next `es_renderer_record_prepass` with `camera` would make (the views'

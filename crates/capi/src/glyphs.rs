@@ -41,3 +41,31 @@ pub(crate) fn ellipsoids(glyphs: &[EsGlyph], first: usize) -> Result<Vec<Ellipso
     }
     Ok(out)
 }
+
+/// The glyphs behind `glyphs`, checked.
+///
+/// # Safety
+/// A non-null `glyphs` points at `count` readable `EsGlyph`s.
+pub(crate) unsafe fn glyph_slice<'a>(
+    glyphs: *const EsGlyph,
+    count: usize,
+) -> Result<&'a [EsGlyph], Failure> {
+    if count == 0 {
+        return Ok(&[]);
+    }
+    // Instance indices are 32-bit; the bound also keeps the slice's size far below isize::MAX.
+    if count > u32::MAX as usize {
+        return Err(Failure::invalid(
+            "count",
+            format!("{count} glyphs is more than 2^32 - 1"),
+        ));
+    }
+    if glyphs.is_null() {
+        return Err(Failure::invalid(
+            "glyphs",
+            format!("is null with count {count}"),
+        ));
+    }
+    // SAFETY: caller contract.
+    Ok(unsafe { std::slice::from_raw_parts(glyphs, count) })
+}

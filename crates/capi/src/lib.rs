@@ -11,6 +11,11 @@
 //! among them), the frame plan before and after a frame, the plan's learned wisdom as bytes,
 //! and memory from the host's callbacks (or the library's own allocator).
 //!
+//! Codes without an engine draw with an offscreen renderer of the library's own device into
+//! arrays they allocate (`es_offscreen_create`, `es_offscreen_render`); with the feature `mpi`
+//! each process of an MPI application draws its share and the root gets the whole frame
+//! (`es_offscreen_render_composited`, the only call that links MPI).
+//!
 //! The rules (`docs/design.md` §6.7): every function returns an [`EsStatus`]; after a failure
 //! [`es_last_error`] gives the message on the calling thread. No panic unwinds into the
 //! host: it becomes `ES_STATUS_ERROR_PANIC`, and the renderer it happened in refuses every
@@ -22,8 +27,12 @@
 
 mod allocator;
 mod camera;
+#[cfg(feature = "mpi")]
+mod composited;
 mod device;
+mod frame;
 mod glyphs;
+mod offscreen;
 mod plan;
 mod renderer;
 mod settings;
@@ -35,12 +44,19 @@ pub use allocator::{
     EsAllocatorCallbacks, EsBuffer, EsCreateBufferFn, EsDestroyBufferFn, EsMemoryUse,
 };
 pub use camera::{es_camera_from_matrices, es_camera_look_at, EsCamera, EsProjection, EsViewport};
+#[cfg(feature = "mpi")]
+pub use composited::es_offscreen_render_composited;
 pub use device::{
     EsDeviceInfo, EsGetInstanceProcAddr, ES_FEATURE_DYNAMIC_RENDERING, ES_FEATURE_MAINTENANCE4,
     ES_FEATURE_SAMPLE_RATE_SHADING, ES_FEATURE_SHADER_BUFFER_INT64_ATOMICS,
     ES_FEATURE_SHADER_INT64,
 };
+pub use frame::{EsFrameBuffers, ES_NO_GLYPH};
 pub use glyphs::EsGlyph;
+pub use offscreen::{
+    es_offscreen_create, es_offscreen_destroy, es_offscreen_render, EsOffscreenCreateInfo,
+    EsOffscreenRenderer,
+};
 pub use plan::{
     es_renderer_last_plan, es_renderer_plan, EsFramePlan, EsHiddenLayers, EsPlanReasonKind,
 };

@@ -11,7 +11,7 @@ use ellipsoid_splat::{EllipsoidRenderer, MemoryAllocator, RendererOptions, Scene
 use crate::allocator::{EsAllocatorCallbacks, RendererMemory, ALLOCATOR_CALLBACKS_V1};
 use crate::camera::{read_camera, EsCamera};
 use crate::device::{EsDeviceInfo, LoadedDevice, DEVICE_INFO_V1};
-use crate::glyphs::{ellipsoids, EsGlyph};
+use crate::glyphs::{ellipsoids, glyph_slice, EsGlyph};
 use crate::settings::{read_settings, EsSettings};
 use crate::status::{guard, output, versioned, EsStatus, Failure};
 use crate::target::{target_from, EsTargetInfo, TARGET_INFO_V1};
@@ -255,31 +255,6 @@ pub unsafe extern "C" fn es_renderer_begin_frame(renderer: *mut EsRenderer, slot
             Ok(())
         })
     }
-}
-
-/// The glyphs behind `glyphs`, checked.
-///
-/// # Safety
-/// A non-null `glyphs` points at `count` readable `EsGlyph`s.
-unsafe fn glyph_slice<'a>(glyphs: *const EsGlyph, count: usize) -> Result<&'a [EsGlyph], Failure> {
-    if count == 0 {
-        return Ok(&[]);
-    }
-    // Instance indices are 32-bit; the bound also keeps the slice's size far below isize::MAX.
-    if count > u32::MAX as usize {
-        return Err(Failure::invalid(
-            "count",
-            format!("{count} glyphs is more than 2^32 - 1"),
-        ));
-    }
-    if glyphs.is_null() {
-        return Err(Failure::invalid(
-            "glyphs",
-            format!("is null with count {count}"),
-        ));
-    }
-    // SAFETY: caller contract.
-    Ok(unsafe { std::slice::from_raw_parts(glyphs, count) })
 }
 
 /// Records the upload of a whole scene of `count` glyphs into `command_buffer` (outside any

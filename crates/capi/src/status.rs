@@ -27,6 +27,9 @@ pub enum EsStatus {
     ErrorPanic = 6,
     /// Any other failure (the message says what).
     ErrorOther = 7,
+    /// Another process of the communicator failed (its own call reports why; the message
+    /// names its rank): nothing was composited. Only `es_offscreen_render_composited`.
+    ErrorOtherRank = 8,
 }
 
 thread_local! {
