@@ -23,6 +23,14 @@ pyo3::create_exception!(
      Create a new renderer."
 );
 
+pyo3::create_exception!(
+    _native,
+    OtherRankError,
+    PyRuntimeError,
+    "Another process of the communicator failed in Renderer.render_composited (its own error \
+     is raised there; the message names its rank): nothing was composited."
+);
+
 /// `ValueError` for invalid values, `DeviceError` for everything the device did.
 pub fn renderer_error(error: ellipsoid_splat::Error) -> PyErr {
     match error {

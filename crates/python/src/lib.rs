@@ -3,10 +3,13 @@
 //! and checks arguments (names, shapes, dtypes); this half builds the glyphs and cameras,
 //! renders with the GIL released and returns NumPy arrays. Errors become Python exceptions:
 //! `ValueError` for invalid values, `OSError` for files, `DeviceError` (a `RuntimeError`) for
-//! the device (`PoisonedError`, one of those, for a renderer an earlier call left broken). No
+//! the device (`PoisonedError`, one of those, for a renderer an earlier call left broken),
+//! `OtherRankError` (a `RuntimeError`) for another MPI process's failure (feature `mpi`). No
 //! Rust panic reaches Python: each entry point catches them as `DeviceError`.
 
 mod camera;
+#[cfg(feature = "mpi")]
+mod composited;
 mod errors;
 mod glyphs;
 mod images;
@@ -33,5 +36,14 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(images::write_exr_u32, m)?)?;
     m.add("DeviceError", m.py().get_type::<errors::DeviceError>())?;
     m.add("PoisonedError", m.py().get_type::<errors::PoisonedError>())?;
+    m.add(
+        "OtherRankError",
+        m.py().get_type::<errors::OtherRankError>(),
+    )?;
+    #[cfg(feature = "mpi")]
+    {
+        m.add_function(wrap_pyfunction!(composited::render_composited, m)?)?;
+        m.add_function(wrap_pyfunction!(composited::composite_failed, m)?)?;
+    }
     Ok(())
 }

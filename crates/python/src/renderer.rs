@@ -34,7 +34,7 @@ const _: fn() = || {
 const MERGE_GAP: u32 = 256;
 
 /// What one call at a time may use.
-struct State {
+pub(crate) struct State {
     renderer: OffscreenRenderer,
     /// The uploaded glyphs: the fields an update does not give, and the framing sphere.
     scene: Option<Scene>,
@@ -47,8 +47,18 @@ struct State {
 }
 
 impl State {
+    /// The renderer, for a frame that uploads glyphs of its own (a composited frame's share):
+    /// the scene uploaded before is forgotten, so `render_uploaded` and `update` ask for a new
+    /// upload.
+    #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+    pub(crate) fn renderer_for_own_upload(&mut self) -> &mut OffscreenRenderer {
+        self.scene = None;
+        self.sphere = None;
+        &mut self.renderer
+    }
+
     /// With validation on: fails with the layer's first message if it said anything.
-    fn check_validation(&self) -> PyResult<()> {
+    pub(crate) fn check_validation(&self) -> PyResult<()> {
         self.renderer
             .context()
             .check_validation()
@@ -60,11 +70,11 @@ impl State {
 /// thread may use it, one call at a time: a call waits for the one running.
 #[pyclass(frozen, module = "ellipsoid_splat._native")]
 pub struct Renderer {
-    state: Mutex<State>,
+    pub(crate) state: Mutex<State>,
 }
 
 /// A rendered frame's four outputs and the Rust-side time of the frame in milliseconds.
-type FrameArrays<'py> = (
+pub(crate) type FrameArrays<'py> = (
     Bound<'py, PyAny>,
     Bound<'py, PyAny>,
     Bound<'py, PyAny>,
@@ -92,7 +102,7 @@ impl Renderer {
 }
 
 /// A frame's outputs as NumPy arrays.
-fn frame_arrays(py: Python<'_>, frame: Frame, ms: f64) -> PyResult<FrameArrays<'_>> {
+pub(crate) fn frame_arrays(py: Python<'_>, frame: Frame, ms: f64) -> PyResult<FrameArrays<'_>> {
     let (h, w) = (frame.height as usize, frame.width as usize);
     let shaped = |e: numpy::ndarray::ShapeError| PyValueError::new_err(e.to_string());
     let color = Array::from_shape_vec((h, w, 4), frame.color.into_iter().flatten().collect())

@@ -17,6 +17,9 @@ float32 and float64 arrays reach the library as they are, without a copy. ``Rend
 replaces some glyphs of the uploaded scene (their indices and any of their fields) without
 uploading the rest again.
 
+In situ over MPI (a package built with its ``mpi`` feature): ``Renderer.render_composited``
+draws each process's own glyphs and gives the root the frame of all of them.
+
 Threads: a ``Renderer`` may be used from any thread. Its calls run one at a time -- a call
 waits, without holding the GIL, for the one another thread is making -- and ``render`` (upload
 and draw) is one call, so threads drawing different scenes with one renderer each get their
@@ -29,7 +32,7 @@ shapes the arguments, the library renders (with the GIL released). Errors: ``Val
 shapes, dtypes and values (naming the argument), ``OSError`` for files, ``DeviceError`` (a
 ``RuntimeError``) for the Vulkan device and for a failure inside the library (a bug: no Rust
 panic reaches Python), after which that renderer raises ``PoisonedError`` (a ``DeviceError``)
-on every call.
+on every call; ``OtherRankError`` (a ``RuntimeError``) where another MPI process failed.
 """
 
 from __future__ import annotations
@@ -41,10 +44,11 @@ from typing import Any, Optional, Sequence
 import numpy as np
 
 from . import _native
-from ._native import DeviceError, PoisonedError
+from ._native import DeviceError, OtherRankError, PoisonedError
 
 __all__ = ["Renderer", "Frame", "Frames", "load", "load_frames", "from_ase", "type_colors",
-           "TYPE_PALETTE", "DeviceError", "PoisonedError", "NO_GLYPH", "PLANS"]
+           "TYPE_PALETTE", "DeviceError", "PoisonedError", "OtherRankError", "NO_GLYPH",
+           "PLANS"]
 
 #: The ``id`` of a pixel where no glyph is hit.
 NO_GLYPH = 0xFFFFFFFF
@@ -88,6 +92,104 @@ def _matrix(value: Any, name: str, cols: Optional[int], dims: int = 2,
 def _vector(value: Any, name: str, length: int) -> list:
     array = _matrix(np.reshape(np.asarray(value, dtype=np.float64), (1, -1)), name, length)
     return [float(v) for v in array[0]]
+
+
+def _glyph_arrays(centers: Any, radii: Any, rotations: Any, colors: Any,
+                  tensors: Any) -> list:
+    """The glyph arrays as the native half takes them (centers, radii, rotations, colors,
+    tensors; ``None`` where not given), checked as ``Renderer.upload`` documents."""
+    c = _matrix(centers, "centers", 3, float32=True)
+    if (radii is None) == (tensors is None):
+        raise ValueError("give radii (with optional rotations) or tensors, not both or neither")
+    n = c.shape[0]
+
+    def rows(value: Any, name: str, cols: int) -> Optional[np.ndarray]:
+        if value is None:
+            return None
+        array = _matrix(value, name, cols, float32=True)
+        if array.shape[0] != n:
+            raise ValueError(f"{name} has {array.shape[0]} rows, centers has {n}")
+        return array
+
+    r = rows(radii, "radii", 3)
+    q = rows(rotations, "rotations", 4)
+    k = rows(colors, "colors", 3)
+    t = None
+    if tensors is not None:
+        t = _matrix(tensors, "tensors", 3, dims=3, float32=True)
+        if t.shape != (n, 3, 3):
+            raise ValueError(f"tensors has shape {t.shape}, expected ({n}, 3, 3)")
+    if k is not None and ((k < 0).any() or (k > 1).any()):
+        raise ValueError("colors must lie in [0, 1]")
+    return [c, r, q, k, t]
+
+
+def _camera_args(eye: Optional[Sequence[float]], target: Optional[Sequence[float]],
+                 up: Sequence[float], fov_y: float, intrinsics: Any, world_to_camera: Any,
+                 width: int, height: int, near: Optional[float], supersample: int) -> tuple:
+    """The camera arguments as the native half takes them, checked as
+    ``Renderer.render_uploaded`` documents."""
+    for name, value in (("width", width), ("height", height)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
+                or not 1 <= value <= 16384:
+            raise ValueError(f"{name} must be an integer in 1..=16384, got {value!r}")
+    if isinstance(fov_y, bool) or not isinstance(fov_y, (int, float, np.integer, np.floating)) \
+            or not 0 < fov_y < 180:
+        raise ValueError(f"fov_y must be in (0, 180) degrees, got {fov_y!r}")
+    if (intrinsics is None) != (world_to_camera is None):
+        raise ValueError("intrinsics and world_to_camera go together")
+    if intrinsics is not None and (eye is not None or target is not None):
+        raise ValueError("give eye/target or intrinsics/world_to_camera, not both")
+    k = None if intrinsics is None else _matrix(intrinsics, "intrinsics", 3)
+    pose = None if world_to_camera is None else _matrix(world_to_camera, "world_to_camera", 4)
+    if k is not None and k.shape != (3, 3):
+        raise ValueError(f"intrinsics has shape {k.shape}, expected (3, 3)")
+    if pose is not None and pose.shape != (4, 4):
+        raise ValueError(f"world_to_camera has shape {pose.shape}, expected (4, 4)")
+    if isinstance(supersample, bool) or not isinstance(supersample, (int, np.integer)) \
+            or not 1 <= supersample <= 8:
+        raise ValueError(f"supersample must be an integer in 1..=8, got {supersample!r}")
+    if width * supersample > 16384 or height * supersample > 16384:
+        raise ValueError(f"supersample {supersample} makes the drawn image larger than 16384")
+    if near is not None and (isinstance(near, bool) or not isinstance(
+            near, (int, float, np.integer, np.floating)) or not (np.isfinite(near) and near > 0)):
+        raise ValueError(f"near must be a positive number, got {near!r}")
+    return (None if eye is None else _vector(eye, "eye", 3),
+            None if target is None else _vector(target, "target", 3),
+            _vector(up, "up", 3), float(fov_y), k, pose, int(width), int(height),
+            None if near is None else float(near), int(supersample))
+
+
+def _communicator_handle(comm: Any) -> int:
+    """The Fortran handle of an mpi4py communicator (``py2f()``), or ``comm`` as one."""
+    if isinstance(comm, (int, np.integer)) and not isinstance(comm, bool):
+        handle = int(comm)
+    elif callable(getattr(comm, "py2f", None)):
+        handle = int(comm.py2f())
+    else:
+        raise TypeError("comm must be an mpi4py communicator or its Fortran handle (an int), "
+                        f"not {type(comm).__name__}")
+    if not -2**31 <= handle < 2**31:
+        raise ValueError(f"communicator handle {handle} is not a C int")
+    return handle
+
+
+def _global_ids(value: Any, n: int) -> np.ndarray:
+    """``value`` as (n,) uint32 global glyph indices (their order is checked where they are
+    used)."""
+    try:
+        ids = np.asarray(value)
+    except Exception as error:  # noqa: BLE001 - NumPy raises many kinds here
+        raise ValueError(f"global_ids: not an array ({error})") from None
+    if ids.shape != (n,):
+        raise ValueError(f"global_ids has shape {ids.shape}, expected ({n},): one per glyph")
+    if n == 0:
+        return np.zeros(0, dtype=np.uint32)
+    if ids.dtype.kind not in "iu":
+        raise ValueError(f"global_ids must be integers, not {ids.dtype}")
+    if ids.min() < 0 or ids.max() >= NO_GLYPH:
+        raise ValueError(f"global_ids must lie in 0..{NO_GLYPH - 1} ({NO_GLYPH} marks no glyph)")
+    return np.ascontiguousarray(ids, dtype=np.uint32)
 
 
 class Frame:
@@ -250,32 +352,10 @@ class Renderer:
 
     def _upload(self, centers: Any, radii: Any, rotations: Any, colors: Any,
                 tensors: Any) -> int:
-        c = _matrix(centers, "centers", 3, float32=True)
-        if c.shape[0] == 0:
+        arrays = _glyph_arrays(centers, radii, rotations, colors, tensors)
+        n = arrays[0].shape[0]
+        if n == 0:
             raise ValueError("centers is empty: nothing to render")
-        if (radii is None) == (tensors is None):
-            raise ValueError("give radii (with optional rotations) or tensors, not both or neither")
-        n = c.shape[0]
-
-        def rows(value: Any, name: str, cols: int) -> Optional[np.ndarray]:
-            if value is None:
-                return None
-            array = _matrix(value, name, cols, float32=True)
-            if array.shape[0] != n:
-                raise ValueError(f"{name} has {array.shape[0]} rows, centers has {n}")
-            return array
-
-        r = rows(radii, "radii", 3)
-        q = rows(rotations, "rotations", 4)
-        k = rows(colors, "colors", 3)
-        t = None
-        if tensors is not None:
-            t = _matrix(tensors, "tensors", 3, dims=3, float32=True)
-            if t.shape != (n, 3, 3):
-                raise ValueError(f"tensors has shape {t.shape}, expected ({n}, 3, 3)")
-        if k is not None and ((k < 0).any() or (k > 1).any()):
-            raise ValueError("colors must lie in [0, 1]")
-        arrays = [c, r, q, k, t]
 
         def same(a: Optional[np.ndarray], b: Optional[np.ndarray]) -> bool:
             if a is None or b is None:
@@ -287,7 +367,7 @@ class Renderer:
             self.upload_ms = 0.0
             return n  # the same glyphs are on the GPU already
         self._last = None  # a failed upload leaves no scene to compare with
-        count, self.upload_ms = self._native.upload(c, r, q, k, t)
+        count, self.upload_ms = self._native.upload(*arrays)
         # A caller that passes the same array objects again may change them in place in
         # between: from then on a copy is kept to compare with. A caller with new arrays each
         # frame pays for no copy.
@@ -377,36 +457,9 @@ class Renderer:
         default half the eye's distance to the glyphs' bounding sphere; ``supersample`` K
         (1 to 8) draws K x K samples per pixel and averages the colour in linear light (depth,
         normal and id come from one sample of each pixel)."""
-        for name, value in (("width", width), ("height", height)):
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
-                    or not 1 <= value <= 16384:
-                raise ValueError(f"{name} must be an integer in 1..=16384, got {value!r}")
-        if isinstance(fov_y, bool) or not isinstance(fov_y, (int, float, np.integer, np.floating)) \
-                or not 0 < fov_y < 180:
-            raise ValueError(f"fov_y must be in (0, 180) degrees, got {fov_y!r}")
-        if (intrinsics is None) != (world_to_camera is None):
-            raise ValueError("intrinsics and world_to_camera go together")
-        if intrinsics is not None and (eye is not None or target is not None):
-            raise ValueError("give eye/target or intrinsics/world_to_camera, not both")
-        k = None if intrinsics is None else _matrix(intrinsics, "intrinsics", 3)
-        pose = None if world_to_camera is None else _matrix(world_to_camera, "world_to_camera", 4)
-        if k is not None and k.shape != (3, 3):
-            raise ValueError(f"intrinsics has shape {k.shape}, expected (3, 3)")
-        if pose is not None and pose.shape != (4, 4):
-            raise ValueError(f"world_to_camera has shape {pose.shape}, expected (4, 4)")
-        if isinstance(supersample, bool) or not isinstance(supersample, (int, np.integer)) \
-                or not 1 <= supersample <= 8:
-            raise ValueError(f"supersample must be an integer in 1..=8, got {supersample!r}")
-        if width * supersample > 16384 or height * supersample > 16384:
-            raise ValueError(f"supersample {supersample} makes the drawn image larger than 16384")
-        if near is not None and (isinstance(near, bool) or not isinstance(
-                near, (int, float, np.integer, np.floating)) or not (np.isfinite(near) and near > 0)):
-            raise ValueError(f"near must be a positive number, got {near!r}")
-        color, depth, normal, ids, ms = self._native.render(
-            None if eye is None else _vector(eye, "eye", 3),
-            None if target is None else _vector(target, "target", 3),
-            _vector(up, "up", 3), float(fov_y), k, pose, int(width), int(height),
-            None if near is None else float(near), int(supersample))
+        color, depth, normal, ids, ms = self._native.render(*_camera_args(
+            eye, target, up, fov_y, intrinsics, world_to_camera, width, height, near,
+            supersample))
         return Frame(color, depth, normal, ids, ms)
 
     def render(self, centers: Any, radii: Any = None, rotations: Any = None,
@@ -418,6 +471,63 @@ class Renderer:
         with self._lock:
             self._upload(centers, radii, rotations, colors, tensors)
             return self.render_uploaded(**camera)
+
+    def render_composited(self, comm: Any, centers: Any, radii: Any = None,
+                          rotations: Any = None, colors: Any = None, *, global_ids: Any,
+                          root: int = 0, tensors: Any = None,
+                          eye: Optional[Sequence[float]] = None,
+                          target: Optional[Sequence[float]] = None,
+                          up: Sequence[float] = (0.0, 1.0, 0.0), fov_y: float = 45.0,
+                          intrinsics: Any = None, world_to_camera: Any = None,
+                          width: int = 640, height: int = 480, near: Optional[float] = None,
+                          supersample: int = 1) -> Optional[Frame]:
+        """In situ over MPI: every process of the communicator ``comm`` calls this with its
+        own glyphs (``render``'s arrays; none is fine) and ``global_ids`` (N,), each glyph's
+        index in the whole scene, strictly increasing (for glyphs numbered rank after rank:
+        ``global_ids = (comm.exscan(n) or 0) + np.arange(n)``). The process of rank ``root``
+        gets the frame of every process's glyphs -- exactly the frame one process drawing
+        them all renders, ``id`` holding global indices -- and the others ``None``.
+
+        The rules:
+
+        - ``comm`` is an mpi4py communicator (its Fortran handle ``comm.py2f()`` is taken)
+          or that handle as an int. It is borrowed, never freed; MPI is never initialised
+          or finalised here (importing ``mpi4py.MPI`` does both).
+        - Collective: every process of ``comm`` calls it, with the same ``root`` and the same
+          camera, given in full -- ``eye`` and ``target`` (or ``intrinsics`` and
+          ``world_to_camera``) and ``near``: a process sees only its share, so nothing can
+          be framed by default. ``supersample`` K composites the K times larger image and
+          filters it at the root.
+        - A process whose arguments or drawing fail raises its own error and every other one
+          ``OtherRankError`` naming the lowest failing rank: none waits for an image that
+          will not come. (A ``comm`` that is not a communicator fails before any other process
+          can be told.)
+        - It uploads this process's glyphs: upload again before ``render_uploaded`` or
+          ``update``.
+
+        Needs the package built with the ``mpi`` feature (``maturin develop --features
+        mpi``)."""
+        handle = _communicator_handle(comm)
+        if not hasattr(_native, "render_composited"):
+            raise RuntimeError("this build of ellipsoid_splat has no MPI: build it with "
+                               "maturin's --features mpi")
+        with self._lock:
+            try:
+                arrays = _glyph_arrays(centers, radii, rotations, colors, tensors)
+                ids = _global_ids(global_ids, arrays[0].shape[0])
+                camera = _camera_args(eye, target, up, fov_y, intrinsics, world_to_camera,
+                                      width, height, near, supersample)
+                if isinstance(root, bool) or not isinstance(root, (int, np.integer)):
+                    raise ValueError(f"root must be a rank (an integer), got {root!r}")
+            except Exception:
+                # The others learn that this process failed before any waits for it.
+                _native.composite_failed(handle)
+                raise
+            # The upload cache no longer describes what the renderer holds.
+            self._last = self._given = None
+            out = _native.render_composited(self._native, handle, int(root), *arrays, ids,
+                                            *camera)
+        return None if out is None else Frame(*out)
 
 
 _LOAD_OPTIONS_DOC = """Options: ``skip_invalid``, ``sigma``, ``min_opacity``,
