@@ -6,11 +6,16 @@
 # the GPU memory. Writes OUT/soak.csv (the samples), OUT/view.txt (the viewer's output) and
 # OUT/machine.txt. The run ends by `--exit-after`, a frame count measured from a first minute,
 # so the viewer closes itself and reports its validation messages.
-#   bash scripts/soak.sh [MINUTES] [OUT]     (defaults: 60, target/soak)
+#   bash scripts/soak.sh [MINUTES] [OUT] [--no-validation]   (defaults: 60, target/soak)
+# Without validation the memory figures are the viewer's own (the layer keeps state of its own).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 minutes="${1:-60}"
 out="${2:-$here/target/soak}"
+validation="--validation"; validated=on
+[ "${3:-}" = "--no-validation" ] && validation="" && validated=off
+# The viewer's command line as `ps` shows it, to find it and to stop the calibration.
+viewer="$tool view ${validation:+$validation }--no-vsync"
 tool="$here/target/release/ellipsoid-splat"
 scene="$here/data/samples/gay-berne.lammpstrj"
 [ -x "$tool" ] || { echo "soak: build the tool first (cargo build --release)" >&2; exit 1; }
@@ -39,7 +44,7 @@ script_for() {
 }
 
 run_view() { # FRAMES SCRIPT LOG
-  nice -n 10 xvfb-run -a -s "-screen 0 1024x768x24" "$tool" view --validation --no-vsync \
+  nice -n 10 xvfb-run -a -s "-screen 0 1024x768x24" "$tool" view $validation --no-vsync \
     --width 640 --height 480 --script "$2" --exit-after "$1" "$scene" >"$3" 2>&1
 }
 
@@ -48,7 +53,7 @@ script_for 2000000 >"$out/calibrate.script"
 run_view 2000000 "$out/calibrate.script" "$out/calibrate.txt" &
 started=$(date +%s)
 sleep 60
-pkill -f "ellipsoid-splat view --validation --no-vsync --width 640" || true
+pkill -f "^$viewer" || true
 wait || true
 calibrated=$(grep -o '^memory: frame [0-9]*' "$out/calibrate.txt" | tail -1 | awk '{print $3}')
 elapsed=$(( $(date +%s) - started ))
@@ -62,7 +67,7 @@ script_for "$frames" >"$out/soak.script"
   echo "machine: $(nproc) cores, $(awk '/MemTotal/ {print int($2/1048576)}' /proc/meminfo) GiB"
   "$tool" info | sed -n 's/^\(device\|driver\|Vulkan\): */\1: /p'
   echo "load before: $(cut -d' ' -f1-3 /proc/loadavg)"
-  echo "scene: data/samples/gay-berne.lammpstrj, 640x480 window, validation on"
+  echo "scene: data/samples/gay-berne.lammpstrj, 640x480 window, validation $validated"
 } >"$out/machine.txt"
 
 run_view "$frames" "$out/soak.script" "$out/view.txt" &
@@ -71,7 +76,7 @@ echo "seconds,rss_kib,open_files,threads" >"$out/soak.csv"
 start=$(date +%s)
 pid=""
 while kill -0 "$runner" 2>/dev/null; do
-  [ -n "$pid" ] && kill -0 "$pid" 2>/dev/null || pid=$(pgrep -f "^$tool view --validation" | head -1 || true)
+  [ -n "$pid" ] && kill -0 "$pid" 2>/dev/null || pid=$(pgrep -f "^$viewer" | head -1 || true)
   if [ -n "$pid" ] && [ -r "/proc/$pid/status" ]; then
     rss=$(awk '/VmRSS/ {print $2}' "/proc/$pid/status" 2>/dev/null || echo "")
     threads=$(awk '/Threads/ {print $2}' "/proc/$pid/status" 2>/dev/null || echo "")

@@ -10,6 +10,7 @@
 //! - `pick.rs`: what a click reports.
 //! - `subset.rs`: the moving frames' sample.
 //! - `stats.rs`: frame times and memory.
+//! - `frame_times.rs`: frame times in fixed memory.
 //! - `device.rs`: instance, surface, device, allocator.
 //! - `swapchain.rs`: the swapchain.
 //! - `targets.rs`: the renderer's output images.
@@ -24,6 +25,7 @@
 mod actions;
 pub mod controls;
 mod device;
+pub mod frame_times;
 mod frames;
 pub mod pick;
 mod playback;

@@ -1,15 +1,15 @@
 //! What the viewer measures: GPU time of moving and still frames, frames skipped while
 //! minimised, the path the frame plan took and why, and the host's resident memory.
 
-use std::time::Duration;
+use crate::view::frame_times::FrameTimes;
 
 /// GPU times of drawn frames, split by whether the camera moved.
 #[derive(Default)]
 pub struct FrameStats {
     /// Frames whose camera moved (drawing the sample, if there is one).
-    pub moving: Vec<Duration>,
+    pub moving: FrameTimes,
     /// Frames whose camera stood still (the full scene).
-    pub still: Vec<Duration>,
+    pub still: FrameTimes,
     /// Turns of the loop that drew nothing because the window was minimised or zero-sized.
     pub skipped: u64,
     /// Frames presented.
@@ -53,20 +53,11 @@ impl FrameStats {
 
     /// The line printed when the viewer closes.
     pub fn summary(&self) -> String {
-        let median = |times: &[Duration]| {
-            if times.is_empty() {
-                return "-".to_string();
-            }
-            let mut ms: Vec<f64> = times.iter().map(|t| t.as_secs_f64() * 1e3).collect();
-            ms.sort_by(f64::total_cmp);
-            format!("{:.1} ms", ms[ms.len() / 2])
+        let median = |times: &FrameTimes| match times.median() {
+            Some(median) => format!("{:.1} ms", median.as_secs_f64() * 1e3),
+            None => "-".to_string(),
         };
-        let total: f64 = self
-            .moving
-            .iter()
-            .chain(&self.still)
-            .map(|t| t.as_secs_f64() * 1e3)
-            .sum();
+        let total = (self.moving.total() + self.still.total()).as_secs_f64() * 1e3;
         format!(
             "frames: {} presented, {} skipped while minimised; GPU time per frame (median): \
              moving {} ({} frames), still {} ({} frames); all frames {:.1} ms",
