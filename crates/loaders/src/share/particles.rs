@@ -24,8 +24,8 @@ use super::species::number_names;
 use crate::lammps;
 use crate::options::LoadOptions;
 use crate::particles::{
-    check_mapping_names, duplicate_id, no_particles, skipped_note, type_color, FrameParticles,
-    FrameRef, Lines, Span,
+    check_mapping_names, duplicate_id, integer, no_particles, skipped_note, type_color,
+    FrameParticles, FrameRef, Lines, Span,
 };
 use crate::xyz;
 use crate::{Error, Result};
@@ -118,7 +118,7 @@ fn lammps_head(head: &[u8], path: &Path, options: &LoadOptions) -> Result<Option
     let timestep = Lines::new(bytes, 1)
         .skip_while(|(_, l)| l.trim_ascii() != b"ITEM: TIMESTEP")
         .nth(1)
-        .and_then(|(_, l)| std::str::from_utf8(l.trim_ascii()).ok()?.parse().ok());
+        .and_then(|(_, l)| integer(l.trim_ascii()).ok());
     let span = Span {
         start: 0,
         end,
