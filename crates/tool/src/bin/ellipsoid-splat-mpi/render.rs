@@ -75,15 +75,12 @@ fn whole_bounds<C: Communicator>(comm: &C, part: &Scene) -> Option<(DVec3, DVec3
     (low[0] <= high[0]).then(|| (DVec3::from(low), DVec3::from(high)))
 }
 
-/// The least and greatest of every process's `seconds`.
-fn spread<C: Communicator>(comm: &C, seconds: f64) -> (Duration, Duration) {
+/// The least and greatest of every process's `seconds`, in milliseconds.
+fn spread<C: Communicator>(comm: &C, seconds: f64) -> (f64, f64) {
     let (mut least, mut most) = (0.0f64, 0.0f64);
     comm.all_reduce_into(&seconds, &mut least, SystemOperation::min());
     comm.all_reduce_into(&seconds, &mut most, SystemOperation::max());
-    (
-        Duration::from_secs_f64(least),
-        Duration::from_secs_f64(most),
-    )
+    (least * 1e3, most * 1e3)
 }
 
 /// Writes every image `args` asks for of `frame` (drawn `k` times larger), as `render` does.
@@ -101,8 +98,16 @@ fn write_images(args: &RenderArgs, plan: &RenderPlan, frame: &Frame, k: u32) -> 
     Ok(())
 }
 
-fn ms(d: Duration) -> f64 {
-    d.as_secs_f64() * 1e3
+/// This process's CPU time so far (user and system, every thread), where Linux's
+/// `/proc/self/stat` gives it: what reading cost apart from waiting for a core, on a machine
+/// shared with other work.
+fn cpu_time() -> Option<Duration> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // After the command's name in parentheses, fields 3, 4, ...: utime and stime are the 14th
+    // and 15th, in clock ticks of 1/100 s (Linux's USER_HZ).
+    let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
+    let ticks = |k: usize| fields.get(k)?.parse::<u64>().ok();
+    Some(Duration::from_millis((ticks(11)? + ticks(12)?) * 10))
 }
 
 /// Runs `render` with `args` on this process of `comm`.
@@ -113,9 +118,14 @@ pub fn run<C: Communicator>(comm: &C, args: &RenderArgs) -> Result<()> {
     let device = render_device::offscreen_renderer(args).map_err(Into::into);
     let mut renderer = agree(comm, device)?;
 
-    let reading = Instant::now();
+    let (reading, cpu) = (Instant::now(), cpu_time());
     let share = read_share(comm, args, &plan.scene)?;
     let (fastest, slowest) = spread(comm, reading.elapsed().as_secs_f64());
+    // -1 where a process cannot tell.
+    let cpu = cpu
+        .zip(cpu_time())
+        .map_or(-1.0, |(before, after)| (after - before).as_secs_f64());
+    let (least_cpu, most_cpu) = spread(comm, cpu);
     let sphere = whole_bounds(comm, &share.scene).map(Scene::sphere_around);
     let k = args.supersample;
     let cameras = cli::camera_around(args, sphere).and_then(|camera| {
@@ -162,26 +172,31 @@ pub fn run<C: Communicator>(comm: &C, args: &RenderArgs) -> Result<()> {
     };
     agree(comm, written)?;
     if at_root {
+        let cpu = if least_cpu >= 0.0 {
+            format!(", CPU {least_cpu:.0} to {most_cpu:.0} ms")
+        } else {
+            String::new()
+        };
         println!(
             "wrote {} ({}x{}, {} ellipsoids over {} process{}) in {:.0} ms: reading the shares \
-             {:.0} to {:.0} ms ({}), drawing {:.1} ms and compositing {:.1} ms (the slowest \
-             process's)",
+             {:.0} to {:.0} ms ({}{cpu}), drawing {:.1} ms and compositing {:.1} ms (the \
+             slowest process's)",
             args.output.display(),
             args.width,
             args.height,
             share.total,
             comm.size(),
             if comm.size() == 1 { "" } else { "es" },
-            ms(start.elapsed()),
-            ms(fastest),
-            ms(slowest),
+            start.elapsed().as_secs_f64() * 1e3,
+            fastest,
+            slowest,
             match share.split {
                 Split::Lines => "by lines",
                 Split::Records => "by records",
                 Split::Whole => "each whole",
             },
-            ms(drawing),
-            ms(compositing)
+            drawing,
+            compositing
         );
     }
     Ok(())
