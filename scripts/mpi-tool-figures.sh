@@ -21,20 +21,24 @@ target/release/ellipsoid-splat render --scene random:1000000 --save-scene "$scen
   --width 64 --height 48 --plan draw --output "$work/made.png" >/dev/null
 cat "$scene" >/dev/null
 flags=(--scene "$scene" --width 640 --height 360 --plan draw --output "$work/out.png")
+timing="wall %e s, CPU user %U s, system %S s"
 {
   echo "date: $(date -u '+%Y-%m-%d %H:%M UTC')"
   echo "load before: $(cut -d' ' -f1-3 /proc/loadavg) (uptime: $(uptime))"
   echo "cores: $(nproc)"
   target/release/ellipsoid-splat info | grep -E '^(device|driver):'
   mpirun --version | head -1
-  echo "scene: random:1000000 as Ellipsoid CSV, $(stat -c %s "$scene") bytes; image 640x360, --plan draw"
+  echo "scene: random:1000000 as Ellipsoid CSV, $(stat -c %s "$scene") bytes;" \
+    "image 640x360, --plan draw"
   echo
   echo "one process (ellipsoid-splat render; 'scene' is the whole file's load):"
-  /usr/bin/time -f "wall %e s, CPU user %U s, system %S s" target/release/ellipsoid-splat render "${flags[@]}" 2>&1 | grep -E '^(wrote|wall)'
+  /usr/bin/time -f "$timing" target/release/ellipsoid-splat render "${flags[@]}" 2>&1 |
+    grep -E '^(wrote|wall)'
   for ranks in 1 2 4; do
     echo
-    echo "$ranks process(es) (ellipsoid-splat-mpi render; 'reading the shares' is the fastest to the slowest process's):"
-    /usr/bin/time -f "wall %e s, CPU user %U s, system %S s" mpirun --oversubscribe --allow-run-as-root -n "$ranks" \
+    echo "$ranks process(es) (ellipsoid-splat-mpi render; 'reading the shares' is the" \
+      "fastest to the slowest process's):"
+    /usr/bin/time -f "$timing" mpirun --oversubscribe --allow-run-as-root -n "$ranks" \
       target/release/ellipsoid-splat-mpi render "${flags[@]}" 2>&1 | grep -E '^(wrote|wall)'
   done
   echo

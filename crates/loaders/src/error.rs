@@ -41,7 +41,10 @@ pub enum Error {
     Renderer(#[from] ellipsoid_splat::Error),
     /// Another process reading its share of a file failed ([`load_share`](crate::load_share));
     /// its own error is reported there.
-    #[error("rank {rank} failed reading its share of {} (its error is reported there)", file.display())]
+    #[error(
+        "rank {rank} failed reading its share of {} (its error is reported there)",
+        file.display()
+    )]
     OtherRank {
         /// The lowest failing rank.
         rank: usize,

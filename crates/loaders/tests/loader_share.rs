@@ -112,8 +112,8 @@ fn assert_fails_as_the_whole(path: &Path, options: &LoadOptions) {
 fn csv_text(rows: usize, seed: u64, bad: Option<usize>) -> String {
     let mut rng = Rng::new(seed);
     let mut n = || rng.below(1000) as f64 / 100.0;
-    let mut text = "\u{feff}# made by the share test\n\n  # indented comment\nx,y,z,rx,ry,rz,qw,qx,qy,qz,r,g,b\n"
-        .to_string();
+    let mut text = String::from("\u{feff}# made by the share test\n\n  # indented comment\n");
+    text.push_str("x,y,z,rx,ry,rz,qw,qx,qy,qz,r,g,b\n");
     for k in 0..rows {
         let ry = if bad == Some(k) {
             "oops".to_string()
