@@ -35,7 +35,10 @@ impl CsvHead {
 struct ShareRows {
     ellipsoids: Vec<Ellipsoid>,
     skipped: usize,
-    first_skipped: Option<String>,
+    /// The first row dropped, its line counted from the share's start.
+    first_skipped: Option<crate::Error>,
+    /// Where the share starts in the file.
+    start: u64,
 }
 
 /// The header row of a file whose first bytes are `head`: its start, 1-based line and end
@@ -152,14 +155,11 @@ fn read_rows_of(
         Ok(rows) => rows,
         Err(e) => return Err(shift_line(e, lines_before()?)),
     };
-    let first_skipped = match rows.first_skipped {
-        Some(e) => Some(shift_line(e, lines_before()?).to_string()),
-        None => None,
-    };
     Ok(ShareRows {
         ellipsoids: rows.ellipsoids,
         skipped: rows.skipped,
-        first_skipped,
+        first_skipped: rows.first_skipped,
+        start: *start,
     })
 }
 
@@ -175,7 +175,17 @@ pub(crate) fn load(
     let (rows, all) = c.agree(rows, |r| vec![r.ellipsoids.len() as u64, r.skipped as u64])?;
     let (kept, skipped) = (sum(&all, 0), sum(&all, 1));
     let first_skipped = if skipped > 0 {
-        c.first_text(rows.first_skipped.as_deref())?
+        // The file's first skipped row is the first process's with one: only that process
+        // counts the lines before its share.
+        let first = all.iter().position(|l| l[1] > 0) == Some(c.rank());
+        let text = match rows.first_skipped {
+            Some(e) if first => file
+                .line_at(rows.start)
+                .map(|line| Some(shift_line(e, line - 1))),
+            _ => Ok(None),
+        };
+        let (text, _) = c.agree(text, |_| Vec::new())?;
+        c.first_text(text.map(|e| e.to_string()).as_deref())?
     } else {
         None
     };
