@@ -8,9 +8,11 @@ set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$here"
 [ -x "$HOME/.cargo/bin/cargo" ] && export PATH="$HOME/.cargo/bin:$PATH"
-cargo build --release -q -p ellipsoid-splat-tool
+# The tool with its feature `mpi`: `ellipsoid-splat-mpi` and its test under mpirun build and
+# run with the rest (one build of the tool for both lines; `ellipsoid-splat` links no MPI).
+cargo build --release -q -p ellipsoid-splat-tool --features mpi
 target/release/ellipsoid-splat info | sed -n 's/^\(device\|driver\|Vulkan\): */suite: \1 /p'
-cargo test --release --workspace "$@"
+cargo test --release --workspace --features ellipsoid-splat-tool/mpi "$@"
 # The host on VMA needs the library's `vk-mem` feature.
 cargo test --release -p ellipsoid-splat --features vk-mem --test vk_mem_host "$@"
 # In situ from C under mpirun needs the C ABI's `mpi` feature.

@@ -47,7 +47,12 @@ impl Scene {
 
     /// Centre and radius of a sphere containing every ellipsoid; `None` when empty.
     pub fn bounding_sphere(&self) -> Option<(DVec3, f64)> {
-        let (lo, hi) = self.bounds()?;
-        Some(((lo + hi) * 0.5, (hi - lo).length() * 0.5))
+        self.bounds().map(Self::sphere_around)
+    }
+
+    /// The sphere [`Scene::bounding_sphere`] gives a scene of `bounds`: for a scene known by
+    /// the union of its parts' [`Scene::bounds`] (processes drawing shares of one scene).
+    pub fn sphere_around((lo, hi): (DVec3, DVec3)) -> (DVec3, f64) {
+        ((lo + hi) * 0.5, (hi - lo).length() * 0.5)
     }
 }

@@ -59,14 +59,19 @@ pub fn load_csv_with(path: &Path, options: &LoadOptions) -> Result<Loaded> {
     let bytes = read_file(path)?;
     let text = std::str::from_utf8(&bytes).map_err(|e| {
         let at = e.valid_up_to();
-        parse_error(
-            path,
-            line_at(&bytes, at),
-            "text",
-            format!("invalid UTF-8 at byte offset {at}"),
-        )
+        utf8_error(path, line_at(&bytes, at), at)
     })?;
     parse_rows(text, path, options.skip_invalid)
+}
+
+/// The error for bytes that are not UTF-8 from byte `offset` (on `line`) of the file.
+pub(crate) fn utf8_error(file: &Path, line: usize, offset: usize) -> Error {
+    parse_error(
+        file,
+        line,
+        "text",
+        format!("invalid UTF-8 at byte offset {offset}"),
+    )
 }
 
 /// Ellipsoid CSV of `scene`: semi-axes, rotation and colour, every number written so that it
@@ -115,18 +120,8 @@ fn parse_rows(text: &str, file: &Path, skip_invalid: bool) -> Result<Loaded> {
     // Spreadsheet exports often start with a byte-order mark; it is not part of the first name.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let cleaned = blank_out_comments(text);
-    let mut reader = ::csv::ReaderBuilder::new()
-        .has_headers(false)
-        // Row lengths are checked here so the error can say which line and how many fields.
-        .flexible(true)
-        .trim(::csv::Trim::All)
-        .from_reader(cleaned.as_bytes());
-
+    let mut reader = reader(&cleaned);
     let mut records = reader.records();
-    let csv_error = |e: ::csv::Error| {
-        let line = e.position().map_or(0, |p| p.line() as usize);
-        parse_error(file, line, "row", format!("malformed CSV: {e}"))
-    };
     let Some(first) = records.next() else {
         return Err(parse_error(
             file,
@@ -136,53 +131,113 @@ fn parse_rows(text: &str, file: &Path, skip_invalid: bool) -> Result<Loaded> {
         ));
     };
     let mut lines = LineCounter::new(&cleaned);
-    let first = first.map_err(csv_error)?;
+    let first = first.map_err(|e| malformed(file, e))?;
     let header_line = lines.line_of(&first);
     let header = Header::parse(&first, file, header_line)?;
+    let rows = read_rows(records, &mut lines, &header, file, skip_invalid)?;
+    let first_skipped = rows.first_skipped.map(|e| e.to_string());
+    if rows.ellipsoids.is_empty() {
+        return Err(no_rows(
+            file,
+            header_line,
+            rows.skipped,
+            first_skipped.as_deref(),
+        ));
+    }
+    Ok(Loaded {
+        scene: Scene::new(rows.ellipsoids),
+        skipped: rows.skipped,
+        notes: first_skipped
+            .map(|e| vec![skipped_note(rows.skipped, &e)])
+            .unwrap_or_default(),
+        origins: Origins::Lines(rows.lines),
+    })
+}
 
-    let mut ellipsoids = Vec::new();
-    let mut origins = Vec::new();
-    let (mut skipped, mut first_skipped) = (0, None);
+/// The reader of (comment-blanked) Ellipsoid CSV text: no header handling (the header row is
+/// checked here), rows of any length (checked here, to name the line), fields trimmed.
+pub(crate) fn reader(cleaned: &str) -> ::csv::Reader<&[u8]> {
+    ::csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .trim(::csv::Trim::All)
+        .from_reader(cleaned.as_bytes())
+}
+
+/// The error for text the `csv` reader cannot split into fields.
+pub(crate) fn malformed(file: &Path, e: ::csv::Error) -> Error {
+    let line = e.position().map_or(0, |p| p.line() as usize);
+    parse_error(file, line, "row", format!("malformed CSV: {e}"))
+}
+
+/// The data rows read: the glyphs and their lines, and those dropped as invalid.
+pub(crate) struct Rows {
+    pub ellipsoids: Vec<Ellipsoid>,
+    /// The 1-based line of each glyph's row.
+    pub lines: Vec<u32>,
+    pub skipped: usize,
+    pub first_skipped: Option<Error>,
+}
+
+/// The data rows of `records` as glyphs, each checked against `header`; `lines` numbers them.
+/// With `skip_invalid` a bad row is counted and dropped, else it is the error.
+pub(crate) fn read_rows(
+    records: impl Iterator<Item = ::csv::Result<::csv::StringRecord>>,
+    lines: &mut LineCounter,
+    header: &Header,
+    file: &Path,
+    skip_invalid: bool,
+) -> Result<Rows> {
+    let mut rows = Rows {
+        ellipsoids: Vec::new(),
+        lines: Vec::new(),
+        skipped: 0,
+        first_skipped: None,
+    };
     for record in records {
-        let row = record.map_err(csv_error).and_then(|record| {
+        let row = record.map_err(|e| malformed(file, e)).and_then(|record| {
             let line = lines.line_of(&record);
             Ok((header.ellipsoid(&record, file, line)?, line))
         });
         match row {
             Ok((e, line)) => {
-                ellipsoids.push(e);
-                origins.push(u32::try_from(line).unwrap_or(u32::MAX));
+                rows.ellipsoids.push(e);
+                rows.lines.push(u32::try_from(line).unwrap_or(u32::MAX));
             }
             Err(e) if skip_invalid => {
-                skipped += 1;
-                first_skipped.get_or_insert(e);
+                rows.skipped += 1;
+                rows.first_skipped.get_or_insert(e);
             }
             Err(e) => return Err(e),
         }
     }
-    if ellipsoids.is_empty() {
-        let reason = match &first_skipped {
-            Some(e) => format!("no valid rows ({skipped} skipped; the first: {e})"),
-            None => "no ellipsoids: the header is not followed by any data rows".into(),
-        };
-        return Err(parse_error(file, header_line, "header", reason));
-    }
-    let mut notes = Vec::new();
-    if let Some(e) = first_skipped {
-        notes.push(format!("skipped {skipped} invalid row(s); the first: {e}"));
-    }
-    Ok(Loaded {
-        scene: Scene::new(ellipsoids),
-        skipped,
-        notes,
-        origins: Origins::Lines(origins),
-    })
+    Ok(rows)
+}
+
+/// The error for a file without one valid row: `skipped` were dropped, the first for
+/// `first_skipped`.
+pub(crate) fn no_rows(
+    file: &Path,
+    header_line: usize,
+    skipped: usize,
+    first_skipped: Option<&str>,
+) -> Error {
+    let reason = match first_skipped {
+        Some(e) => format!("no valid rows ({skipped} skipped; the first: {e})"),
+        None => "no ellipsoids: the header is not followed by any data rows".into(),
+    };
+    parse_error(file, header_line, "header", reason)
+}
+
+/// The note for `skipped` rows dropped as invalid, the first for `first`.
+pub(crate) fn skipped_note(skipped: usize, first: &str) -> String {
+    format!("skipped {skipped} invalid row(s); the first: {first}")
 }
 
 /// Replaces comment lines and whitespace-only lines by empty lines, which the `csv` reader
 /// skips; line breaks stay, so [`LineCounter`] still finds physical lines. (The reader's own
 /// comment option only recognises `#` in the very first byte of a line.)
-fn blank_out_comments(text: &str) -> String {
+pub(crate) fn blank_out_comments(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for line in text.split_inclusive('\n') {
         let content = line.trim_end_matches(['\n', '\r']);
@@ -199,7 +254,7 @@ fn blank_out_comments(text: &str) -> String {
 /// Physical line numbers of records. The `csv` reader stamps a record with the position where
 /// it started looking, i.e. before the blank lines it skipped, so the record's real first line
 /// is found by skipping line terminators from that byte offset.
-struct LineCounter<'a> {
+pub(crate) struct LineCounter<'a> {
     text: &'a [u8],
     /// Byte offset up to which newlines have been counted.
     offset: usize,
@@ -208,7 +263,7 @@ struct LineCounter<'a> {
 }
 
 impl<'a> LineCounter<'a> {
-    fn new(text: &'a str) -> Self {
+    pub(crate) fn new(text: &'a str) -> Self {
         Self {
             text: text.as_bytes(),
             offset: 0,
@@ -217,7 +272,7 @@ impl<'a> LineCounter<'a> {
     }
 
     /// 1-based line of `record`; records come in file order, so counting only moves forward.
-    fn line_of(&mut self, record: &::csv::StringRecord) -> usize {
+    pub(crate) fn line_of(&mut self, record: &::csv::StringRecord) -> usize {
         let Some(pos) = record.position() else {
             return 0;
         };
@@ -242,7 +297,7 @@ enum ShapeForm {
 }
 
 /// What the header says about every data row.
-struct Header {
+pub(crate) struct Header {
     /// `columns[i]` is the index into [`COLUMNS`] of the row's `i`-th field; its length is the
     /// number of fields every row must have.
     columns: Vec<usize>,
@@ -251,7 +306,7 @@ struct Header {
 }
 
 impl Header {
-    fn parse(record: &::csv::StringRecord, file: &Path, line: usize) -> Result<Self> {
+    pub(crate) fn parse(record: &::csv::StringRecord, file: &Path, line: usize) -> Result<Self> {
         let err = |column: &str, reason: String| parse_error(file, line, column, reason);
         // `index[c]` is the header position of `COLUMNS[c]`, if present.
         let mut index = [None; COLUMNS.len()];
@@ -364,7 +419,7 @@ impl Header {
     }
 
     /// One data row as an ellipsoid, with every field checked.
-    fn ellipsoid(
+    pub(crate) fn ellipsoid(
         &self,
         record: &::csv::StringRecord,
         file: &Path,

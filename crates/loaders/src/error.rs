@@ -39,6 +39,18 @@ pub enum Error {
     /// The renderer's types refused a value (an ellipsoid, a scene).
     #[error(transparent)]
     Renderer(#[from] ellipsoid_splat::Error),
+    /// Another process reading its share of a file failed ([`load_share`](crate::load_share));
+    /// its own error is reported there.
+    #[error(
+        "rank {rank} failed reading its share of {} (its error is reported there)",
+        file.display()
+    )]
+    OtherRank {
+        /// The lowest failing rank.
+        rank: usize,
+        /// The file being read.
+        file: PathBuf,
+    },
 }
 
 /// Shorthand for `Result<T, ellipsoid_splat_loaders::Error>`.

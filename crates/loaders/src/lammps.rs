@@ -93,8 +93,7 @@ pub(crate) fn scan(bytes: &[u8], file: &Path) -> Result<Vec<Span>> {
         let Some((number, line)) = lines.next() else {
             break;
         };
-        // Atom lines start with a digit, a sign or a space: one byte rules most of them out.
-        if line.first() == Some(&b'I') && line.trim_ascii_end() == b"ITEM: TIMESTEP" {
+        if is_timestep_item(line) {
             starts.push((offset, number));
         }
     }
@@ -420,9 +419,115 @@ impl Header {
 pub(crate) fn parse_frame(bytes: &[u8], frame: FrameRef, options: &LoadOptions) -> Result<Loaded> {
     check_mapping_names(options, &COLUMNS, "LAMMPS dump")?;
     let mut lines = Lines::new(bytes, frame.span.line);
+    let Some(head) = read_head(&mut lines, &frame, options)? else {
+        return Err(no_atoms_item(&frame));
+    };
+    let atoms = head.count;
+    let mut out = head.particles(lines.remaining());
+    for ordinal in 1..=atoms {
+        let Some((n, text)) = lines.next() else {
+            let last = lines.next_line.saturating_sub(1).max(head.atoms_line);
+            return Err(truncated(&frame, last, ordinal - 1, atoms));
+        };
+        let atom = head.atom(text, n, ordinal, &frame, options);
+        out.push(atom, None, options.skip_invalid)?;
+    }
+    read_tail(&mut lines, &frame, atoms)?;
+    out.finish(&frame, options)
+}
+
+/// A frame's items up to and including `ITEM: ATOMS`: what every atom line is read against.
+pub(crate) struct Head {
+    /// The number of atom lines (`ITEM: NUMBER OF ATOMS`).
+    pub count: usize,
+    /// The line of `ITEM: ATOMS`.
+    pub atoms_line: usize,
+    cell: Option<Cell>,
+    header: Header,
+    ignored: Vec<String>,
+}
+
+impl Head {
+    /// An empty collection for the frame's particles, with the notes the header gives;
+    /// `remaining` bytes at most follow (a count larger than they can hold reserves nothing
+    /// more).
+    pub fn particles(&self, remaining: usize) -> FrameParticles {
+        // An atom line has at least two bytes.
+        let room = self.count.min(remaining / 2);
+        let mut out = FrameParticles {
+            has_ids: self.header.id,
+            ellipsoids: Vec::with_capacity(room),
+            origins: Vec::with_capacity(room),
+            ..FrameParticles::default()
+        };
+        if !self.ignored.is_empty() {
+            out.notes
+                .push(format!("columns not read: {}", self.ignored.join(" ")));
+        }
+        if self.header.shape && !self.header.quaternion {
+            out.notes
+                .push("no quatw quati quatj quatk columns: ellipsoids are drawn unrotated".into());
+        }
+        out
+    }
+
+    /// Atom line `text` (line `line`, the `ordinal`-th of the frame, from 1) as a particle.
+    pub fn atom(
+        &self,
+        text: &[u8],
+        line: usize,
+        ordinal: usize,
+        frame: &FrameRef,
+        options: &LoadOptions,
+    ) -> Result<(ellipsoid_splat::Ellipsoid, u32, i64)> {
+        self.header
+            .atom(text, line, ordinal, self.cell.as_ref(), frame, options)
+    }
+}
+
+/// The error for a frame without `ITEM: ATOMS`.
+pub(crate) fn no_atoms_item(frame: &FrameRef) -> crate::Error {
+    frame.error(
+        frame.span.line,
+        "ITEM: ATOMS",
+        "the frame has no ITEM: ATOMS",
+    )
+}
+
+/// The error for a frame whose lines end (at line `last`) after `read` of `atoms` atom lines.
+pub(crate) fn truncated(frame: &FrameRef, last: usize, read: usize, atoms: usize) -> crate::Error {
+    frame.error(
+        last,
+        "ITEM: ATOMS",
+        format!("truncated: the frame ends after {read} of {atoms} atom lines"),
+    )
+}
+
+/// Whether `line` starts a frame (what [`scan`] looks for).
+pub(crate) fn is_timestep_item(line: &[u8]) -> bool {
+    // Atom lines start with a digit, a sign or a space: one byte rules most of them out.
+    line.first() == Some(&b'I') && line.trim_ascii_end() == b"ITEM: TIMESTEP"
+}
+
+/// Whether `line` is the `ITEM: ATOMS` line, where a frame's atom lines begin.
+pub(crate) fn is_atoms_item(line: &[u8]) -> bool {
+    line.trim_ascii()
+        .strip_prefix(b"ITEM:")
+        .map(<[u8]>::trim_ascii)
+        .is_some_and(|item| {
+            item.starts_with(b"ATOMS") && item.get(5).is_none_or(|b| b.is_ascii_whitespace())
+        })
+}
+
+/// Reads a frame's items up to `ITEM: ATOMS` (skipping those it does not use); `None` when
+/// the lines end first.
+pub(crate) fn read_head(
+    lines: &mut Lines,
+    frame: &FrameRef,
+    options: &LoadOptions,
+) -> Result<Option<Head>> {
     let mut count: Option<(usize, usize)> = None;
     let mut cell: Option<Cell> = None;
-    let mut particles: Option<FrameParticles> = None;
     // Inside an item this loader does not read: its values are skipped.
     let mut skipping = false;
     while let Some((number, line)) = lines.next() {
@@ -434,114 +539,116 @@ pub(crate) fn parse_frame(bytes: &[u8], frame: FrameRef, options: &LoadOptions) 
             if skipping {
                 continue;
             }
-            let reason = if particles.is_some() {
-                format!(
-                    "more atom lines than ITEM: NUMBER OF ATOMS gives ({}): \"{}\"",
-                    count.map_or(0, |c| c.0),
-                    shown(trimmed)
-                )
-            } else {
-                format!("expected an ITEM: line, found \"{}\"", shown(trimmed))
-            };
+            let reason = format!("expected an ITEM: line, found \"{}\"", shown(trimmed));
             return Err(frame.error(number, "line", reason));
         };
         let item = item.trim_ascii();
-        skipping = false;
-        let mut value_line = |what: &str| {
-            lines
-                .next()
-                .map(|(n, l)| (n, l.trim_ascii()))
-                .ok_or_else(|| {
-                    frame.error(number, what, format!("the frame ends after ITEM: {what}"))
-                })
-        };
-        if item == b"TIMESTEP" {
-            let (n, value) = value_line("TIMESTEP")?;
-            integer(value).map_err(|r| frame.error(n, "TIMESTEP", r))?;
-        } else if item == b"NUMBER OF ATOMS" {
-            let (n, value) = value_line("NUMBER OF ATOMS")?;
-            let atoms = integer(value)
-                .ok()
-                .and_then(|v| usize::try_from(v).ok())
-                .ok_or_else(|| {
-                    frame.error(
-                        n,
-                        "NUMBER OF ATOMS",
-                        format!("not a count of atoms: \"{}\"", shown(value)),
-                    )
-                })?;
-            count = Some((atoms, n));
-        } else if item.starts_with(b"BOX BOUNDS") {
-            cell = Some(read_box(item, number, &mut lines, &frame)?);
-        } else if item.starts_with(b"ATOMS") && item.get(5).is_none_or(|b| b.is_ascii_whitespace())
-        {
-            if particles.is_some() {
-                return Err(frame.error(
-                    number,
-                    "ITEM: ATOMS",
-                    "a second ITEM: ATOMS in one frame",
-                ));
-            }
-            let Some((atoms, _)) = count else {
-                return Err(frame.error(
-                    number,
-                    "ITEM: ATOMS",
-                    "ITEM: ATOMS before ITEM: NUMBER OF ATOMS: the number of atom lines is unknown",
-                ));
-            };
-            let (header, ignored) = Header::parse(item, number, &frame, options)?;
-            if header.position.1 && cell.is_none() {
-                return Err(frame.error(
-                    number,
-                    "ITEM: ATOMS",
-                    "scaled coordinates need ITEM: BOX BOUNDS before ITEM: ATOMS",
-                ));
-            }
-            let mut out = FrameParticles {
-                has_ids: header.id,
-                // An atom line has at least two bytes: a count larger than that is a lie, and
-                // must not reserve memory.
-                ellipsoids: Vec::with_capacity(atoms.min(lines.remaining() / 2)),
-                origins: Vec::with_capacity(atoms.min(lines.remaining() / 2)),
-                ..FrameParticles::default()
-            };
-            if !ignored.is_empty() {
-                out.notes
-                    .push(format!("columns not read: {}", ignored.join(" ")));
-            }
-            if header.shape && !header.quaternion {
-                out.notes.push(
-                    "no quatw quati quatj quatk columns: ellipsoids are drawn unrotated".into(),
-                );
-            }
-            for ordinal in 1..=atoms {
-                let Some((n, text)) = lines.next() else {
-                    return Err(frame.error(
-                        lines.next_line.saturating_sub(1).max(number),
-                        "ITEM: ATOMS",
-                        format!(
-                            "truncated: the frame ends after {} of {atoms} atom lines",
-                            ordinal - 1
-                        ),
-                    ));
-                };
-                let atom = header.atom(text, n, ordinal, cell.as_ref(), &frame, options);
-                out.push(atom, None, options.skip_invalid)?;
-            }
-            particles = Some(out);
-        } else {
-            // ITEM: UNITS, ITEM: TIME and items of later LAMMPS versions.
-            skipping = true;
+        if !is_atoms_item(trimmed) {
+            skipping = read_item(item, number, lines, frame, &mut count, &mut cell)?;
+            continue;
         }
+        let Some((atoms, _)) = count else {
+            return Err(frame.error(
+                number,
+                "ITEM: ATOMS",
+                "ITEM: ATOMS before ITEM: NUMBER OF ATOMS: the number of atom lines is unknown",
+            ));
+        };
+        let (header, ignored) = Header::parse(item, number, frame, options)?;
+        if header.position.1 && cell.is_none() {
+            return Err(frame.error(
+                number,
+                "ITEM: ATOMS",
+                "scaled coordinates need ITEM: BOX BOUNDS before ITEM: ATOMS",
+            ));
+        }
+        return Ok(Some(Head {
+            count: atoms,
+            atoms_line: number,
+            cell,
+            header,
+            ignored,
+        }));
     }
-    let Some(particles) = particles else {
-        return Err(frame.error(
-            frame.span.line,
-            "ITEM: ATOMS",
-            "the frame has no ITEM: ATOMS",
-        ));
+    Ok(None)
+}
+
+/// Reads what follows a frame's atom lines (`atoms` of them): blank lines and items; an atom
+/// line too many or a second `ITEM: ATOMS` is an error.
+pub(crate) fn read_tail(lines: &mut Lines, frame: &FrameRef, atoms: usize) -> Result<()> {
+    let mut count = Some((atoms, 0));
+    let mut cell = None;
+    let mut skipping = false;
+    while let Some((number, line)) = lines.next() {
+        let trimmed = line.trim_ascii();
+        if trimmed.is_empty() {
+            continue;
+        }
+        let Some(item) = trimmed.strip_prefix(b"ITEM:") else {
+            if skipping {
+                continue;
+            }
+            let reason = format!(
+                "more atom lines than ITEM: NUMBER OF ATOMS gives ({}): \"{}\"",
+                count.map_or(0, |c| c.0),
+                shown(trimmed)
+            );
+            return Err(frame.error(number, "line", reason));
+        };
+        if is_atoms_item(trimmed) {
+            return Err(frame.error(number, "ITEM: ATOMS", "a second ITEM: ATOMS in one frame"));
+        }
+        skipping = read_item(
+            item.trim_ascii(),
+            number,
+            lines,
+            frame,
+            &mut count,
+            &mut cell,
+        )?;
+    }
+    Ok(())
+}
+
+/// Reads an item other than `ITEM: ATOMS` (on line `number`) with its values; whether the
+/// lines that follow are its values, to be skipped (an item this loader does not read).
+fn read_item(
+    item: &[u8],
+    number: usize,
+    lines: &mut Lines,
+    frame: &FrameRef,
+    count: &mut Option<(usize, usize)>,
+    cell: &mut Option<Cell>,
+) -> Result<bool> {
+    let mut value_line = |what: &str| {
+        lines
+            .next()
+            .map(|(n, l)| (n, l.trim_ascii()))
+            .ok_or_else(|| frame.error(number, what, format!("the frame ends after ITEM: {what}")))
     };
-    particles.finish(&frame, options)
+    if item == b"TIMESTEP" {
+        let (n, value) = value_line("TIMESTEP")?;
+        integer(value).map_err(|r| frame.error(n, "TIMESTEP", r))?;
+    } else if item == b"NUMBER OF ATOMS" {
+        let (n, value) = value_line("NUMBER OF ATOMS")?;
+        let atoms = integer(value)
+            .ok()
+            .and_then(|v| usize::try_from(v).ok())
+            .ok_or_else(|| {
+                frame.error(
+                    n,
+                    "NUMBER OF ATOMS",
+                    format!("not a count of atoms: \"{}\"", shown(value)),
+                )
+            })?;
+        *count = Some((atoms, n));
+    } else if item.starts_with(b"BOX BOUNDS") {
+        *cell = Some(read_box(item, number, lines, frame)?);
+    } else {
+        // ITEM: UNITS, ITEM: TIME and items of later LAMMPS versions.
+        return Ok(true);
+    }
+    Ok(false)
 }
 
 /// The three lines after `ITEM: BOX BOUNDS`, orthogonal or triclinic.

@@ -14,7 +14,9 @@
 //!   ellipsoids (ASPHERE) and spheres, one or more frames;
 //! - [`xyz`]: extended XYZ (`.xyz`, `.extxyz`, plain or gzipped; ASE, OVITO, GPUMD), one or more
 //!   frames;
-//! - [`load()`]: any of them, by extension, else by the first bytes of the file.
+//! - [`load()`]: any of them, by extension, else by the first bytes of the file;
+//! - [`load_share`]: one process's share of a file read by several (each its own byte range
+//!   or records), for drawing a scene split between processes.
 //!
 //! A file of several frames is read frame by frame through a [`Trajectory`] (`load` returns
 //! frame 1 and says how many there are).
@@ -50,6 +52,7 @@ mod particles;
 pub mod pdb;
 pub mod ply;
 pub mod progress;
+pub mod share;
 pub mod trajectory;
 pub mod xyz;
 
@@ -66,5 +69,6 @@ pub use self::particles::TYPE_PALETTE;
 pub use self::pdb::{load_structure, parse_structure};
 pub use self::ply::{load_ply, parse_ply};
 pub use self::progress::Progress;
+pub use self::share::{load_share, Exchange, LoadedShare, Split};
 pub use self::trajectory::Trajectory;
 pub use self::xyz::{load_xyz, parse_xyz};

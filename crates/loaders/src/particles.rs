@@ -353,14 +353,8 @@ impl FrameParticles {
     /// frame orders its lines.
     pub fn finish(mut self, frame: &FrameRef, options: &LoadOptions) -> Result<Loaded> {
         if self.ellipsoids.is_empty() {
-            let reason = match &self.first_skipped {
-                Some(e) => format!(
-                    "no valid particles ({} skipped; the first: {e})",
-                    self.skipped
-                ),
-                None => "no particles in the frame".to_string(),
-            };
-            return Err(frame.error(frame.span.line, "atoms", reason));
+            let first = self.first_skipped.map(|e| e.to_string());
+            return Err(no_particles(frame, self.skipped, first.as_deref()));
         }
         if self.has_ids && !self.origins.windows(2).all(|w| w[0].1 < w[1].1) {
             let mut order: Vec<u32> = (0..self.origins.len() as u32).collect();
@@ -370,12 +364,7 @@ impl FrameParticles {
                 .find(|w| self.origins[w[0] as usize].1 == self.origins[w[1] as usize].1)
             {
                 let (a, b) = (self.origins[w[0] as usize], self.origins[w[1] as usize]);
-                let (first, second) = (a.0.min(b.0), a.0.max(b.0));
-                return Err(frame.error(
-                    second as usize,
-                    "id",
-                    format!("duplicate atom id {} (also on line {first})", a.1),
-                ));
+                return Err(duplicate_id(frame, a.1, a.0.min(b.0), a.0.max(b.0)));
             }
             self.ellipsoids = order.iter().map(|&i| self.ellipsoids[i as usize]).collect();
             self.origins = order.iter().map(|&i| self.origins[i as usize]).collect();
@@ -405,10 +394,7 @@ impl FrameParticles {
             }
         }
         if let Some(e) = self.first_skipped {
-            self.notes.push(format!(
-                "skipped {} invalid particle(s); the first: {e}",
-                self.skipped
-            ));
+            self.notes.push(skipped_note(self.skipped, &e.to_string()));
         }
         Ok(Loaded {
             scene: Scene::new(self.ellipsoids),
@@ -440,6 +426,30 @@ impl FrameParticles {
         }
         Ok(())
     }
+}
+
+/// The error for a frame without one valid particle: `skipped` were dropped, the first for
+/// `first_skipped`.
+pub(crate) fn no_particles(frame: &FrameRef, skipped: usize, first_skipped: Option<&str>) -> Error {
+    let reason = match first_skipped {
+        Some(e) => format!("no valid particles ({skipped} skipped; the first: {e})"),
+        None => "no particles in the frame".to_string(),
+    };
+    frame.error(frame.span.line, "atoms", reason)
+}
+
+/// The error for atom `id` on two lines, `first` and `second` (the later).
+pub(crate) fn duplicate_id(frame: &FrameRef, id: i64, first: u32, second: u32) -> Error {
+    frame.error(
+        second as usize,
+        "id",
+        format!("duplicate atom id {id} (also on line {first})"),
+    )
+}
+
+/// The note for `skipped` particles dropped as invalid, the first for `first`.
+pub(crate) fn skipped_note(skipped: usize, first: &str) -> String {
+    format!("skipped {skipped} invalid particle(s); the first: {first}")
 }
 
 /// The note `load` adds to frame 1 of a file of several frames.

@@ -140,15 +140,7 @@ fn parse(
     options: &LoadOptions,
     progress: Option<&Progress>,
 ) -> Result<Loaded> {
-    if !(options.sigma.is_finite() && options.sigma > 0.0) {
-        return Err(Error::invalid(
-            "sigma",
-            format!("must be finite and > 0, got {}", options.sigma),
-        ));
-    }
-    if options.min_opacity.is_nan() {
-        return Err(Error::invalid("min-opacity", "must be a number, got NaN"));
-    }
+    check_options(options)?;
     let lines = split_header(bytes, file)?;
     let header = parse_header(&lines, bytes, file)?;
     let body = &bytes[lines.body_start..];
@@ -212,6 +204,21 @@ fn parse(
         }
     };
     splats.finish(vertex, trailing, &header.elements, vertex_index)
+}
+
+/// The options splats are read with: a finite positive sigma, an opacity threshold that is a
+/// number.
+fn check_options(options: &LoadOptions) -> Result<()> {
+    if !(options.sigma.is_finite() && options.sigma > 0.0) {
+        return Err(Error::invalid(
+            "sigma",
+            format!("must be finite and > 0, got {}", options.sigma),
+        ));
+    }
+    if options.min_opacity.is_nan() {
+        return Err(Error::invalid("min-opacity", "must be a number, got NaN"));
+    }
+    Ok(())
 }
 
 /// The first bytes of `bytes`, printable.
@@ -857,58 +864,220 @@ impl Splats<'_> {
         elements: &[Element],
         vertex_index: usize,
     ) -> Result<Loaded> {
-        let count = vertex.count;
-        let file = self.file;
-        if self.ellipsoids.is_empty() {
-            let reason = if count == 0 {
-                "no splats: the header declares `element vertex 0`".to_string()
-            } else if let Some(first) = &self.first_skipped {
-                format!(
-                    "no valid splats ({} skipped as invalid, {} below --min-opacity; the first \
-                     invalid: {first})",
-                    self.skipped, self.transparent
-                )
-            } else {
-                format!(
-                    "no splats left: all {count} have an opacity below --min-opacity {}",
-                    self.min_opacity
-                )
-            };
-            return Err(parse_error(file, vertex.line, "vertex", reason));
-        }
-        let sigma = self.sigma;
-        let mut notes = vec![format!(
-            "radii = {sigma} sigma: semi-axes are {sigma} * exp(scale) (--sigma)"
-        )];
-        if self.transparent > 0 {
-            notes.push(format!(
-                "left out {} of {count} splat(s) with opacity below {} (--min-opacity)",
-                self.transparent, self.min_opacity
-            ));
-        }
-        if let Some(first) = &self.first_skipped {
-            notes.push(format!(
-                "skipped {} invalid splat(s); the first: {first}",
-                self.skipped
-            ));
-        }
-        for (i, element) in elements.iter().enumerate() {
-            if i != vertex_index {
-                notes.push(format!(
-                    "ignored element \"{}\" ({} record(s))",
-                    element.name, element.count
-                ));
-            }
-        }
-        if trailing > 0 {
-            notes.push(format!("ignored {trailing} byte(s) after the vertex data"));
-        }
+        let tally = Tally {
+            kept: self.ellipsoids.len(),
+            skipped: self.skipped,
+            transparent: self.transparent,
+            first_skipped: self.first_skipped.map(|e| e.to_string()),
+        };
+        let options = (self.sigma, self.min_opacity);
+        let notes = summary(
+            self.file,
+            &tally,
+            options,
+            vertex,
+            trailing,
+            elements,
+            vertex_index,
+        )?;
         Ok(Loaded {
             scene: Scene::new(self.ellipsoids),
             skipped: self.skipped,
             notes,
             origins: Origins::Vertices(self.vertices),
         })
+    }
+}
+
+/// What became of a file's splats: kept, skipped as invalid (the first for
+/// `first_skipped`), left out as less opaque than the threshold.
+pub(crate) struct Tally {
+    pub kept: usize,
+    pub skipped: usize,
+    pub transparent: usize,
+    pub first_skipped: Option<String>,
+}
+
+/// The notes of a load that kept what `tally` says, read with `(sigma, min_opacity)`, or the
+/// error when it kept nothing.
+fn summary(
+    file: &Path,
+    tally: &Tally,
+    (sigma, min_opacity): (f64, f64),
+    vertex: &Element,
+    trailing: usize,
+    elements: &[Element],
+    vertex_index: usize,
+) -> Result<Vec<String>> {
+    let count = vertex.count;
+    if tally.kept == 0 {
+        let reason = if count == 0 {
+            "no splats: the header declares `element vertex 0`".to_string()
+        } else if let Some(first) = &tally.first_skipped {
+            format!(
+                "no valid splats ({} skipped as invalid, {} below --min-opacity; the first \
+                 invalid: {first})",
+                tally.skipped, tally.transparent
+            )
+        } else {
+            format!("no splats left: all {count} have an opacity below --min-opacity {min_opacity}")
+        };
+        return Err(parse_error(file, vertex.line, "vertex", reason));
+    }
+    let mut notes = vec![format!(
+        "radii = {sigma} sigma: semi-axes are {sigma} * exp(scale) (--sigma)"
+    )];
+    if tally.transparent > 0 {
+        notes.push(format!(
+            "left out {} of {count} splat(s) with opacity below {min_opacity} (--min-opacity)",
+            tally.transparent
+        ));
+    }
+    if let Some(first) = &tally.first_skipped {
+        notes.push(format!(
+            "skipped {} invalid splat(s); the first: {first}",
+            tally.skipped
+        ));
+    }
+    for (i, element) in elements.iter().enumerate() {
+        if i != vertex_index {
+            notes.push(format!(
+                "ignored element \"{}\" ({} record(s))",
+                element.name, element.count
+            ));
+        }
+    }
+    if trailing > 0 {
+        notes.push(format!("ignored {trailing} byte(s) after the vertex data"));
+    }
+    Ok(notes)
+}
+
+/// Where the vertex records of a binary file lie when they, and every record before them,
+/// have a fixed size: enough to read any range of them without the rest of the file.
+pub(crate) struct VertexRecords {
+    /// The byte offset of vertex 0 in the file.
+    pub offset: u64,
+    /// Bytes per vertex record.
+    pub stride: usize,
+    /// The number of vertices.
+    pub count: usize,
+    big_endian: bool,
+    /// The offset and type of each of [`SPLAT_PROPERTIES`] in a record.
+    fields: [(usize, Scalar); 14],
+    header: Header,
+    vertex_index: usize,
+    /// Bytes after the vertex records, when they are the last element (ignored, with a note).
+    trailing: usize,
+}
+
+/// The vertex records of a binary PLY file of `file_len` bytes whose first bytes are
+/// `prefix`: `None` unless the header is complete in `prefix`, valid, and every record up to
+/// the vertices' end has a fixed size and is in the file (anything else is read whole, which
+/// gives its error or its scene).
+pub(crate) fn vertex_records(prefix: &[u8], file_len: u64, file: &Path) -> Option<VertexRecords> {
+    let lines = split_header(prefix, file).ok()?;
+    let header = parse_header(&lines, prefix, file).ok()?;
+    let big_endian = match header.encoding {
+        Encoding::BinaryLittleEndian => false,
+        Encoding::BinaryBigEndian => true,
+        Encoding::Ascii => return None,
+    };
+    let vertex_index = header.elements.iter().position(|e| e.name == "vertex")?;
+    let vertex = &header.elements[vertex_index];
+    let (fields, stride) = VertexLayout::new(vertex, file).ok()?.fixed?;
+    let mut before = 0u64;
+    for element in &header.elements[..vertex_index] {
+        let size = element.fixed_size()? as u64;
+        before = before.checked_add((element.count as u64).checked_mul(size)?)?;
+    }
+    let offset = (lines.body_start as u64).checked_add(before)?;
+    let end = offset.checked_add((vertex.count as u64).checked_mul(stride as u64)?)?;
+    if end > file_len {
+        return None;
+    }
+    let trailing = if vertex_index + 1 == header.elements.len() {
+        usize::try_from(file_len - end).ok()?
+    } else {
+        0
+    };
+    Some(VertexRecords {
+        offset,
+        stride,
+        count: vertex.count,
+        big_endian,
+        fields,
+        vertex_index,
+        trailing,
+        header,
+    })
+}
+
+impl VertexRecords {
+    /// The splats of `bytes`, the records of vertices `first`, `first + 1`, ... (each error
+    /// names its vertex, as the whole file's load does): the glyphs kept and the tally.
+    pub(crate) fn read(
+        &self,
+        bytes: &[u8],
+        first: usize,
+        file: &Path,
+        options: &LoadOptions,
+    ) -> Result<(Vec<Ellipsoid>, Tally)> {
+        check_options(options)?;
+        let mut splats = Splats {
+            file,
+            sigma: options.sigma,
+            min_opacity: options.min_opacity,
+            skip_invalid: options.skip_invalid,
+            ellipsoids: Vec::with_capacity(bytes.len() / self.stride),
+            vertices: Vec::with_capacity(bytes.len() / self.stride),
+            skipped: 0,
+            first_skipped: None,
+            transparent: 0,
+        };
+        let read = if self.big_endian {
+            read_scalar::<true>
+        } else {
+            read_scalar::<false>
+        };
+        for (j, record) in bytes.chunks_exact(self.stride).enumerate() {
+            let k = first + j;
+            let values: [f64; 14] =
+                std::array::from_fn(|f| read(record, self.fields[f].0, self.fields[f].1));
+            splats.add(k, &values, |file, e| {
+                parse_error(
+                    file,
+                    k + 1,
+                    e.column,
+                    format!("vertex {}: {}", k + 1, e.reason),
+                )
+            })?;
+        }
+        let tally = Tally {
+            kept: splats.ellipsoids.len(),
+            skipped: splats.skipped,
+            transparent: splats.transparent,
+            first_skipped: splats.first_skipped.map(|e| e.to_string()),
+        };
+        Ok((splats.ellipsoids, tally))
+    }
+
+    /// The notes of the whole file's load, or its error, from the tally of every share.
+    pub(crate) fn summary(
+        &self,
+        tally: &Tally,
+        file: &Path,
+        options: &LoadOptions,
+    ) -> Result<Vec<String>> {
+        summary(
+            file,
+            tally,
+            (options.sigma, options.min_opacity),
+            &self.header.elements[self.vertex_index],
+            self.trailing,
+            &self.header.elements,
+            self.vertex_index,
+        )
     }
 }
 

@@ -108,39 +108,15 @@ pub(crate) fn scan(bytes: &[u8], file: &Path) -> Result<Vec<Span>> {
             continue;
         }
         let k = spans.len() + 1;
-        let count = integer(text)
-            .ok()
-            .and_then(|n| usize::try_from(n).ok())
-            .ok_or_else(|| {
-                parse_error(
-                    file,
-                    number,
-                    format!("frame {k}, atom count"),
-                    format!(
-                        "expected the number of atoms of frame {k}, found \"{}\"",
-                        shown(text)
-                    ),
-                )
-            })?;
+        let count = atom_count(text, number, k, file)?;
         let Some((_, comment)) = lines.next() else {
-            return Err(parse_error(
-                file,
-                number,
-                format!("frame {k}, comment line"),
-                "the file ends after the atom count: no comment line",
-            ));
+            return Err(no_comment_line(file, number, k));
         };
-        let timestep = comment_keys(comment)
-            .ok()
-            .and_then(|keys| timestep_of(&keys));
+        let timestep = comment_timestep(comment);
         for read in 0..count {
             if lines.next().is_none() {
-                return Err(parse_error(
-                    file,
-                    lines.next_line.saturating_sub(1),
-                    format!("frame {k}, atoms"),
-                    format!("truncated: the file ends after {read} of {count} atom lines"),
-                ));
+                let last = lines.next_line.saturating_sub(1);
+                return Err(truncated(file, last, k, read, count));
             }
         }
         spans.push(Span {
@@ -154,6 +130,58 @@ pub(crate) fn scan(bytes: &[u8], file: &Path) -> Result<Vec<Span>> {
         return Err(parse_error(file, 0, "atom count", "empty file: no frames"));
     }
     Ok(spans)
+}
+
+/// The number of atoms on frame `k`'s count line `text` (line `number`).
+pub(crate) fn atom_count(text: &[u8], number: usize, k: usize, file: &Path) -> Result<usize> {
+    integer(text)
+        .ok()
+        .and_then(|n| usize::try_from(n).ok())
+        .ok_or_else(|| {
+            parse_error(
+                file,
+                number,
+                format!("frame {k}, atom count"),
+                format!(
+                    "expected the number of atoms of frame {k}, found \"{}\"",
+                    shown(text)
+                ),
+            )
+        })
+}
+
+/// The error for frame `k`, whose file ends after its count line (line `number`).
+pub(crate) fn no_comment_line(file: &Path, number: usize, k: usize) -> crate::Error {
+    parse_error(
+        file,
+        number,
+        format!("frame {k}, comment line"),
+        "the file ends after the atom count: no comment line",
+    )
+}
+
+/// The error for frame `k`, whose file ends (at line `last`) after `read` of `count` atom
+/// lines.
+pub(crate) fn truncated(
+    file: &Path,
+    last: usize,
+    k: usize,
+    read: usize,
+    count: usize,
+) -> crate::Error {
+    parse_error(
+        file,
+        last,
+        format!("frame {k}, atoms"),
+        format!("truncated: the file ends after {read} of {count} atom lines"),
+    )
+}
+
+/// The timestep a comment line gives, if any.
+pub(crate) fn comment_timestep(comment: &[u8]) -> Option<i64> {
+    comment_keys(comment)
+        .ok()
+        .and_then(|keys| timestep_of(&keys))
 }
 
 /// A `key=value` pair of a comment line.
@@ -255,7 +283,7 @@ struct Property {
 }
 
 /// What the comment line says about every atom line.
-struct Header {
+pub(crate) struct Header {
     /// For each field, what it holds (and which component), if read.
     slots: Vec<Option<(Quantity, usize)>>,
     /// The properties, for the name of a field in errors (`pos[2]`).
@@ -271,7 +299,7 @@ struct Header {
 }
 
 impl Header {
-    fn parse(
+    pub(crate) fn parse(
         comment: &[u8],
         line: usize,
         frame: &FrameRef,
@@ -420,6 +448,26 @@ impl Header {
         ))
     }
 
+    /// An empty collection for a frame's particles, room for `room`, with the notes the
+    /// header gives (`ignored`: the properties not read).
+    pub(crate) fn particles(&self, ignored: &[String], room: usize) -> FrameParticles {
+        let mut out = FrameParticles {
+            has_ids: self.id,
+            ellipsoids: Vec::with_capacity(room),
+            origins: Vec::with_capacity(room),
+            ..FrameParticles::default()
+        };
+        if !ignored.is_empty() {
+            out.notes
+                .push(format!("properties not read: {}", ignored.join(" ")));
+        }
+        if self.shape && !self.orientation {
+            out.notes
+                .push("no orientation property: ellipsoids are drawn unrotated".into());
+        }
+        out
+    }
+
     /// The name of field `k` (0-based) in errors: `pos[2]`, or `radius` for a count of 1.
     fn field_name(&self, k: usize) -> String {
         match self
@@ -435,7 +483,7 @@ impl Header {
 
     /// One atom line as a particle: its ellipsoid, line and id (`ordinal` without an `id`),
     /// and its species name's number in `species_names` (file order), if the species is a name.
-    fn atom<'a>(
+    pub(crate) fn atom<'a>(
         &self,
         text: &'a [u8],
         line: usize,
@@ -564,20 +612,7 @@ pub(crate) fn parse_frame(bytes: &[u8], frame: FrameRef, options: &LoadOptions) 
         return Err(frame.error(count_line, "comment line", "no comment line"));
     };
     let (header, ignored) = Header::parse(comment, comment_line, &frame, options)?;
-    let mut out = FrameParticles {
-        has_ids: header.id,
-        ellipsoids: Vec::with_capacity(count.min(lines.remaining() / 2)),
-        origins: Vec::with_capacity(count.min(lines.remaining() / 2)),
-        ..FrameParticles::default()
-    };
-    if !ignored.is_empty() {
-        out.notes
-            .push(format!("properties not read: {}", ignored.join(" ")));
-    }
-    if header.shape && !header.orientation {
-        out.notes
-            .push("no orientation property: ellipsoids are drawn unrotated".into());
-    }
+    let mut out = header.particles(&ignored, count.min(lines.remaining() / 2));
     let mut species_names = Vec::new();
     for ordinal in 1..=count {
         let Some((n, text)) = lines.next() else {

@@ -1243,9 +1243,13 @@ pub fn save_scene(args: &RenderArgs, scene: &Scene, camera: &Camera) -> Result<(
 /// The camera of the render arguments, framing the scene where positions are not given.
 /// Errors name the flag to change.
 pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
-    let (center, radius) = scene
-        .bounding_sphere()
-        .ok_or_else(|| Error::invalid("--scene", "has no ellipsoids"))?;
+    camera_around(args, scene.bounding_sphere())
+}
+
+/// The camera of the render arguments, framing a scene of bounding sphere `sphere`
+/// ([`Scene::bounding_sphere`]; `None` when empty) where positions are not given.
+pub fn camera_around(args: &RenderArgs, sphere: Option<(DVec3, f64)>) -> Result<Camera> {
+    let (center, radius) = sphere.ok_or_else(|| Error::invalid("--scene", "has no ellipsoids"))?;
     let projection = match (args.camera.ortho, args.camera.intrinsics) {
         (Some(height), _) => Projection::Orthographic { height },
         (None, Some(intrinsics)) => Projection::PerspectiveIntrinsics(intrinsics),
@@ -1334,7 +1338,15 @@ pub fn camera_for(args: &RenderArgs, scene: &Scene) -> Result<Camera> {
 /// outside the field of view, or nearer than the near plane. Such an image is empty but not
 /// an error (a camera path may pass by), so this is a warning to print.
 pub fn nothing_in_view(args: &RenderArgs, camera: &Camera, scene: &Scene) -> Option<String> {
-    let (center, radius) = scene.bounding_sphere()?;
+    nothing_in_view_around(args, camera, scene.bounding_sphere()?)
+}
+
+/// [`nothing_in_view`] of a scene of bounding sphere `(center, radius)`.
+pub fn nothing_in_view_around(
+    args: &RenderArgs,
+    camera: &Camera,
+    (center, radius): (DVec3, f64),
+) -> Option<String> {
     let basis = camera.basis();
     let offset = center - camera.eye;
     let depth = offset.dot(basis.forward);

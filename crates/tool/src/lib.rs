@@ -1,6 +1,7 @@
 //! The `ellipsoid-splat` command line as a library: argument parsing, the numerical-stability
 //! sweep, the time-against-error benchmark, the skip benchmark, reports, image outputs and the
-//! interactive viewer (`view`).
+//! interactive viewer (`view`); and which `render` flags `ellipsoid-splat-mpi` (feature `mpi`)
+//! honours.
 //! `main.rs` dispatches to these; tests call them directly.
 
 pub mod antialias_bench;
@@ -11,6 +12,7 @@ pub mod conformance;
 pub mod error;
 pub mod frame_range;
 pub mod movie;
+pub mod mpi_flags;
 pub mod output;
 pub mod plan;
 pub mod render_device;

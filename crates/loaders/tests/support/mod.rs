@@ -7,6 +7,8 @@
 
 use std::path::{Path, PathBuf};
 
+pub mod threads;
+
 use ellipsoid_splat_loaders::Error;
 use ellipsoid_splat_loaders::LoadOptions;
 use glam::{DMat3, DVec3};
