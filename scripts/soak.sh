@@ -14,10 +14,10 @@ minutes="${1:-60}"
 out="${2:-$here/target/soak}"
 validation="--validation"; validated=on
 [ "${3:-}" = "--no-validation" ] && validation="" && validated=off
-# The viewer's command line as `ps` shows it, to find it and to stop the calibration.
-viewer="$tool view ${validation:+$validation }--no-vsync"
 tool="$here/target/release/ellipsoid-splat"
 scene="$here/data/samples/gay-berne.lammpstrj"
+# The viewer's command line as `ps` shows it, to find it and to stop the calibration.
+viewer="$tool view ${validation:+$validation }--no-vsync"
 [ -x "$tool" ] || { echo "soak: build the tool first (cargo build --release)" >&2; exit 1; }
 command -v xvfb-run >/dev/null || { echo "soak: xvfb-run is missing (scripts/setup.sh)" >&2; exit 1; }
 mkdir -p "$out"
