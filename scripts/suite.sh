@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The tests that draw: the workspace's, the host on VMA, the Python package's. They run on the
+# The tests that draw: the workspace's (the fault walks of crates/fault-layer among them, about
+# two minutes on 2 cores), the host on VMA, the Python package's (its fault walk about 40 s). They run on the
 # Vulkan driver the environment selects (the system's lavapipe unless VK_ICD_FILENAMES names
 # another: scripts/test-drivers.sh). Cargo arguments, if any, go to both cargo runs (the
 # Python tests always run whole).
