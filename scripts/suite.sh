@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# The tests that draw: the workspace's, the host on VMA, in situ from C, the Python package's.
-# They run on the Vulkan driver the environment selects (the system's lavapipe unless
-# VK_ICD_FILENAMES names another: scripts/test-drivers.sh). Cargo arguments, if any, go to the
-# workspace's and the VMA host's cargo runs; in situ from C runs only without them (the
+# The tests that draw: the workspace's (the fault walks of crates/fault-layer among them, about
+# two minutes on 2 cores), the host on VMA, in situ from C, the Python package's (its fault walk
+# about 40 s). They run on the Vulkan driver the environment selects (the system's lavapipe
+# unless VK_ICD_FILENAMES names another: scripts/test-drivers.sh). Cargo arguments, if any, go
+# to the workspace's and the VMA host's cargo runs; in situ from C runs only without them (the
 # Python tests always run whole).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"

@@ -24,16 +24,20 @@ pub enum Error {
     #[error("no suitable Vulkan device: {0}")]
     NoDevice(String),
     /// The device was lost (a GPU fault, reset or driver crash) during `call`: nothing more can
-    /// be done with it; a new device (a new renderer) is needed.
+    /// be done with it; destroy the renderer and make a new device (what each call does
+    /// meanwhile: `docs/design.md` §6.10).
     #[error("the Vulkan device was lost during {call}: create a new renderer (device) to go on")]
     DeviceLost {
         /// The Vulkan entry point that reported the loss, e.g. `vkQueueSubmit`.
         call: &'static str,
     },
-    /// Device or host memory ran out while creating `what`.
+    /// Device or host memory ran out while creating `what`. The call changed nothing (a failed
+    /// upload keeps the scene uploaded before): the renderer stays usable
+    /// (`docs/design.md` §6.10).
     #[error("out of {} memory while creating {what}: {reason}", if *.device { "GPU" } else { "host" })]
     OutOfMemory {
-        /// The Vulkan call or the object being allocated.
+        /// What was being allocated (a buffer's name, or the kind of object) and the Vulkan
+        /// call that ran out, e.g. `ellipsoid instances (vkCreateBuffer)`.
         what: String,
         /// GPU (device) memory rather than host memory.
         device: bool,
@@ -71,13 +75,20 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 impl Error {
     /// The error of a failed Vulkan call: device loss and out-of-memory get their own
-    /// variants, so callers can react (recreate the device, shrink the scene).
+    /// variants, so callers can react (recreate the device, shrink the scene). Out of memory
+    /// names the kind of object the call makes.
     pub fn vulkan(call: &'static str, result: vk::Result) -> Self {
+        Self::creating(allocated_by(call), call, result)
+    }
+
+    /// As [`Error::vulkan`], for a call made to create `what` (a buffer's name, say), which
+    /// running out of memory names.
+    pub fn creating(what: &str, call: &'static str, result: vk::Result) -> Self {
         match result {
             vk::Result::ERROR_DEVICE_LOST => Error::DeviceLost { call },
             vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY => {
                 Error::OutOfMemory {
-                    what: call.to_string(),
+                    what: format!("{what} ({call})"),
                     device: result == vk::Result::ERROR_OUT_OF_DEVICE_MEMORY,
                     reason: format!("{result:?}"),
                 }
@@ -92,6 +103,36 @@ impl Error {
             what: what.into(),
             reason: reason.into(),
         }
+    }
+}
+
+/// What the Vulkan entry point `call` allocates, for an out-of-memory error.
+fn allocated_by(call: &str) -> &'static str {
+    match call {
+        "vkCreateInstance" => "the Vulkan instance",
+        "vkCreateDevice" => "the Vulkan device",
+        "vkCreateDebugUtilsMessengerEXT" => "the validation messenger",
+        "vkAllocateMemory" => "device memory",
+        "vkMapMemory" => "a mapping of device memory",
+        "vkBindBufferMemory" | "vkBindImageMemory" => "a memory binding",
+        "vkCreateBuffer" => "a buffer",
+        "vkCreateImage" => "an image",
+        "vkCreateImageView" => "an image view",
+        "vkCreateSampler" => "a sampler",
+        "vkCreateShaderModule" => "a shader module",
+        "vkCreatePipelineLayout" => "a pipeline layout",
+        "vkCreateDescriptorSetLayout" => "a descriptor set layout",
+        "vkCreateGraphicsPipelines" => "a graphics pipeline",
+        "vkCreateComputePipelines" => "a compute pipeline",
+        "vkCreateDescriptorPool" => "a descriptor pool",
+        "vkAllocateDescriptorSets" => "descriptor sets",
+        "vkCreateQueryPool" => "a query pool",
+        "vkCreateCommandPool" => "a command pool",
+        "vkAllocateCommandBuffers" => "a command buffer",
+        "vkResetCommandPool" | "vkBeginCommandBuffer" | "vkEndCommandBuffer" => "recorded commands",
+        "vkCreateFence" | "vkResetFences" => "a fence",
+        "vkQueueSubmit" | "vkQueueSubmit2" => "a queue submission",
+        _ => "what the call makes",
     }
 }
 
@@ -126,6 +167,21 @@ mod tests {
             "{oom}"
         );
         assert!(oom.to_string().contains("out of GPU memory"), "{oom}");
+        assert!(
+            oom.to_string().contains("device memory (vkAllocateMemory)"),
+            "{oom}"
+        );
+        let named = Error::creating(
+            "ellipsoid instances",
+            "vkCreateBuffer",
+            vk::Result::ERROR_OUT_OF_DEVICE_MEMORY,
+        );
+        assert!(
+            named
+                .to_string()
+                .contains("creating ellipsoid instances (vkCreateBuffer)"),
+            "{named}"
+        );
         let host = Error::vulkan("vkCreateBuffer", vk::Result::ERROR_OUT_OF_HOST_MEMORY);
         assert!(
             matches!(host, Error::OutOfMemory { device: false, .. }),

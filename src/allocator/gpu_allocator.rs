@@ -16,10 +16,13 @@ fn location(usage: MemoryUse) -> MemoryLocation {
     }
 }
 
-/// The error of a failed allocation of `what`.
+/// The error of a failed allocation of `what`. Mapping a new memory block fails only where
+/// the driver runs out of memory for it (`vkMapMemory` has no other errors but
+/// `VK_ERROR_MEMORY_MAP_FAILED`, address space), so that is out of memory too.
 pub(crate) fn allocation_error(what: &str, error: gpu_allocator::AllocationError) -> Error {
     match error {
-        gpu_allocator::AllocationError::OutOfMemory => Error::OutOfMemory {
+        gpu_allocator::AllocationError::OutOfMemory
+        | gpu_allocator::AllocationError::FailedToMap(_) => Error::OutOfMemory {
             what: what.to_string(),
             device: true,
             reason: error.to_string(),
@@ -46,7 +49,7 @@ unsafe impl MemoryAllocator for Allocator {
         // SAFETY: the caller's device and create info; the buffer is destroyed on every
         // failure below, or later by `destroy_buffer`.
         let buffer = unsafe { device.create_buffer(info, None) }
-            .map_err(|result| Error::vulkan("vkCreateBuffer", result))?;
+            .map_err(|result| Error::creating(name, "vkCreateBuffer", result))?;
         let destroy = |device: &ash::Device| {
             // SAFETY: the buffer is unused: nothing was recorded with it.
             unsafe { device.destroy_buffer(buffer, None) }
@@ -71,7 +74,7 @@ unsafe impl MemoryAllocator for Allocator {
             unsafe { device.bind_buffer_memory(buffer, allocation.memory(), allocation.offset()) };
         let mapped = allocation.mapped_ptr().map(|p| p.cast::<u8>());
         let failure = match bound {
-            Err(result) => Some(Error::vulkan("vkBindBufferMemory", result)),
+            Err(result) => Some(Error::creating(name, "vkBindBufferMemory", result)),
             Ok(()) if usage.mapped() && mapped.is_none() => Some(Error::Allocation {
                 what: name.to_string(),
                 reason: "host-visible memory came back unmapped".into(),
@@ -120,5 +123,10 @@ mod tests {
     fn running_out_is_out_of_memory() {
         let error = allocation_error("instances", gpu_allocator::AllocationError::OutOfMemory);
         assert!(matches!(error, Error::OutOfMemory { .. }), "{error}");
+        let unmapped =
+            gpu_allocator::AllocationError::FailedToMap("ERROR_OUT_OF_HOST_MEMORY".into());
+        let error = allocation_error("staging", unmapped);
+        assert!(matches!(error, Error::OutOfMemory { .. }), "{error}");
+        assert!(error.to_string().contains("staging"), "{error}");
     }
 }

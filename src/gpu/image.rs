@@ -4,7 +4,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};
 use gpu_allocator::MemoryLocation;
 
-use crate::error::{Error, Result, VkCall};
+use crate::error::{Error, Result};
 
 /// A device-local 2D image with a full view. Free it with [`GpuImage::destroy`].
 pub struct GpuImage {
@@ -43,7 +43,8 @@ impl GpuImage {
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
         // SAFETY: valid create info; destroyed by `destroy` or on the error paths below.
-        let image = unsafe { device.create_image(&info, None) }.call("vkCreateImage")?;
+        let image = unsafe { device.create_image(&info, None) }
+            .map_err(|result| Error::creating(name, "vkCreateImage", result))?;
         // SAFETY: `image` was just created from `device`.
         let requirements = unsafe { device.get_image_memory_requirements(image) };
         let allocation = match allocator.allocate(&AllocationCreateDesc {
@@ -72,7 +73,7 @@ impl GpuImage {
             unsafe { device.bind_image_memory(image, allocation.memory(), allocation.offset()) };
         if let Err(result) = bound {
             cleanup(device, allocator, allocation);
-            return Err(Error::vulkan("vkBindImageMemory", result));
+            return Err(Error::creating(name, "vkBindImageMemory", result));
         }
         let view_info = vk::ImageViewCreateInfo::default()
             .image(image)
@@ -84,7 +85,7 @@ impl GpuImage {
             Ok(v) => v,
             Err(result) => {
                 cleanup(device, allocator, allocation);
-                return Err(Error::vulkan("vkCreateImageView", result));
+                return Err(Error::creating(name, "vkCreateImageView", result));
             }
         };
         Ok(Self {

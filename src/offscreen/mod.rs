@@ -9,6 +9,7 @@ mod outputs;
 mod readback;
 mod record;
 pub(crate) mod sample_zero;
+mod submission;
 mod targets;
 
 use crate::camera::Camera;
@@ -18,6 +19,7 @@ use crate::frame::Frame;
 use crate::gpu::queries::{FrameQueries, QueryResults};
 use crate::gpu::{Context, ContextOptions};
 use crate::instances::Placement;
+use crate::renderer::staged::StagedUpload;
 use crate::renderer::{EllipsoidRenderer, FramePlan};
 use crate::research;
 use crate::scene::Scene;
@@ -26,6 +28,7 @@ use crate::target::{HostDevice, Pass, RendererOptions, Target, ID_FORMAT, NORMAL
 
 pub use outputs::Outputs;
 use sample_zero::SampleZero;
+use submission::Submission;
 use targets::Targets;
 
 const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
@@ -47,9 +50,8 @@ pub struct OffscreenRenderer {
     sample_zero: Option<SampleZero>,
     /// Samples per pixel of the attachments (`set_samples`).
     samples: vk::SampleCountFlags,
-    /// A submission failed or was not waited for to completion: its command buffer may still
-    /// be pending, so nothing may be recorded again.
-    unfinished: bool,
+    /// What the last submission left: whether new work may be recorded.
+    submission: Submission,
     // Declared last: dropped after the fields above have been destroyed by `Drop`.
     context: Context,
 }
@@ -86,7 +88,7 @@ impl OffscreenRenderer {
             queries: None,
             sample_zero: None,
             samples: vk::SampleCountFlags::TYPE_1,
-            unfinished: false,
+            submission: Submission::Idle,
             context,
         };
         this.create_objects()?; // on error, Drop releases what exists
@@ -254,12 +256,8 @@ impl OffscreenRenderer {
     pub fn upload_placed(&mut self, scene: &Scene, placement: Placement) -> Result<()> {
         let cmd = self.begin_commands()?;
         let (device, allocator, renderer) = self.parts();
-        // SAFETY: `cmd` is recording outside a pass; it is submitted and waited for below.
-        let recorded = unsafe { renderer.upload_placed(device, allocator, cmd, scene, placement) };
-        // SAFETY: `cmd` is recording.
-        unsafe { device.end_command_buffer(cmd) }.call("vkEndCommandBuffer")?;
-        recorded?;
-        self.submit_and_wait()
+        let staged = renderer.stage_scene(device, allocator, scene, placement)?;
+        self.submit_staged(cmd, staged)
     }
 
     /// Replaces glyphs `first..first + ellipsoids.len()` of the uploaded scene (the rest keep
@@ -271,23 +269,39 @@ impl OffscreenRenderer {
     pub fn update(&mut self, first: u32, ellipsoids: &[Ellipsoid]) -> Result<()> {
         let cmd = self.begin_commands()?;
         let (device, allocator, renderer) = self.parts();
-        // SAFETY: `cmd` is recording outside a pass; it is submitted and waited for below.
-        let recorded = unsafe { renderer.update(device, allocator, cmd, first, ellipsoids) };
-        // SAFETY: `cmd` is recording.
-        unsafe { device.end_command_buffer(cmd) }.call("vkEndCommandBuffer")?;
-        recorded?;
-        self.submit_and_wait()
+        let staged = renderer.stage_update(device, allocator, first, ellipsoids)?;
+        self.submit_staged(cmd, staged)
+    }
+
+    /// Records `staged` into `cmd` (recording since `begin_commands`), submits it and waits:
+    /// the renderer takes the new glyphs only once the copy has run, so an upload or update
+    /// that fails anywhere (out of memory, say) leaves the scene drawn before.
+    fn submit_staged(&mut self, cmd: vk::CommandBuffer, staged: StagedUpload) -> Result<()> {
+        let (device, _, renderer) = self.parts();
+        // SAFETY: `cmd` is recording outside a pass; the staged upload is committed or
+        // discarded below.
+        let recorded = unsafe { renderer.record_staged(device, cmd, &staged) }.and_then(|()| {
+            // SAFETY: `cmd` is recording.
+            unsafe { device.end_command_buffer(cmd) }.call("vkEndCommandBuffer")
+        });
+        let done = recorded.and_then(|()| self.submit_and_wait());
+        let renderer = self.renderer_mut();
+        match done {
+            Ok(()) => {
+                renderer.commit_staged(staged);
+                Ok(())
+            }
+            Err(e) => {
+                renderer.discard_staged(staged);
+                Err(e)
+            }
+        }
     }
 
     /// Starts the renderer's frame (every earlier submission was waited for) and begins the
     /// one command buffer.
     fn begin_commands(&mut self) -> Result<vk::CommandBuffer> {
-        if self.unfinished {
-            return Err(Error::invalid(
-                "offscreen renderer",
-                "an earlier frame did not finish (it timed out or the device was lost): create a new renderer",
-            ));
-        }
+        self.submission.usable()?;
         let cmd = self.command_buffer;
         let renderer = self
             .renderer
@@ -376,6 +390,8 @@ impl OffscreenRenderer {
         readback: bool,
     ) -> Result<FrameTiming> {
         check_views(extent, cameras)?;
+        // Targets may be replaced only when no earlier frame may still be running.
+        self.submission.usable()?;
         self.ensure_targets(extent, outputs)?;
         let supported = self.context.info().fragment_stores_and_atomics;
         let counting = {
@@ -393,7 +409,10 @@ impl OffscreenRenderer {
         self.submit_and_wait()?;
         let gpu_wall = start.elapsed();
         let gpu = match &self.queries {
-            Some(q) => q.read(self.context.device())?,
+            Some(q) => match q.read(self.context.device()) {
+                Ok(results) => results,
+                Err(e) => return Err(self.noting_loss(e)),
+            },
             None => QueryResults::default(),
         };
         let (shaded_fragments, compute_ray_casts) = if counting {
@@ -408,34 +427,6 @@ impl OffscreenRenderer {
             compute_ray_casts,
             readback: Duration::ZERO,
         })
-    }
-
-    fn submit_and_wait(&mut self) -> Result<()> {
-        // Cleared only once the fence has signalled and been reset.
-        self.unfinished = true;
-        let device = self.context.device();
-        let (queue, _) = self.context.queue();
-        let buffers = [self.command_buffer];
-        let submit = vk::SubmitInfo::default().command_buffers(&buffers);
-        // SAFETY: the command buffer is fully recorded; the fence is unsignalled (reset after
-        // every wait) and owned by `self`.
-        unsafe {
-            device
-                .queue_submit(queue, &[submit], self.fence)
-                .call("vkQueueSubmit")?;
-            let waited =
-                device.wait_for_fences(&[self.fence], true, FRAME_TIMEOUT.as_nanos() as u64);
-            if waited == Err(vk::Result::TIMEOUT) {
-                return Err(Error::vulkan(
-                    "vkWaitForFences (frame took longer than 300 s)",
-                    vk::Result::TIMEOUT,
-                ));
-            }
-            waited.call("vkWaitForFences")?;
-            device.reset_fences(&[self.fence]).call("vkResetFences")?;
-        }
-        self.unfinished = false;
-        Ok(())
     }
 }
 

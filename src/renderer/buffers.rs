@@ -106,7 +106,7 @@ impl Binding {
     }
 
     /// How the buffer is used besides as a storage buffer.
-    fn usage(self) -> vk::BufferUsageFlags {
+    pub fn usage(self) -> vk::BufferUsageFlags {
         let extra = match self {
             // Filled with vkCmdFillBuffer (the compute splat zeroes the keep bits, and the
             // stamps of a new scene).
@@ -125,7 +125,7 @@ impl Binding {
 
     /// Where the buffer lives: the counter is read by the host and the floor's pixel lists
     /// written by it; the rest only the GPU touches.
-    fn memory_use(self) -> MemoryUse {
+    pub fn memory_use(self) -> MemoryUse {
         match self {
             Binding::FragmentCounter => MemoryUse::Readback,
             Binding::FloorPixels => MemoryUse::Upload,
@@ -186,7 +186,7 @@ impl SceneBuffers {
     }
 
     /// Replaces `binding`'s buffer by a new one of `bytes` (the old one retired into `slots`
-    /// until no recorded frame can use it).
+    /// until no recorded frame can use it). If the new one cannot be made, the old one stays.
     pub fn replace(
         &mut self,
         device: &ash::Device,
@@ -195,18 +195,30 @@ impl SceneBuffers {
         binding: Binding,
         bytes: u64,
     ) -> Result<&mut GpuBuffer> {
-        if let Some(old) = self.buffers[binding as usize].take() {
-            slots.retire(Retired::Buffer(old));
-        }
-        self.replaced = true;
-        Ok(self.buffers[binding as usize].insert(GpuBuffer::new(
+        let buffer = GpuBuffer::new(
             device,
             allocator,
             binding.name(),
             bytes,
             binding.usage(),
             binding.memory_use(),
-        )?))
+        )?;
+        Ok(self.install(slots, binding, buffer))
+    }
+
+    /// Makes `buffer` `binding`'s (the old one retired into `slots` until no recorded frame
+    /// can use it).
+    pub fn install(
+        &mut self,
+        slots: &mut FrameSlots<Retired>,
+        binding: Binding,
+        buffer: GpuBuffer,
+    ) -> &mut GpuBuffer {
+        if let Some(old) = self.buffers[binding as usize].take() {
+            slots.retire(Retired::Buffer(old));
+        }
+        self.replaced = true;
+        self.buffers[binding as usize].insert(buffer)
     }
 
     /// Bytes of memory the allocator gave all buffers.

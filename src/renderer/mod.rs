@@ -47,6 +47,7 @@ mod plan;
 mod plan_reason;
 pub(crate) mod prepass;
 pub(crate) mod push;
+pub(crate) mod staged;
 mod upload;
 mod uploaded;
 mod view;
@@ -210,11 +211,13 @@ impl EllipsoidRenderer {
             destroyed: false,
         };
         // On failure, `destroy` releases whatever was created (null handles are skipped).
-        match renderer
-            .pipelines
-            .create_layouts(device)
-            .and_then(|_| renderer.size_buffers(device, allocator, 0, 0, (1, 1), false, false))
-        {
+        match renderer.pipelines.create_layouts(device).and_then(|_| {
+            let empty = Chunking {
+                count: 0,
+                ..renderer.chunking()
+            };
+            renderer.size_buffers(device, allocator, 0, empty, (1, 1), false, false)
+        }) {
             Ok(()) => Ok(renderer),
             Err(e) => {
                 // SAFETY: nothing was recorded with the renderer's objects yet.
@@ -413,7 +416,7 @@ impl EllipsoidRenderer {
         )
     }
 
-    /// Makes every buffer but the instances' hold a scene of `count` instances in an image
+    /// Makes every buffer but the instances' hold a scene cut as `chunking` says in an image
     /// of `extent` pixels (the occlusion tiles; with `visibility`, the compute splat's
     /// visibility buffer), those of each view for view `view` (made if new).
     #[allow(clippy::too_many_arguments)]
@@ -422,15 +425,12 @@ impl EllipsoidRenderer {
         device: &ash::Device,
         allocator: &mut dyn MemoryAllocator,
         view: usize,
-        count: u32,
+        chunking: Chunking,
         extent: (u32, u32),
         visibility: bool,
         stamps: bool,
     ) -> Result<()> {
-        let chunking = Chunking {
-            count,
-            ..self.chunking()
-        };
+        let count = chunking.count;
         // Set-up records only for scenes that can use them.
         let records = if count <= MAX_SETUP_ONCE_INSTANCES {
             count.max(1) as u64

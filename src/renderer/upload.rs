@@ -1,19 +1,15 @@
-//! Uploads: a whole scene or a range of instances, staged and copied between barriers.
+//! Uploads: a whole scene or a range of instances, staged, copied between barriers and
+//! taken in at once (`staged.rs`); a failed one changes nothing.
 
 use crate::allocator::MemoryAllocator;
-use crate::allocator::MemoryUse;
 use ash::vk;
 
-use crate::barriers;
 use crate::ellipsoid::Ellipsoid;
-use crate::error::{Error, Result};
-use crate::frame_slots::Retired;
-use crate::gpu::GpuBuffer;
-use crate::instances::{pack_relative, pack_scene, Placement};
+use crate::error::Result;
+use crate::instances::Placement;
 use crate::scene::Scene;
 
-use super::buffers::Binding;
-use super::uploaded::UploadedScene;
+use super::staged::StagedUpload;
 use super::EllipsoidRenderer;
 
 impl EllipsoidRenderer {
@@ -23,7 +19,10 @@ impl EllipsoidRenderer {
     ///
     /// The bytes go to a staging buffer now; `cmd` gets a barrier ordering earlier reads of
     /// the instance buffer before the copy, the copy, and a barrier ordering it before vertex
-    /// and compute shader reads. Buffers that are replaced are retired, not destroyed.
+    /// and compute shader reads. Buffers that are replaced are retired, not destroyed. An
+    /// upload that fails (out of memory, say) changes nothing: the scene uploaded before stays.
+    /// One that succeeds is the renderer's at once: a host that then does not submit `cmd`
+    /// uploads again (docs/design.md §6.10).
     ///
     /// # Safety
     /// As for [`EllipsoidRenderer::record_prepass`]: `cmd` is recording outside any pass and
@@ -53,47 +52,9 @@ impl EllipsoidRenderer {
         scene: &Scene,
         placement: Placement,
     ) -> Result<()> {
-        let packed = pack_scene(scene, self.settings.instance_format, placement)?;
-        // A pre-pass recorded before this upload culled the old scene; the stamps of the old
-        // scene say nothing of this one.
-        for view in &mut self.views {
-            view.prepared = None;
-            view.shown_stamped = None;
-        }
-        // Until the new scene is recorded, none is drawn (so a failed upload draws nothing).
-        let chunk_limit = self.settings.max_chunk_instances;
-        self.scene = UploadedScene {
-            format: packed.format(),
-            chunk_limit,
-            ..UploadedScene::default()
-        };
-        self.buffers.replaced = true; // the chunks and slices change
-        let uploaded = UploadedScene::new(scene, &packed, chunk_limit);
-        let bytes = packed.records.bytes();
-        for view in 0..self.views.len() {
-            self.size_buffers(
-                device,
-                allocator,
-                view,
-                uploaded.count,
-                (1, 1),
-                false,
-                false,
-            )?;
-        }
-        // Nor do the floor's lists.
-        self.research.forget_upload();
-        self.buffers.ensure(
-            device,
-            allocator,
-            &mut self.slots,
-            Binding::Instances,
-            bytes.len().max(1) as u64,
-        )?;
+        let staged = self.stage_scene(device, allocator, scene, placement)?;
         // SAFETY: forwarded caller contract.
-        unsafe { self.record_copy(device, allocator, cmd, 0, bytes)? };
-        self.scene = uploaded;
-        Ok(())
+        unsafe { self.record_and_commit(device, cmd, staged) }
     }
 
     /// Replaces instances `first..first + ellipsoids.len()` of the uploaded scene, recording
@@ -111,82 +72,31 @@ impl EllipsoidRenderer {
         first: u32,
         ellipsoids: &[Ellipsoid],
     ) -> Result<()> {
-        let end = first as u64 + ellipsoids.len() as u64;
-        if end > self.scene.count as u64 {
-            return Err(Error::invalid(
-                "update",
-                format!(
-                    "instances {first}..{end} but {} are uploaded",
-                    self.scene.count
-                ),
-            ));
-        }
-        if ellipsoids.is_empty() {
-            return Ok(());
-        }
-        // A pre-pass recorded before this update planned for the old instances.
-        for view in &mut self.views {
-            view.prepared = None;
-        }
-        let format = self.scene.format;
-        let packed = pack_relative(
-            ellipsoids,
-            self.scene.origin,
-            first as usize,
-            format,
-            self.scene.radius_unit,
-        )?;
-        let offset = first as u64 * format.bytes() as u64;
+        let staged = self.stage_update(device, allocator, first, ellipsoids)?;
         // SAFETY: forwarded caller contract.
-        unsafe { self.record_copy(device, allocator, cmd, offset, packed.records.bytes())? };
-        self.scene.merge_update(&packed);
-        Ok(())
+        unsafe { self.record_and_commit(device, cmd, staged) }
     }
 
-    /// Stages `bytes` and records their copy to `offset` of the instance buffer, between the
-    /// barriers [`barriers::INSTANCES_BEFORE_COPY`] and [`barriers::INSTANCES_AFTER_COPY`].
+    /// Records a staged upload into `cmd` and commits it (or, if that fails, discards it).
     ///
     /// # Safety
     /// As for [`EllipsoidRenderer::upload`].
-    unsafe fn record_copy(
+    unsafe fn record_and_commit(
         &mut self,
         device: &ash::Device,
-        allocator: &mut dyn MemoryAllocator,
         cmd: vk::CommandBuffer,
-        offset: u64,
-        bytes: &[u8],
+        staged: StagedUpload,
     ) -> Result<()> {
-        let instances = self.buffers.handle(Binding::Instances)?;
-        if bytes.is_empty() {
-            return Ok(());
+        // SAFETY: forwarded caller contract.
+        match unsafe { self.record_staged(device, cmd, &staged) } {
+            Ok(()) => {
+                self.commit_staged(staged);
+                Ok(())
+            }
+            Err(e) => {
+                self.discard_staged(staged);
+                Err(e)
+            }
         }
-        let mut staging = GpuBuffer::new(
-            device,
-            allocator,
-            "instance staging",
-            bytes.len() as u64,
-            vk::BufferUsageFlags::TRANSFER_SRC,
-            MemoryUse::Upload,
-        )?;
-        if let Err(e) = staging.write(bytes) {
-            // SAFETY: just made, never used.
-            unsafe { staging.destroy(device, allocator) };
-            return Err(e);
-        }
-        let region = vk::BufferCopy {
-            src_offset: 0,
-            dst_offset: offset,
-            size: bytes.len() as u64,
-        };
-        // SAFETY: `cmd` is recording outside a pass (caller contract); both buffers are live
-        // and the region lies inside them; the staging buffer is retired below, so it lives
-        // until the copy has executed.
-        unsafe {
-            barriers::INSTANCES_BEFORE_COPY.record(device, cmd);
-            device.cmd_copy_buffer(cmd, staging.handle(), instances, &[region]);
-            barriers::INSTANCES_AFTER_COPY.record(device, cmd);
-        }
-        self.slots.retire(Retired::Buffer(staging));
-        Ok(())
     }
 }

@@ -81,11 +81,14 @@ typedef enum EsStatus {
    */
   ES_STATUS_ERROR_VULKAN = 3,
   /**
-   * Device or host memory ran out.
+   * Device or host memory ran out while the renderer made what the message names. The
+   * call changed nothing: the renderer stays usable (docs/design.md section 6.10).
    */
   ES_STATUS_ERROR_OUT_OF_MEMORY = 4,
   /**
-   * The device was lost: destroy the renderer and make a new device.
+   * The device was lost (the message names the call that reported it): wait for the
+   * device to be idle, destroy the renderer and make a new device (docs/design.md section
+   * 6.10).
    */
   ES_STATUS_ERROR_DEVICE_LOST = 5,
   /**

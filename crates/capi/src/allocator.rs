@@ -152,7 +152,11 @@ unsafe impl MemoryAllocator for HostCallbacks {
             )
         };
         if result != VkResult::SUCCESS {
-            return Err(Error::vulkan("EsAllocatorCallbacks.create_buffer", result));
+            return Err(Error::creating(
+                name,
+                "EsAllocatorCallbacks.create_buffer",
+                result,
+            ));
         }
         // SAFETY: `info` is the caller's, read again for its size.
         let wanted = unsafe { (*info).size };

@@ -16,6 +16,23 @@ pyo3::create_exception!(
 
 pyo3::create_exception!(
     _native,
+    DeviceLostError,
+    DeviceError,
+    "The Vulkan device was lost (a GPU fault, reset or driver crash): every later call that \
+     needs the GPU raises this too; make a new Renderer (docs/design.md section 6.10)."
+);
+
+pyo3::create_exception!(
+    _native,
+    OutOfMemoryError,
+    DeviceError,
+    "GPU or host memory ran out while the renderer made what the message names. The call \
+     changed nothing (a failed upload keeps the glyphs uploaded before): the renderer stays \
+     usable (docs/design.md section 6.10)."
+);
+
+pyo3::create_exception!(
+    _native,
     PoisonedError,
     DeviceError,
     "An earlier call on this renderer failed inside the library part-way (it raised \
@@ -31,10 +48,13 @@ pyo3::create_exception!(
      is raised there; the message names its rank): nothing was composited."
 );
 
-/// `ValueError` for invalid values, `DeviceError` for everything the device did.
+/// `ValueError` for invalid values, `DeviceError` for everything the device did (a lost
+/// device and memory running out as the subclasses naming them).
 pub fn renderer_error(error: ellipsoid_splat::Error) -> PyErr {
     match error {
         ellipsoid_splat::Error::Invalid { .. } => PyValueError::new_err(error.to_string()),
+        ellipsoid_splat::Error::DeviceLost { .. } => DeviceLostError::new_err(error.to_string()),
+        ellipsoid_splat::Error::OutOfMemory { .. } => OutOfMemoryError::new_err(error.to_string()),
         other => DeviceError::new_err(other.to_string()),
     }
 }

@@ -220,9 +220,7 @@ impl Renderer {
             .ok_or_else(|| PyValueError::new_err("centers is empty: nothing to render"))?;
         let count = scene.len();
         self.with_state(py, move |state| {
-            // Until the new scene is uploaded, none is (a failed upload draws nothing).
-            state.scene = None;
-            state.sphere = None;
+            // A failed upload changes nothing: the glyphs uploaded before stay, here too.
             state.renderer.upload(&scene).map_err(renderer_error)?;
             state.check_validation()?;
             state.scene = Some(scene);
@@ -285,15 +283,22 @@ impl Renderer {
                 }
                 written.push((first, glyphs));
             }
+            // Each range is written whole or not at all: the glyphs kept here follow the
+            // ranges the renderer took, also when a later one fails.
+            let mut done = Ok(());
             for (first, glyphs) in written {
-                state
+                done = state
                     .renderer
                     .update(first, &glyphs)
-                    .map_err(renderer_error)?;
+                    .map_err(renderer_error);
+                if done.is_err() {
+                    break;
+                }
                 let at = first as usize;
                 scene.ellipsoids[at..at + glyphs.len()].copy_from_slice(&glyphs);
             }
             state.sphere = scene.bounding_sphere();
+            done?;
             state.check_validation()
         })?;
         Ok(start.elapsed().as_secs_f64() * 1e3)

@@ -182,6 +182,13 @@ impl Host {
         self.instance.messages()
     }
 
+    /// The log [`Host::messages`] copies, kept by the caller past the host: the messages
+    /// raised while the device and instance are destroyed (objects left alive, say) arrive
+    /// there after the host is gone.
+    pub fn message_log(&self) -> std::sync::Arc<std::sync::Mutex<Vec<String>>> {
+        self.instance.message_log()
+    }
+
     /// Resets the command pool and begins recording its buffer (one-time submit).
     pub fn begin(&mut self) -> HostResult<vk::CommandBuffer> {
         let cmd = self.command_buffer;

@@ -90,6 +90,11 @@ impl HostInstance {
         &self.instance
     }
 
+    /// The log itself, shared (it outlives the instance in the caller's hands).
+    pub(crate) fn message_log(&self) -> MessageLog {
+        self.log.clone()
+    }
+
     /// A copy of the validation warnings and errors collected so far (`<id>: <message>`).
     pub(crate) fn messages(&self) -> Vec<String> {
         self.log.lock().map(|m| m.clone()).unwrap_or_default()

@@ -121,7 +121,7 @@ impl EllipsoidRenderer {
             device,
             allocator,
             view,
-            self.scene.count,
+            self.chunking(),
             extent,
             plan.resolves(),
             marks,

@@ -32,7 +32,10 @@ shapes the arguments, the library renders (with the GIL released). Errors: ``Val
 shapes, dtypes and values (naming the argument), ``OSError`` for files, ``DeviceError`` (a
 ``RuntimeError``) for the Vulkan device and for a failure inside the library (a bug: no Rust
 panic reaches Python), after which that renderer raises ``PoisonedError`` (a ``DeviceError``)
-on every call; ``OtherRankError`` (a ``RuntimeError``) where another MPI process failed.
+on every call. Two subclasses of ``DeviceError`` name what a caller reacts to:
+``OutOfMemoryError`` (the call changed nothing, the renderer stays usable) and
+``DeviceLostError`` (make a new ``Renderer``); docs/design.md section 6.10 has the rules.
+``OtherRankError`` (a ``RuntimeError``) is raised where another MPI process failed.
 """
 
 from __future__ import annotations
@@ -44,11 +47,12 @@ from typing import Any, Optional, Sequence
 import numpy as np
 
 from . import _native
-from ._native import DeviceError, OtherRankError, PoisonedError
+from ._native import (DeviceError, DeviceLostError, OtherRankError, OutOfMemoryError,
+                      PoisonedError)
 
 __all__ = ["Renderer", "Frame", "Frames", "load", "load_frames", "from_ase", "type_colors",
-           "TYPE_PALETTE", "DeviceError", "PoisonedError", "OtherRankError", "NO_GLYPH",
-           "PLANS"]
+           "TYPE_PALETTE", "DeviceError", "DeviceLostError", "OutOfMemoryError",
+           "PoisonedError", "OtherRankError", "NO_GLYPH", "PLANS"]
 
 #: The ``id`` of a pixel where no glyph is hit.
 NO_GLYPH = 0xFFFFFFFF
@@ -366,7 +370,7 @@ class Renderer:
         if self._last is not None and all(same(a, b) for a, b in zip(arrays, self._last)):
             self.upload_ms = 0.0
             return n  # the same glyphs are on the GPU already
-        self._last = None  # a failed upload leaves no scene to compare with
+        self._last = None  # compared again from the next successful upload on
         count, self.upload_ms = self._native.upload(*arrays)
         # A caller that passes the same array objects again may change them in place in
         # between: from then on a copy is kept to compare with. A caller with new arrays each
