@@ -164,6 +164,12 @@ pub fn pack_scene(
             format!("{} ellipsoids exceed u32", scene.len()),
         ));
     }
+    for (k, e) in scene.ellipsoids.iter().enumerate() {
+        check_fields(e, k)?;
+    }
+    if let Some(error) = span_beyond_float32(scene, placement.origin) {
+        return Err(error);
+    }
     pack_relative(
         &scene.ellipsoids,
         placement.origin,
@@ -187,33 +193,40 @@ pub fn pack_relative(
         InstanceFormat::Full => Records::Full(Vec::with_capacity(ellipsoids.len())),
         InstanceFormat::Compact => Records::Compact(Vec::with_capacity(ellipsoids.len())),
     };
+    // Each glyph's own fields first: one no renderer can draw must be named, not another
+    // whose offset it spoiled through the placement (which takes every centre).
+    for (k, e) in ellipsoids.iter().enumerate() {
+        check_fields(e, first + k)?;
+    }
     let mut extent: Option<(DVec3, DVec3)> = None;
     for (k, e) in ellipsoids.iter().enumerate() {
         let index = first + k;
         let c = (e.center - origin).as_vec3();
+        if !c.is_finite() {
+            return Err(Error::invalid(
+                format!("ellipsoid {index}"),
+                format!(
+                    "centre {} lies {:e} from the scene origin {origin}: beyond float32",
+                    e.center,
+                    (e.center - origin).abs().max_element()
+                ),
+            ));
+        }
         let r = e.radii.as_vec3();
+        let rotation = unit_rotation(e, index)?;
         let sphere = r.x == r.y && r.y == r.z;
         // A sphere's orientation changes nothing but rounding: store none.
         let q = if sphere {
             glam::Quat::IDENTITY
         } else {
-            e.rotation.as_quat()
+            rotation.as_quat()
         };
         let reach = DVec3::splat(e.radii.max_element());
         extent = Some(match extent {
             None => (e.center - reach, e.center + reach),
             Some((lo, hi)) => (lo.min(e.center - reach), hi.max(e.center + reach)),
         });
-        if !(r.is_finite() && r.min_element() > 0.0 && c.is_finite()) {
-            return Err(Error::invalid(
-                format!("ellipsoid {index}"),
-                format!(
-                    "centre {} or radii {} do not fit float32 (radii must stay > 0)",
-                    e.center, e.radii
-                ),
-            ));
-        }
-        let color = e.color.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u32);
+        let color = e.color.map(|v| (v * 255.0).round() as u32);
         let packed = color[0] | (color[1] << 8) | (color[2] << 16) | (255 << 24);
         let center = c.to_array();
         match &mut records {
@@ -262,6 +275,70 @@ fn f16_bits(v: f32) -> u16 {
     half::f16::from_f32(v).to_bits()
 }
 
+/// Refuses, naming ellipsoid `index`, fields no renderer can draw: a centre that is not
+/// finite, semi-axes float32 does not hold above zero, a rotation that is no quaternion, a
+/// colour outside [0, 1]. The fields are public, so a host may have written anything there.
+fn check_fields(e: &Ellipsoid, index: usize) -> Result<()> {
+    let r = e.radii.as_vec3();
+    let why = if !e.center.is_finite() {
+        format!("centre {} is not finite", e.center)
+    } else if !(r.is_finite() && r.min_element() > 0.0) {
+        format!("radii {} do not fit float32 above 0", e.radii)
+    } else if e.color.iter().any(|v| !(0.0..=1.0).contains(v)) {
+        format!("colour {:?} has a component outside [0, 1]", e.color)
+    } else {
+        return unit_rotation(e, index).map(|_| ());
+    };
+    Err(Error::invalid(format!("ellipsoid {index}"), why))
+}
+
+/// The error for a scene whose glyphs lie too far apart for float32 offsets from `origin`:
+/// it names the two farthest apart along the axis where one does not fit, not a glyph that
+/// merely shares the scene with an outlier.
+fn span_beyond_float32(scene: &Scene, origin: DVec3) -> Option<Error> {
+    let fits = |p: DVec3| (p - origin).as_vec3().is_finite();
+    let outside = scene.ellipsoids.iter().find(|e| !fits(e.center))?;
+    let axis = (0..3)
+        .find(|&a| !((outside.center[a] - origin[a]) as f32).is_finite())
+        .unwrap_or(0);
+    let along = |e: &&Ellipsoid| e.center[axis];
+    let indexed = || scene.ellipsoids.iter().enumerate();
+    let (low, a) = indexed().min_by(|x, y| along(&x.1).total_cmp(&along(&y.1)))?;
+    let (high, b) = indexed().max_by(|x, y| along(&x.1).total_cmp(&along(&y.1)))?;
+    Some(Error::invalid(
+        "scene",
+        format!(
+            "ellipsoid {low} at {} and ellipsoid {high} at {} lie {:e} apart: float32 offsets \
+             from one origin cannot hold both",
+            a.center,
+            b.center,
+            b.center[axis] - a.center[axis]
+        ),
+    ))
+}
+
+/// `e`'s rotation as the unit quaternion the shaders assume: its fields are public, so a
+/// host may have written any quaternion there; one that is not finite or has no length is
+/// refused, naming the glyph, and one off unit length by more than float64 rounding (what
+/// `Ellipsoid::new` leaves) is normalised.
+fn unit_rotation(e: &Ellipsoid, index: usize) -> Result<glam::DQuat> {
+    let length = e.rotation.length();
+    if !(length.is_finite() && length >= 1e-12) {
+        return Err(Error::invalid(
+            format!("ellipsoid {index}"),
+            format!(
+                "rotation {} is not a finite, non-zero quaternion",
+                e.rotation
+            ),
+        ));
+    }
+    Ok(if (length - 1.0).abs() > 1e-12 {
+        e.rotation / length
+    } else {
+        e.rotation
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -294,6 +371,57 @@ mod tests {
             err.to_string().contains("ellipsoid 0") && err.to_string().contains("compact"),
             "{err}"
         );
+    }
+
+    /// The fields are public: a rotation no shader can use, or a colour outside [0, 1], is
+    /// refused naming the glyph; a quaternion off unit length is stored normalised.
+    #[test]
+    fn written_fields_are_refused_or_normalised() {
+        let good = Ellipsoid::new(
+            DVec3::ZERO,
+            DVec3::new(1.0, 0.5, 0.3),
+            DQuat::from_rotation_z(0.7),
+            Some([0.5; 3]),
+        )
+        .unwrap();
+        let pack = |e: Ellipsoid| pack_instances(&Scene::new(vec![good, e]));
+        for rotation in [
+            DQuat::from_xyzw(0.0, 0.0, 0.0, 0.0),
+            DQuat::from_xyzw(f64::NAN, 0.0, 0.0, 1.0),
+        ] {
+            let err = pack(Ellipsoid { rotation, ..good }).unwrap_err();
+            assert!(
+                err.to_string().contains("ellipsoid 1") && err.to_string().contains("rotation"),
+                "{err}"
+            );
+        }
+        for color in [[0.5, f32::NAN, 0.5], [0.5, 0.5, 1.5], [-0.1, 0.5, 0.5]] {
+            let err = pack(Ellipsoid { color, ..good }).unwrap_err();
+            assert!(
+                err.to_string().contains("ellipsoid 1") && err.to_string().contains("colour"),
+                "{err}"
+            );
+        }
+        // An outlier float32 offsets cannot reach from the others: the scene is refused
+        // naming both ends, not the first glyph its placement spoiled; alone it packs.
+        let far = Ellipsoid {
+            center: DVec3::new(0.0, 0.0, 1e39),
+            ..good
+        };
+        let err = pack_instances(&Scene::new(vec![good, good, far, good])).unwrap_err();
+        let text = err.to_string();
+        assert!(
+            text.contains("invalid scene") && text.contains("ellipsoid 2"),
+            "{err}"
+        );
+        pack_instances(&Scene::new(vec![far])).unwrap();
+        let scaled = pack(Ellipsoid {
+            rotation: good.rotation * 3.0,
+            ..good
+        })
+        .unwrap();
+        let unit = pack(good).unwrap();
+        assert_eq!(scaled.records, unit.records);
     }
 
     #[test]

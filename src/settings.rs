@@ -3,6 +3,7 @@
 //! changes no pixel, the material and the compact instance format do.
 
 use crate::culling::Culling;
+use crate::error::{Error, Result};
 use crate::instances::InstanceFormat;
 use crate::path::PlanMode;
 
@@ -36,6 +37,36 @@ impl Default for Material {
 }
 
 impl Material {
+    /// Checks that shading can use every field: weights finite and at least 0, shininess
+    /// finite and above 0, a highlight colour finite and at least 0. The fields are public,
+    /// so a host may have written anything; the renderer refuses a frame (and a new
+    /// renderer) with such a material rather than push NaN into every pixel.
+    pub(crate) fn validate(&self) -> Result<()> {
+        let weight = |v: f32| v.is_finite() && v >= 0.0;
+        let why = |what: &str, value: String| {
+            Err(Error::invalid(
+                format!("material {what}"),
+                format!("{value}: weights must be finite and >= 0, shininess finite and > 0"),
+            ))
+        };
+        for (what, value) in [
+            ("ambient", self.ambient),
+            ("diffuse", self.diffuse),
+            ("specular", self.specular),
+        ] {
+            if !weight(value) {
+                return why(what, value.to_string());
+            }
+        }
+        if !(self.shininess.is_finite() && self.shininess > 0.0) {
+            return why("shininess", self.shininess.to_string());
+        }
+        if !self.specular_color.iter().all(|&c| weight(c)) {
+            return why("specular colour", format!("{:?}", self.specular_color));
+        }
+        Ok(())
+    }
+
     /// Unlit: every pixel shows its glyph's colour as it is (ambient 1, no diffuse or specular
     /// light). With white glyphs, a resolved multisampled pixel is the covered fraction of its
     /// samples over the background: what the coverage checks measure.
@@ -51,7 +82,9 @@ impl Material {
 
 /// How the renderer draws: the material and which exact shortcuts it may take. Given at
 /// creation ([`crate::RendererOptions::settings`]) or later through
-/// [`crate::EllipsoidRenderer::set_settings`], which says what each change costs.
+/// [`crate::EllipsoidRenderer::set_settings`], which says what each change costs. A material
+/// shading cannot use (a weight not finite or below 0, shininess not above 0) is refused by
+/// name: by `EllipsoidRenderer::new`, and by every plan made while it is in force.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct Settings {

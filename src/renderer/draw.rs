@@ -80,6 +80,8 @@ impl EllipsoidRenderer {
         camera: &Camera,
     ) -> Result<()> {
         camera.validate()?;
+        // The material is pushed now, whatever the pre-pass's plan saw.
+        self.settings.material.validate()?;
         // The indirect draw needs this frame's pre-pass of this camera, recorded with the
         // same plan: the first view still waiting for its draw with it.
         let prepared = self

@@ -180,6 +180,7 @@ impl EllipsoidRenderer {
     ) -> Result<Self> {
         let caps = host.caps()?;
         options.target.validate(&caps)?;
+        options.settings.material.validate()?;
         let device = host.device;
         let mut renderer = Self {
             caps,
@@ -252,6 +253,7 @@ impl EllipsoidRenderer {
     /// The plan of `camera` drawn as view `view` (whose history a new view lacks).
     fn plan_for_view(&self, view: usize, camera: &Camera) -> Result<FramePlan> {
         camera.validate()?;
+        self.settings.material.validate()?;
         let (last_camera, shown_stamped) = self
             .views
             .get(view)
@@ -316,7 +318,8 @@ impl EllipsoidRenderer {
     /// once and the sphere and cap-free paths take effect at the next frame and build the
     /// pipelines of the new variant on first use (milliseconds each on a GPU driver, up to
     /// a few hundred on lavapipe). The instance format and the chunk size take effect at
-    /// the next `upload`.
+    /// the next `upload`. A material shading cannot use is refused by the next plan
+    /// (`plan`, `record_prepass`, `record`), naming the field, until settings replace it.
     pub fn set_settings(&mut self, settings: Settings) {
         self.settings = settings;
     }

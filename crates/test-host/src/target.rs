@@ -265,11 +265,13 @@ impl HostTarget {
                 depth: 1,
             },
         };
+        // To the host's read, and to the next pass's copy into the same buffer (a command
+        // buffer may hold several passes).
         let to_host = [vk::BufferMemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::COPY)
             .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-            .dst_access_mask(vk::AccessFlags2::HOST_READ)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST | vk::PipelineStageFlags2::COPY)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ | vk::AccessFlags2::TRANSFER_WRITE)
             .buffer(readback.buffer)
             .offset(0)
             .size(vk::WHOLE_SIZE)];
