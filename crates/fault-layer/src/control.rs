@@ -129,6 +129,32 @@ pub extern "C" fn es_fault_arm(kind: u32, at: u64) -> i32 {
     0
 }
 
+/// The environment variable that arms the layer in a process no test code runs in (the
+/// viewer under Xvfb): `device-lost:N` or `out-of-memory:N`, read when an instance is made.
+pub(crate) const ARM_VARIABLE: &str = "ES_FAULT_ARM";
+
+/// Arms the layer from [`ARM_VARIABLE`] if it is set and not yet armed in this process;
+/// a value it cannot read leaves the layer unarmed (the test then sees no fault, and fails).
+pub(crate) fn arm_from_environment() {
+    static READ: std::sync::Once = std::sync::Once::new();
+    READ.call_once(|| {
+        let Ok(value) = std::env::var(ARM_VARIABLE) else {
+            return;
+        };
+        let parsed = value.split_once(':').and_then(|(kind, at)| {
+            let kind = match kind {
+                "out-of-memory" => 1,
+                "device-lost" => 2,
+                _ => return None,
+            };
+            Some((kind, at.parse::<u64>().ok()?))
+        });
+        if let Some((kind, at)) = parsed {
+            es_fault_arm(kind, at);
+        }
+    });
+}
+
 /// The calls counted since `es_fault_arm` (those its kind can hit, while not paused).
 #[no_mangle]
 pub extern "C" fn es_fault_count() -> u64 {

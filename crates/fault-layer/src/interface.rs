@@ -8,7 +8,7 @@ use std::ffi::{c_char, c_void, CStr};
 
 use ash::vk::{self, Handle};
 
-use crate::control::{decide, Class, Decision};
+use crate::control::{arm_from_environment, decide, Class, Decision};
 use crate::dispatch;
 use crate::intercepts;
 
@@ -185,6 +185,7 @@ unsafe extern "system" fn create_instance(
     else {
         return vk::Result::ERROR_INITIALIZATION_FAILED;
     };
+    arm_from_environment();
     if let Decision::Fail(result) = decide(Class::Creates, c"vkCreateInstance") {
         return result;
     }
