@@ -33,7 +33,7 @@ impl FrameTimes {
     }
 
     /// Frames counted.
-    pub fn len(&self) -> u64 {
+    pub fn frames(&self) -> u64 {
         self.frames
     }
 
@@ -103,7 +103,7 @@ mod tests {
                 (median - exact).abs() <= exact * 5.0e-4 + 1e-9,
                 "{count} frames: binned median {median} s, exact {exact} s"
             );
-            assert_eq!(binned.len(), count as u64);
+            assert_eq!(binned.frames(), count as u64);
             let total: Duration = times.iter().sum();
             assert_eq!(binned.total(), total);
         }
@@ -116,7 +116,7 @@ mod tests {
         binned.push(Duration::ZERO);
         binned.push(Duration::from_secs(1_000));
         binned.push(Duration::from_secs(2_000));
-        assert_eq!(binned.len(), 3);
+        assert_eq!(binned.frames(), 3);
         // The median of the three is in the last bin, about 100 s.
         let median = binned.median().unwrap().as_secs_f64();
         assert!((90.0..110.0).contains(&median), "{median}");

@@ -64,9 +64,9 @@ impl FrameStats {
             self.presented,
             self.skipped,
             median(&self.moving),
-            self.moving.len(),
+            self.moving.frames(),
             median(&self.still),
-            self.still.len(),
+            self.still.frames(),
             total
         )
     }
