@@ -17,7 +17,7 @@ use support::allocator::{self, CallbackHost};
 use support::fault::Fault;
 use support::host_side::{HostOr, HostSide};
 use support::scenes;
-use support::walk::{walk, Bits, Run, Step, Strides};
+use support::walk::{walk, Bits, Run, Step, Strides, TYPICAL_RUN};
 
 /// A failed C call: its status and `es_last_error`.
 #[derive(Debug)]
@@ -222,64 +222,11 @@ impl CRun {
     }
 }
 
-const STEPS: &[Step] = &[
-    Step {
-        name: "create",
-        dense: false,
-        changes: false,
-    },
-    Step {
-        name: "upload",
-        dense: true,
-        changes: true,
-    },
-    Step {
-        name: "frame 1",
-        dense: false,
-        changes: false,
-    },
-    Step {
-        name: "frame 2",
-        dense: true,
-        changes: false,
-    },
-    Step {
-        name: "update",
-        dense: true,
-        changes: true,
-    },
-    Step {
-        name: "frame 3",
-        dense: true,
-        changes: false,
-    },
-    Step {
-        name: "resize",
-        dense: false,
-        changes: false,
-    },
-    Step {
-        name: "two views",
-        dense: false,
-        changes: false,
-    },
-    Step {
-        name: "larger upload",
-        dense: true,
-        changes: true,
-    },
-    Step {
-        name: "frame 4",
-        dense: true,
-        changes: false,
-    },
-];
-
 impl Run for CRun {
     type Error = HostOr<CFailure>;
 
     fn steps() -> &'static [Step] {
-        STEPS
+        TYPICAL_RUN
     }
 
     fn start() -> Self {

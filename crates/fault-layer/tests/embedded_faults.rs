@@ -15,7 +15,7 @@ use support::allocator::{self, FailingAllocator};
 use support::fault::Fault;
 use support::host_side::{HostOr, HostSide};
 use support::scenes;
-use support::walk::{walk, Bits, Run, Step, Strides};
+use support::walk::{walk, Bits, Run, Step, Strides, TYPICAL_RUN};
 
 #[derive(Default)]
 struct Embedded {
@@ -85,64 +85,11 @@ impl Embedded {
     }
 }
 
-const STEPS: &[Step] = &[
-    Step {
-        name: "create",
-        dense: false,
-        changes: false,
-    },
-    Step {
-        name: "upload",
-        dense: true,
-        changes: true,
-    },
-    Step {
-        name: "frame 1",
-        dense: false,
-        changes: false,
-    },
-    Step {
-        name: "frame 2",
-        dense: true,
-        changes: false,
-    },
-    Step {
-        name: "update",
-        dense: true,
-        changes: true,
-    },
-    Step {
-        name: "frame 3",
-        dense: true,
-        changes: false,
-    },
-    Step {
-        name: "resize",
-        dense: false,
-        changes: false,
-    },
-    Step {
-        name: "two views",
-        dense: false,
-        changes: false,
-    },
-    Step {
-        name: "larger upload",
-        dense: true,
-        changes: true,
-    },
-    Step {
-        name: "frame 4",
-        dense: true,
-        changes: false,
-    },
-];
-
 impl Run for Embedded {
     type Error = HostOr<Error>;
 
     fn steps() -> &'static [Step] {
-        STEPS
+        TYPICAL_RUN
     }
 
     fn start() -> Self {

@@ -9,7 +9,7 @@ use ellipsoid_splat::{ContextOptions, Error, OffscreenRenderer, Outputs};
 use glam::DVec3;
 use support::fault::Fault;
 use support::scenes::{self, bits, camera};
-use support::walk::{walk, Bits, Run, Step, Strides};
+use support::walk::{walk, Bits, Run, Step, Strides, TYPICAL_RUN};
 
 struct Offscreen(Option<OffscreenRenderer>);
 
@@ -26,64 +26,11 @@ impl Offscreen {
     }
 }
 
-const STEPS: &[Step] = &[
-    Step {
-        name: "create",
-        dense: false,
-        changes: false,
-    },
-    Step {
-        name: "upload",
-        dense: true,
-        changes: true,
-    },
-    Step {
-        name: "frame 1",
-        dense: false,
-        changes: false,
-    },
-    Step {
-        name: "frame 2",
-        dense: true,
-        changes: false,
-    },
-    Step {
-        name: "update",
-        dense: true,
-        changes: true,
-    },
-    Step {
-        name: "frame 3",
-        dense: true,
-        changes: false,
-    },
-    Step {
-        name: "resize",
-        dense: false,
-        changes: false,
-    },
-    Step {
-        name: "two views",
-        dense: false,
-        changes: false,
-    },
-    Step {
-        name: "larger upload",
-        dense: true,
-        changes: true,
-    },
-    Step {
-        name: "frame 4",
-        dense: true,
-        changes: false,
-    },
-];
-
 impl Run for Offscreen {
     type Error = Error;
 
     fn steps() -> &'static [Step] {
-        STEPS
+        TYPICAL_RUN
     }
 
     fn start() -> Self {

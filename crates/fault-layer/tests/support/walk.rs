@@ -27,6 +27,61 @@ pub struct Step {
     pub changes: bool,
 }
 
+/// The steps of the typical run every API's walk follows, in order (each API's `Run` does
+/// them its own way).
+pub const TYPICAL_RUN: &[Step] = &[
+    Step {
+        name: "create",
+        dense: false,
+        changes: false,
+    },
+    Step {
+        name: "upload",
+        dense: true,
+        changes: true,
+    },
+    Step {
+        name: "frame 1",
+        dense: false,
+        changes: false,
+    },
+    Step {
+        name: "frame 2",
+        dense: true,
+        changes: false,
+    },
+    Step {
+        name: "update",
+        dense: true,
+        changes: true,
+    },
+    Step {
+        name: "frame 3",
+        dense: true,
+        changes: false,
+    },
+    Step {
+        name: "resize",
+        dense: false,
+        changes: false,
+    },
+    Step {
+        name: "two views",
+        dense: false,
+        changes: false,
+    },
+    Step {
+        name: "larger upload",
+        dense: true,
+        changes: true,
+    },
+    Step {
+        name: "frame 4",
+        dense: true,
+        changes: false,
+    },
+];
+
 /// A host's typical run through one API. Step 0 creates the renderer: when it fails, the
 /// run ends there.
 pub trait Run: Sized {
