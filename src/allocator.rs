@@ -6,6 +6,18 @@
 //! Implemented for `gpu_allocator::vulkan::Allocator` (feature `gpu-allocator`, on by
 //! default) and `vk_mem::Allocator` (feature `vk-mem`, VMA); a host on another allocator
 //! implements [`MemoryAllocator`] itself.
+//! **The allocator.** Every buffer the renderer uses is made by the host's allocator through
+//! the `MemoryAllocator` trait (`src/allocator.rs`): `create_buffer` takes the
+//! `VkBufferCreateInfo`, one of three uses (`MemoryUse::GpuOnly`, `Upload`, `Readback`; the
+//! last two host-visible, coherent and mapped for their lifetime) and a name, and returns the
+//! buffer with its memory bound, as `vmaCreateBuffer` does; `destroy_buffer` gives both back.
+//! The trait is implemented for `gpu_allocator::vulkan::Allocator` (feature `gpu-allocator`, on
+//! by default) and for `vk_mem::Allocator` (feature `vk-mem`, VMA 0.5: explicit required and
+//! preferred property flags rather than VMA's usage guesses, mapped allocations for the
+//! host-visible uses); a host on another allocator implements it (it is an `unsafe trait`: the
+//! memory must be bound and sized as asked). Every method that allocates or frees takes `&mut
+//! dyn MemoryAllocator`. `gpu_memory_bytes()` counts the allocations' sizes, as the host's
+//! allocator reports them, so its budget sees the renderer's memory.
 
 #[cfg(feature = "gpu-allocator")]
 mod gpu_allocator;

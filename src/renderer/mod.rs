@@ -166,6 +166,9 @@ impl EllipsoidRenderer {
     /// pipelines are built on first use of each variant, so a scene pays only for what it
     /// draws. Errors name what the host's device or target lacks.
     ///
+    /// `EllipsoidRenderer::new` checks the queue family, features, depth format, colour attachment
+    /// count and formats, and sample count, and names what is missing.
+    ///
     /// # Safety
     /// `host`'s handles are valid and belong together (the device was created from
     /// `physical_device`, which comes from `instance`), the device has the features
