@@ -163,13 +163,26 @@
 //!
 //! # Features
 //!
-//! - `gpu-allocator` (default): [`MemoryAllocator`] for `gpu_allocator::vulkan::Allocator`.
-//! - `vk-mem`: [`MemoryAllocator`] for `vk_mem::Allocator` (VMA), for hosts on VMA.
-//! - `offscreen` (default): `OffscreenRenderer`, `Frame`, `Outputs` and its own Vulkan
-//!   `Context`; implies `gpu-allocator`.
-//! - `research`: the benchmark's baselines (`research::Method`: textbook intersection, box
-//!   proxy, icosphere meshes, flat fill, fixed footprints) and fragment counting. Hosts never
-//!   need it.
+//! - `gpu-allocator` (default): [`MemoryAllocator`] for `gpu_allocator::vulkan::Allocator` 0.28.
+//! - `vk-mem`: [`MemoryAllocator`] for `vk_mem::Allocator` 0.5 (VMA). A host enables the one
+//!   its engine uses, or neither and implements the trait.
+//! - `offscreen` (default; implies `gpu-allocator`): the standalone path with its own Vulkan
+//!   instance and device, images and read-back -- `OffscreenRenderer`, `Outputs`,
+//!   `FrameTiming`, `Frame`, `NO_INSTANCE`, the context (`Context`, `ContextOptions`,
+//!   `DeviceInfo`), the validation messenger, owned images and queries. It adds no
+//!   dependency. Without it the crate is the embeddable renderer alone, and `build.rs` skips
+//!   `glsl/offscreen/`.
+//! - `research` (implies `offscreen`): the benchmark's baselines and measuring aids, all in the
+//!   module `research` -- the textbook intersection, the box proxy, icosphere meshes, flat
+//!   fill, fixed footprints (axis rectangle, Gumhold's world quad, and the fixed hexagon,
+//!   octagon and rectangle), the fast normal, flat depth, the visibility-buffer draw, the
+//!   splat's floors, the `Method` list and fragment counting. Without it `build.rs` skips
+//!   `glsl/research/` and the `COUNT_FRAGMENTS` builds. Hosts never need it.
+//!
+//! The workspace's own crates depend on the library with default features off and ask for
+//! what they need. The integration tests `methods` and `footprints` require `research`;
+//! `tests/golden.rs` runs with or without it (its cases drawn with the benchmark's methods
+//! only with it).
 //!
 //! Diagnostics go through the `log` crate. [`EllipsoidRenderer`] reads no environment
 //! variable; the `offscreen` context reads `ELLIPSOID_SPLAT_DEVICE` (which device, when

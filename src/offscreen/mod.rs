@@ -1,5 +1,17 @@
 //! The standalone path: owns a device, renders a scene into offscreen targets and reads back
 //! colour, view depth, world normal and instance ID.
+//!
+//! # Files
+//!
+//! | file | what it holds |
+//! |---|---|
+//! | `mod.rs` | `OffscreenRenderer` (`new`, `upload`, `render`, `render_views`, `render_uploaded`, `render_timed`, `settings`, `set_settings`, `set_samples`, `plan`, `last_plan`, `plan_wisdom`, `load_plan_wisdom`, `gpu_memory_bytes`, `context`, `finish`) and `FrameTiming`; the context, command buffer, fence and queries |
+//! | `outputs.rs` | `Outputs { color, depth, normal, id }`, `ALL`, `COLOR_DEPTH` |
+//! | `targets.rs` | `Targets`: colour and depth always, normal and ID only when asked for, and the read-back buffer holding only the outputs asked for (normal first, for its 16-byte texel alignment); multisampled, the attachments drawn into beside the single-sample ones they resolve to |
+//! | `record.rs` | one frame: pre-pass, the dynamic-rendering pass (multisampled: resolving colour and normal by the mean), and the copies of the outputs asked for |
+//! | `sample_zero.rs` | multisampled depth and ID read at sample 0 by a compute fetch (`glsl/offscreen/sample_zero_*.comp`) into the read-back buffer, not resolved: one driver's `SAMPLE_ZERO` resolve of `R32_UINT` takes another sample (`docs/conformance.md`) |
+//! | `readback.rs` | the read-back buffer to a `Frame` (depth mapped back to view depth) |
+//! | `submission.rs` | `Submission`: what the last submission left (idle, unfinished, device lost) and the submit-and-wait that decides it, so a submission that failed before reaching the GPU leaves the renderer usable (`Error`) |
 
 use std::time::{Duration, Instant};
 
