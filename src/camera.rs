@@ -105,6 +105,13 @@ impl Intrinsics {
 }
 
 /// How the view volume is shaped.
+///
+/// The kinds are forms of one pinhole (or parallel) camera (design §3.2): `Perspective { fov_y_deg }` is `fx = fy =
+/// (H/2) / tan(fov_y/2)`, `(cx, cy) = (W/2, H/2)`; `Orthographic { height }` is `fx = fy = H /
+/// height`, centred; `PerspectiveIntrinsics(k)` and `OrthographicIntrinsics(k)` take any `k`
+/// with positive finite focal lengths -- off-centre (calibrated cameras), asymmetric (each eye of
+/// a stereo pair: `Intrinsics::from_tangents` takes OpenXR's per-eye angles), off-centre
+/// orthographic windows (`Intrinsics::from_ortho_window`) and non-square pixels. The field of view is in (0, 180) degrees.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Projection {

@@ -1,6 +1,21 @@
 //! The standalone path: owns a device, renders a scene into offscreen targets and reads back
 //! colour, view depth, world normal and instance ID.
 //!
+//! The offscreen renderer (`src/offscreen/`, feature `offscreen`) owns its device and draws with
+//! dynamic rendering into its own `R8G8B8A8_SRGB` colour and `D32_SFLOAT` depth targets, plus the
+//! normal and ID targets, made and drawn into only when a frame's
+//! `Outputs { color, depth, normal, id }` asks for either (`Outputs::ALL`, `Outputs::COLOR_DEPTH`;
+//! the default asks for nothing).
+//! `render(&scene, &camera, outputs)` uploads and renders; `render_uploaded(&camera, outputs)` renders
+//! the uploaded scene and returns the `Frame` with its `FrameTiming`; `render_timed(&camera, outputs)`
+//! draws without reading back (the frame a benchmark times). The targets are made for one image size
+//! and one set of outputs and replaced when a frame needs another size or an output they lack
+//! (`targets.rs`); only the outputs asked for are copied to the read-back buffer and filled in the
+//! `Frame` (`src/frame.rs`; the others stay empty vectors): sRGB RGBA8 colour, view depth (depth-buffer
+//! values mapped back through the camera's depth map in float64; +inf where the depth buffer still
+//! holds its clear value), normal (0 where nothing is hit, `-f` on caps) and instance ID
+//! (`NO_INSTANCE = u32::MAX` where nothing is hit). Row 0 is the top row everywhere.
+//!
 //! # Files
 //!
 //! | file | what it holds |
