@@ -440,7 +440,7 @@ impl Camera {
         (a, b)
     }
 
-    /// The shaders' screen map (§7.2): their NDC `v` is a screen-plane point over these
+    /// The shaders' screen map (design §3.2, `PushConstants`): their NDC `v` is a screen-plane point over these
     /// scales, `s = (v.x sx, v.y sy)`, and Vulkan's NDC of the image is `v - ndc_shift` (y
     /// up). Centred cameras have `sx / sy = W / H` and no shift.
     pub fn ndc_scale(&self) -> (f64, f64) {

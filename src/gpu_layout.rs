@@ -117,7 +117,7 @@ pub struct CompactInstance {
 /// | 108 | `shininess` | `float` | `Material::shininess` |
 /// | 112 | `depth_c` | `float` | depth map `c` |
 /// | 116 | `first_instance` | `uint` | the chunk's first instance (design §5.4) |
-/// | 120 | `radius_unit` | `float` | the compact format's unit of semi-axes (design §7.1) |
+/// | 120 | `radius_unit` | `float` | the compact format's unit of semi-axes (`CompactInstance`) |
 /// | 124 | `viewport_origin` | `uint` | the attachment pixel of the camera's pixel (0, 0) (design §3.1), `x \| y << 16`; the fragment stages subtract it from `gl_FragCoord` (`camera_pixel`) |
 ///
 /// The footprint margin (`QUAD_MARGIN_PX` = 0.01 pixels, design §5.1) is a GLSL constant in
@@ -362,9 +362,9 @@ pub fn resolve_tiles(width: u32, height: u32) -> u32 {
 /// | 16 | `REVERSED_Z` | `reversed_z` | bool | true | larger depth is nearer (the splat keeps the largest key; the visible-first steps read keys) | graphics, splat, pre-pass |
 /// | 17 | `SPLAT_FLOOR` | `splat_floor` | int | 0 | the benchmark's roofline: 1 only reads every instance, 2 ray casts without atomics, 3 ray casts only the pixels each glyph shows (`research`) | splat |
 /// | 18 | `SPLAT_MAX_BOX_PIXELS` | `splat_max_box_pixels` | int | 4096 | the most pixel centres a glyph's box may hold for the splat to walk it (`SplatPath::max_box_pixels`) | splat |
-/// | 19 | `COVERAGE_SAMPLES` | `coverage_samples` | int | 1 | on a multisampled target shaded once per pixel, its sample count: the fragment stage tests each standard sample position and writes `gl_SampleMask` (`FramePlan::coverage_samples`, design §6.1) | graphics |
+/// | 19 | `COVERAGE_SAMPLES` | `coverage_samples` | int | 1 | on a multisampled target shaded once per pixel, its sample count: the fragment stage tests each standard sample position and writes `gl_SampleMask` (`FramePlan::coverage_samples`, `Target`'s documentation) | graphics |
 /// | 20 | `SAMPLE_GRID` | `sample_grid` | int | 1 | where the culling proofs find a pixel's samples: 1 its centre, R the cell centres of a grid R times finer, 0 anywhere (`FramePlan::sample_grid`, design §5.3) | pre-pass |
-/// | 21 | `FAR_PLANE` | `far_plane` | bool | false | the camera has a finite far plane: pixel-rate coverage runs the full hit at every sample (`FramePlan::far_plane`, design §6.1); set only with `COVERAGE_SAMPLES` above 1 | graphics |
+/// | 21 | `FAR_PLANE` | `far_plane` | bool | false | the camera has a finite far plane: pixel-rate coverage runs the full hit at every sample (`FramePlan::far_plane`, `Target`'s documentation); set only with `COVERAGE_SAMPLES` above 1 | graphics |
 /// | 22 | `COUNT_RAY_CASTS` | `count_ray_casts` | bool | false | the splat adds its ray casts to the counter's second word (`research` counting frames, design §5.7) | splat |
 /// | 23 | `CULL_SELECT` | `cull_select` | int | 0 | what CLASSIFY lists: 0 all its culling keeps, 1 `SHOWN`, 2 `REST`, 3 `DRAWN` (`CullSelect`, design §5.7) | pre-pass |
 /// | 24 | `SPLAT_LIST` | `splat_list` | bool | false | the splat takes its glyphs from the pre-pass's list and leaves large ones to the draw by their stamp (design §5.7) | splat |

@@ -16,7 +16,7 @@ use crate::gpu::GpuBuffer;
 ///
 /// | binding | `Binding` | contents | stages | per chunk |
 /// |---:|---|---|---|---|
-/// | 0 | `Instances` | instances (design §7.1) | vertex, fragment (the splat's resolve), compute | slice |
+/// | 0 | `Instances` | instances (`Instance`, `CompactInstance`) | vertex, fragment (the splat's resolve), compute | slice |
 /// | 1 | `FragmentCounter` | shaded fragments (`COUNT_FRAGMENTS`) and the compute splat's ray casts (`COUNT_RAY_CASTS`); host-visible | fragment, compute | whole |
 /// | 2 | `Visible` | visible instance indices (`uint` each) | vertex, compute | slice |
 /// | 3 | `IndirectDraw` | `IndirectDraw` | compute | the chunk's 40 bytes at `256 k` |
