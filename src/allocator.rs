@@ -6,6 +6,7 @@
 //! Implemented for `gpu_allocator::vulkan::Allocator` (feature `gpu-allocator`, on by
 //! default) and `vk_mem::Allocator` (feature `vk-mem`, VMA); a host on another allocator
 //! implements [`MemoryAllocator`] itself.
+//!
 //! **The allocator.** Every buffer the renderer uses is made by the host's allocator through
 //! the `MemoryAllocator` trait (`src/allocator.rs`): `create_buffer` takes the
 //! `VkBufferCreateInfo`, one of three uses (`MemoryUse::GpuOnly`, `Upload`, `Readback`; the

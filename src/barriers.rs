@@ -4,6 +4,7 @@
 //!
 //! All are global memory barriers: the renderer's buffers are its own and every hazard is
 //! between its own commands, so naming buffers would add nothing but recording cost.
+//!
 //! | barrier | source stages / access | destination stages / access | where |
 //! |---|---|---|---|
 //! | `INSTANCES_BEFORE_COPY` | vertex, fragment, compute, transfer / transfer write | transfer / transfer write | before an upload's copy |

@@ -39,6 +39,7 @@ use ash::vk;
 use bytemuck::{Pod, Zeroable};
 
 /// One ellipsoid in the full instance format (GLSL `Instance`, 48 bytes).
+///
 /// Written by `pack_relative` in `src/instances.rs`; read by `load_instance` in
 /// `glsl/include/ellipsoid_common.glsl`, which returns an `Instance` for either format.
 ///
@@ -65,6 +66,7 @@ pub struct Instance {
 }
 
 /// One ellipsoid in the compact instance format (GLSL `CompactInstance`, 32 bytes).
+///
 /// | offset | field | Rust / GLSL type | meaning |
 /// |---:|---|---|---|
 /// | 0 | `center` | `[f32; 3]` / `vec3` | as above |
@@ -91,6 +93,7 @@ pub struct CompactInstance {
 
 /// The push constants of every pipeline (GLSL block `PushConstants`, 128 bytes: the most
 /// every device allows). Positions are relative to the scene origin.
+///
 /// Written by `push_constants` in `src/renderer/push.rs` (one per chunk), read as `cam` (the block
 /// `PushConstants` in `gpu_layout.glsl`). The graphics pipeline layout declares the range for the
 /// vertex and fragment stages (`DRAW_PUSH_STAGES`); the pre-pass has its own layout with a
@@ -174,6 +177,7 @@ pub struct PushConstants {
 /// The culled draw's `VkDrawIndirectCommand`, the chunk's instance count, the frame's stamp
 /// and the visible-first splat's `VkDispatchIndirectCommand` (GLSL buffer `IndirectDraw`, 40
 /// bytes), which the pre-pass starts from.
+///
 /// `IndirectDraw` (binding 3), 40 bytes: a `VkDrawIndirectCommand` (`vertex_count`,
 /// `instance_count`, `first_vertex`, `first_instance`) followed by `total`, the chunk's instance
 /// count, `frame` (the pre-pass's stamp, never 0), `shown` (the stamp of the last frame that
@@ -212,6 +216,7 @@ pub struct IndirectDraw {
 
 /// The pre-pass's set-up of one impostor for the vertex stage (GLSL `FootprintRecord`,
 /// 32 bytes). Written and read only by shaders; declared here for its size.
+///
 /// Written by `store_setup` (`cull.comp` with `CULL_SETUP`) and read by the `SETUP_ONCE` builds
 /// (`load_footprint` in the vertex stage, `load_setup` and `load_shading` in the fragment stage),
 /// at the instance's chunk-relative index; the GLSL side is in `glsl/include/setup_records.glsl`,
@@ -245,6 +250,7 @@ pub struct FootprintRecord {
 
 /// The pre-pass's set-up of one impostor for the fragment stage (GLSL `ShadingRecord`,
 /// 128 bytes). Written and read only by shaders; declared here for its size.
+///
 /// `ShadingRecord` (binding 6), 128 bytes; in perspective offset mode (design §4.3) the hit and its depth
 /// need the first 48 bytes only:
 ///
@@ -336,6 +342,7 @@ pub fn resolve_tiles(width: u32, height: u32) -> u32 {
 
 /// The specialization constants of every pipeline (GLSL `layout(constant_id = N)` in
 /// `gpu_layout.glsl`; ids in [`SpecConstants::IDS`]). Each stage reads those it declares.
+///
 /// `SpecConstants` in `src/gpu_layout.rs`: one 4-byte field per constant (`vk::Bool32` or `u32`),
 /// 88 bytes; `SpecConstants::IDS` pairs each `constant_id` with its field's offset, and
 /// `map_entries()` turns that into the `VkSpecializationMapEntry` list. `PipelineKey` and

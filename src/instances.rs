@@ -10,8 +10,7 @@
 //!   the half floats' full precision), one float16 unused. The quantisation moves the surface
 //!   by at most about 2^-11 of a semi-axis (the float16 rounding) plus 2^-15 of a radian of
 //!   rotation; `bench` reports what that costs in accuracy beside the time it saves.
-//! Written by `pack_relative` in `src/instances.rs`; read by `load_instance` in
-//! `glsl/include/ellipsoid_common.glsl`, which returns an `Instance` for either format.
+//!
 //! `Ellipsoid`'s fields are public, so packing checks each glyph's own fields before anything
 //! else and refuses, naming it (`Invalid`, "ellipsoid k"), a centre that is not finite, semi-axes
 //! float32 does not hold above 0, a zero or non-finite quaternion, a colour outside [0, 1]; a

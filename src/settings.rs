@@ -85,6 +85,7 @@ impl Material {
 /// [`crate::EllipsoidRenderer::set_settings`], which says what each change costs. A material
 /// shading cannot use (a weight not finite or below 0, shininess not above 0) is refused by
 /// name: by `EllipsoidRenderer::new`, and by every plan made while it is in force.
+///
 /// `Settings` (`src/settings.rs`), given in `RendererOptions::settings` or later through
 /// `set_settings`. Every field has a safe default; none but `material` and
 /// `instance_format` changes a pixel:

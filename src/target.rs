@@ -15,6 +15,7 @@ pub const ID_FORMAT: vk::Format = vk::Format::R32_UINT;
 /// The host's Vulkan objects the renderer works with, and the features the host enabled on
 /// its device. The handles are borrowed: the renderer never destroys them, and the host keeps
 /// them alive until it has destroyed the renderer.
+///
 /// `HostDevice::new(instance, physical_device, device, queue_family_index, enabled_features)`
 /// -- the handles borrowed, and the features the host enabled, of those the renderer uses
 /// (`DeviceFeatures`, `src/features.rs`: `maintenance4`, `dynamicRendering`,
@@ -94,6 +95,7 @@ pub enum Pass {
 }
 
 /// The pass the ellipsoids are drawn into and what the renderer writes there.
+///
 /// `Target::new(pass)` (fields `pass`, `samples`, `aux_outputs`; non-exhaustive) with
 /// `Pass::RenderPass { render_pass, subpass, color_attachment_count, depth_format }` or
 /// `Pass::Dynamic { color_formats, depth_format }` (`Target::dynamic(color, depth)` for the
@@ -268,6 +270,7 @@ impl Target {
 
 /// How the renderer is set up for a host: [`RendererOptions::new`], then change the fields
 /// that differ.
+///
 /// `RendererOptions::new(target)` (fields `target`, `frames_in_flight` (1 ..= 16), `settings`,
 /// `pipeline_cache` (borrowed, may be null); non-exhaustive) gives one frame in flight,
 /// `Settings::default()` and no pipeline cache.

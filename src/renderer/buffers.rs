@@ -11,6 +11,7 @@ use crate::frame_slots::{FrameSlots, Retired};
 use crate::gpu::GpuBuffer;
 
 /// The bindings of the renderer's descriptor set, each backed by one buffer.
+///
 /// Descriptor set 0, all storage buffers, one per `Binding` (`src/renderer/buffers.rs`), each
 /// chunk's set pointing at its slices (design §5.4):
 ///

@@ -44,6 +44,7 @@ pub const MAX_SETUP_ONCE_INSTANCES: u32 = (1 << 27) / size_of::<ShadingRecord>()
 /// What one frame does, decided once (see [`crate::EllipsoidRenderer::plan`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
+///
 /// **The frame plan.** `plan(&camera)` returns the `FramePlan`  a frame
 /// with that camera gets, every decision made once: `path` (a `FramePath`: the draw with the
 /// culling it does and whether it sets glyphs up once, or the splat with what it does about
