@@ -77,7 +77,6 @@
 //!      after `begin_frame` (say, its swapchain went out of date) may drop the command buffer
 //!      only if the renderer recorded nothing into it: a dropped upload leaves the instances
 //!      unwritten, a dropped pre-pass its timestamp queries unreset.
-//!
 //! 3. `destroy(device, allocator)` once the GPU is done with everything recorded.
 //!
 //! **Several views a frame.** Two eyes, split screen, picture-in-picture, a shadow or probe view:
@@ -96,8 +95,6 @@
 //! moving camera's class, where the plan measures the visible-first splat too (design §5.7). A view drawn twice in a frame (a depth pre-pass, then the main
 //! pass) is two views: two `record_prepass` calls with the same camera, the draws in the same
 //! order.
-//! 3. `destroy(device, allocator)` once the GPU is done with everything recorded.
-//!
 //!
 //! **Settings.** `settings()` returns the settings in force; `set_settings(settings)` replaces them
 //! with the effects listed in [`Settings`]. `prepare_for(device, allocator, &camera)` builds the draw
@@ -109,7 +106,6 @@
 //!
 //! Also available: `current_target()`, `gpu_memory_bytes()` (the scene's buffers), `count()` (the
 //! instances uploaded) and `origin()` (the scene origin of design §4.1).
-//!
 //!
 //! ## Frames in flight
 //!
