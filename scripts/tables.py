@@ -12,23 +12,22 @@ docs/results/, and written in place between its marker comments:
 
 Each table carries the date, the machine, the device (the card, where a GPU drew it) and the
 driver: the date and machine from the `about.txt` beside the results, device and driver from
-the results themselves. The figures come from the helpers that make each run's own table
-(deep-table.py, device-table.py, regret-table.py, before-after-table.py, orbit-table.py);
-this script only says which results go where. Python 3's standard library only.
+the results themselves. The tables are made in scripts/figures/ (by the kind of results),
+through the helpers that make each run's own table (deep-table.py, device-table.py,
+regret-table.py, before-after-table.py, orbit-table.py); this script says which results go
+where, and keeps the docs in step. Python 3's standard library only.
 """
 
-import csv
-import fnmatch
-import importlib.util
 import re
-import statistics
 import sys
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Callable
 
-ROOT = Path(__file__).resolve().parent.parent
-RESULTS = "docs/results"
+sys.dont_write_bytecode = True  # no __pycache__ beside the scripts
+from figures import accuracy, bench, runs  # noqa: E402 (after the line above)
+from figures.headline import headline  # noqa: E402
+from figures.results import RESULTS, ROOT, ResultsError  # noqa: E402
+
 PLAN = f"{RESULTS}/plan"
 DEEP = f"{RESULTS}/deep/2026-11-27"
 H200 = f"{RESULTS}/devices/nvidia-h200-2026-11-27"
@@ -36,404 +35,6 @@ STRESS = f"{RESULTS}/stress/2026-11-27"
 CONFORMANCE = f"{RESULTS}/conformance/2026-11-27"
 BEGIN = re.compile(r"^<!-- table: (\S+) .*-->$")
 END = "<!-- end table -->"
-
-
-def helper(name: str):
-    """One of the per-run table scripts beside this one, as a module (their names have dashes)."""
-    spec = importlib.util.spec_from_file_location(name.replace("-", "_"), ROOT / "scripts" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-class ResultsError(Exception):
-    """A results file is missing or says less than a table needs."""
-
-
-def files(pattern: str) -> list[Path]:
-    """The committed files a glob names, in run order (run2 before run10)."""
-    found = sorted(ROOT.glob(pattern), key=lambda p: [int(t) if t.isdigit() else t
-                                                      for t in re.split(r"(\d+)", p.name)])
-    if not found:
-        raise ResultsError(f"no file matches {pattern}")
-    return found
-
-
-def about(path: Path) -> tuple[str, str]:
-    """(date, machine) of a results file, from the `about.txt` of its folder or one above."""
-    folder = path.parent
-    while folder != ROOT:
-        sheet = folder / "about.txt"
-        if sheet.exists():
-            for line in sheet.read_text().splitlines():
-                if line.startswith("#") or not line.strip():
-                    continue
-                glob, date, machine = (cell.strip() for cell in line.split("|", 2))
-                if fnmatch.fnmatch(str(path.relative_to(folder)), glob):
-                    return date, machine
-            raise ResultsError(f"{sheet.relative_to(ROOT)} has no line for {path.name}")
-        folder = folder.parent
-    raise ResultsError(f"no about.txt beside {path.relative_to(ROOT)} (its date and machine)")
-
-
-def device_of(rows: list[dict]) -> tuple[str, str]:
-    """(device, driver) that every row of a results.csv names; several would be a mixed table."""
-    seen = {(r["device"], r["driver"]) for r in rows}
-    if len(seen) != 1:
-        raise ResultsError(f"the rows name {len(seen)} devices: {sorted(seen)}")
-    return seen.pop()
-
-
-def measured(path: Path, device: str, driver: str) -> str:
-    """The line set above a table: when, on what, with which driver."""
-    date, machine = about(path)
-    # lavapipe's driver string names it; a card is named on its own.
-    on = "lavapipe (no GPU)" if device.startswith("llvmpipe") else f"card {device}"
-    return f"Measured {date}; {machine}; {on}, driver {driver}."
-
-
-def read_csv(path: Path) -> list[dict]:
-    return list(csv.DictReader(path.open()))
-
-
-# -- the tables ------------------------------------------------------------------------------
-
-
-def regret(pattern: str) -> list[str]:
-    paths = files(pattern)
-    device, driver = device_of([r for p in paths for r in read_csv(p)])
-    lines = helper("regret-table").table([str(p) for p in paths])
-    return [measured(paths[0], device, driver) + " " + lines[0].split(": ", 1)[1].capitalize() + ".", ""] + lines[2:]
-
-
-def before_after(pattern_before: str, pattern_after: str, runs: list[int],
-                 same: dict[str, str] | None = None, methods: list[str] | None = None) -> list[str]:
-    pairs = []
-    for run in runs:
-        pairs += [files(pattern_before.format(run=run))[0], files(pattern_after.format(run=run))[0]]
-    device, driver = device_of([r for p in pairs for r in read_csv(p)])
-    lines = helper("before-after-table").table([str(p) for p in pairs], same, methods)
-    return [measured(pairs[0], device, driver) + " " + lines[0][0].upper() + lines[0][1:] + ".", ""] + lines[2:]
-
-
-def orbit(path: str) -> list[str]:
-    log = files(path)[0]
-    driver = re.search(r"mesa-([0-9]+(?:\.[0-9]+)*)", log.name)
-    if driver is None:
-        raise ResultsError(f"{path}: the file's name does not say the driver (orbit-mesa-X.Y.Z.txt)")
-    line = measured(log, "llvmpipe", f"llvmpipe (Mesa {driver.group(1)})")
-    return [line, ""] + helper("orbit-table").table(log.read_text())
-
-
-def deep() -> list[str]:
-    folder = ROOT / DEEP
-    rows = [r for p in files(f"{DEEP}/*-run*/results.csv") for r in read_csv(p)]
-    lines = helper("deep-table").table(folder)
-    return [measured(folder / "table.md", *device_of(rows)) + " " + lines[0][0].upper() + lines[0][1:] + ".", ""] + lines[2:]
-
-
-def h200_device() -> list[str]:
-    report = ROOT / H200
-    info = (report / "info.txt").read_text()
-    card = re.search(r"^device:\s*(.+)$", info, re.M).group(1)
-    driver = re.search(r"^driver:\s*(.+)$", info, re.M).group(1)
-    module = helper("device-table")
-    return ([measured(report / "info.txt", card, driver), ""] + module.device_rows(report) +
-            ["", "The plan's regret (its time over the fastest fixed path's; path and ratio), "
-             "`bench --quick`, one interleaved run:", ""] + module.regret_rows(report))
-
-
-def sci(value: str) -> str:
-    """A float of results.csv as the tool's table prints it (0, 4.2e-7, 1.28e-2, inf)."""
-    number = float(value)
-    if number == 0 or number != number or number in (float("inf"), float("-inf")):
-        return "0" if number == 0 else str(number)
-    return f"{number:.2e}".replace("e-0", "e-").replace("e+0", "e").replace("e+", "e")
-
-
-def methods_side_by_side(path: str, scene: str) -> list[str]:
-    """Every method of one bench run on one scene: time, its ratio to `impostor`, and error."""
-    csv_path = files(path)[0]
-    rows = [r for r in read_csv(csv_path) if r["scene"] == scene]
-    if not rows:
-        raise ResultsError(f"{path}: no rows of scene {scene}")
-    base = next((float(r["wall_ms"]) for r in rows if r["method"] == "impostor"), None)
-    if base is None:
-        raise ResultsError(f"{path}: no impostor row on {scene}")
-    lines = [measured(csv_path, *device_of(rows)) +
-             f" `bench --quick`, one run; {scene} ({int(rows[0]['count']):,} glyphs, "
-             f"{rows[0]['width']}x{rows[0]['height']}).", "",
-             "| method | wall ms | time / impostor | shaded / covered px | coverage mismatch | depth rel p99 | normal p99 (deg) |",
-             "|---|---:|---:|---:|---:|---:|---:|"]
-    for r in rows:
-        if r["method"].startswith("floor-"):
-            continue  # the roofline's floors draw nothing to judge: compute-splat.md's table
-        wall = float(r["wall_ms"])
-        # Shaded pixels (the exact count), as the tool's own table divides.
-        fragments = float(r["shaded_pixels"]) / float(r["covered_pixels"])
-        lines.append(f"| {r['method']} | {wall:.2f} | {wall / base:.2f} | {fragments:.3f} | "
-                     f"{sci(r['coverage_mismatch'])} | {sci(r['depth_rel_p99'])} | "
-                     f"{sci(r['normal_deg_p99'])} |")
-    return lines
-
-
-def compact(path: str) -> list[str]:
-    """`impostor` against `impostor-compact` per scene of one bench run."""
-    csv_path = files(path)[0]
-    rows = read_csv(csv_path)
-    by = {(r["scene"], r["count"], r["method"]): r for r in rows}
-    lines = [measured(csv_path, *device_of(rows)) + " `bench --quick`, one run; wall ms, "
-             "depth rel p99, normal p99 in degrees.", "",
-             "| scene (count) | impostor | impostor-compact |", "| --- | --- | --- |"]
-    for scene, count, method in by:
-        if method != "impostor-compact":
-            continue
-        cells = []
-        for m in ("impostor", "impostor-compact"):
-            r = by[(scene, count, m)]
-            cells.append(f"{float(r['wall_ms']):.2f} ms, {sci(r['depth_rel_p99'])}, "
-                         f"{sci(r['normal_deg_p99'])}")
-        lines.append(f"| {scene} ({int(count):,}) | {cells[0]} | {cells[1]} |")
-    return lines
-
-
-def report_device(folder: Path) -> tuple[str, str]:
-    """(device, driver) of a device report's `info.txt` (what `ellipsoid-splat info` printed)."""
-    info = (folder / "info.txt").read_text()
-    found = [re.search(rf"^{key}:\s*(.+)$", info, re.M) for key in ("device", "driver")]
-    if None in found:
-        raise ResultsError(f"{folder.relative_to(ROOT)}/info.txt names no device or driver")
-    return found[0].group(1), found[1].group(1)
-
-
-ANTIALIAS_VARIANTS = [("1-sample", "1 sample"), ("1-sample-drawn", "1 sample, drawn"),
-                      ("msaa4-per-pixel", "4x per pixel"), ("msaa4-per-sample", "4x per sample"),
-                      ("supersample2", "2 x 2 supersampled"), ("supersample4", "4 x 4 supersampled")]
-
-
-def antialias(report: str) -> list[str]:
-    """`bench --antialias`'s time against error per variant, a table per scene."""
-    folder = ROOT / report
-    csv_path = files(f"{report}/bench/antialias.csv")[0]
-    rows = read_csv(csv_path)
-    lines = [measured(csv_path, *report_device(folder)) + " `bench --antialias`, one run; "
-             "times at 1920x1080 (ratio to one sample), errors on the 480 x 270 view."]
-    for scene in dict.fromkeys(r["scene"] for r in rows):
-        here = {r["variant"]: r for r in rows if r["scene"] == scene}
-        missing = [v for v, _ in ANTIALIAS_VARIANTS if v not in here]
-        if missing:
-            raise ResultsError(f"{csv_path.relative_to(ROOT)}: {scene} lacks {', '.join(missing)}")
-        lines += ["", f"| {scene} | " + " | ".join(name for _, name in ANTIALIAS_VARIANTS) + " |",
-                  "|---|" + "---:|" * len(ANTIALIAS_VARIANTS),
-                  "| time | " + " | ".join(f"{float(here[v]['wall_ms']):.2f} ms ({float(here[v]['ratio_to_1_sample']):.2f}x)"
-                                          for v, _ in ANTIALIAS_VARIANTS) + " |",
-                  "| error (px) | " + " | ".join(f"{float(here[v]['area_error_px']):.4f}"
-                                                for v, _ in ANTIALIAS_VARIANTS) + " |"]
-    return lines
-
-
-def bench_rows(path: str) -> tuple[Path, list[dict], dict]:
-    """A bench run's results.csv, its rows, and the rows by (scene, count, method)."""
-    csv_path = files(path)[0]
-    rows = read_csv(csv_path)
-    return csv_path, rows, {(r["scene"], r["count"], r["method"]): r for r in rows}
-
-
-def splat(path: str) -> list[str]:
-    """The shipped mix against the draw, the splat and the visibility buffer, per scene."""
-    csv_path, rows, by = bench_rows(path)
-    methods = ["impostor", "impostor-draw", "impostor-compute", "impostor-visbuffer", "flat-fill"]
-    lines = [measured(csv_path, *device_of(rows)) + " `bench --quick`, one run; medians of the "
-             "timed frames, 1920x1080; a method left out was over the vertex budget.", "",
-             "| scene (count) | " + " | ".join(f"{m} ms" for m in methods) +
-             " | mix over the draw (its path) |",
-             "|---|" + "---:|" * (len(methods) + 1)]
-    for scene, count in dict.fromkeys((r["scene"], r["count"]) for r in rows):
-        mix = by.get((scene, count, "impostor"))
-        if mix is None:
-            continue
-        cells = [f"{float(by[(scene, count, m)]['wall_ms']):.2f}" if (scene, count, m) in by else "-"
-                 for m in methods]
-        draw = by.get((scene, count, "impostor-draw"))
-        ratio = f"{float(draw['wall_ms']) / float(mix['wall_ms']):.2f}x" if draw else "-"
-        lines.append(f"| {scene} ({int(count):,}) | " + " | ".join(cells) +
-                     f" | {ratio} ({mix['plan_path'] or '?'}) |")
-    return lines
-
-
-def roofline(path: str) -> list[str]:
-    """The mix against the floors (reading every instance; ray casting every centre)."""
-    csv_path, rows, by = bench_rows(path)
-    lines = [measured(csv_path, *device_of(rows)) + " `bench --quick`, one run; 1920x1080.", "",
-             "| scene (count) | impostor (mix) ms | arithmetic floor ms | memory floor ms | mix / arithmetic | mix / memory |",
-             "|---|---:|---:|---:|---:|---:|"]
-    for scene, count in dict.fromkeys((r["scene"], r["count"]) for r in rows):
-        if not (scene == "tensor-field" or (scene == "cloud-2px" and int(count) >= 100_000)):
-            continue
-        try:
-            mix, arith, memory = (float(by[(scene, count, m)]["wall_ms"])
-                                  for m in ("impostor", "floor-arithmetic", "floor-memory"))
-        except KeyError as missing:
-            raise ResultsError(f"{csv_path.relative_to(ROOT)}: {scene} ({count}) lacks {missing}")
-        lines.append(f"| {scene} ({int(count):,}) | {mix:.2f} | {arith:.2f} | {memory:.2f} | "
-                     f"{mix / arith:.2f}x | {mix / memory:.2f}x |")
-    return lines
-
-
-def skip(paths: list[str]) -> list[str]:
-    """`bench --skip`'s pieces on and off, a table per run: lavapipe's named by the file
-    (skip-mesa-X.Y.Z.csv), a device report's by its info.txt."""
-    lines = []
-    for pattern in paths:
-        csv_path = files(pattern)[0]
-        mesa = re.search(r"mesa-([0-9]+(?:\.[0-9]+)*)", csv_path.name)
-        if mesa:
-            device, driver = "llvmpipe", f"llvmpipe (Mesa {mesa.group(1)})"
-        else:
-            device, driver = report_device(csv_path.parent)
-        if lines:
-            lines.append("")
-        lines += [measured(csv_path, device, driver) + " `bench --skip --quick`, 1920x1080.", "",
-                  "| feature | scene | applies | on ms | off ms | speed-up | pixels changed |",
-                  "|---|---|---|---:|---:|---:|---:|"]
-        for r in read_csv(csv_path):
-            on, off = float(r["on_ms"]), float(r["off_ms"])
-            lines.append(f"| {r['feature']} | {r['scene']} | {r['applies']} | {on:.2f} | {off:.2f} | "
-                         f"{off / on:.2f}x | {r['pixels_changed']} |")
-    return lines
-
-
-def sig(value: float, digits: int = 2) -> str:
-    """A figure to `digits` significant digits, as the docs write them (12,300; 0.059; 1.1e-5)."""
-    if value == 0:
-        return "0"
-    if abs(value) < 1e-3:
-        return f"{value:.{digits - 1}e}".replace("e-0", "e-")
-    rounded = float(f"{value:.{max(digits, 3) if value >= 100 else digits}g}")
-    return f"{rounded:,.0f}" if rounded >= 100 else f"{rounded:g}"
-
-
-def stress(folder: str) -> list[str]:
-    """`stress`'s sweeps summed up per sweep, from its stress.csv."""
-    csv_path = files(f"{folder}/stress.csv")[0]
-    rows = read_csv(csv_path)
-    size = {(r["width"], r["height"]) for r in rows}
-    lines = [measured(csv_path, *report_device(csv_path.parent)) +
-             f" `stress`, {sum(r['method'] == 'stable' for r in rows)} points of "
-             + ", ".join(f"{w}x{h}" for w, h in sorted(size)) + "; worst error / bound is the "
-             "largest ratio over all six bounds, depth and normal judged beyond the float32 floor.",
-             "",
-             "| sweep | points | stable: worst error / bound | stable: raw depth p99 (worst point) | "
-             "stable: raw normal p99 (worst point, deg) | stable: coverage mismatches | "
-             "textbook: points breaking a bound | textbook: worst error / bound |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|"]
-    for sweep in dict.fromkeys(r["sweep"] for r in rows):
-        stable = [r for r in rows if r["sweep"] == sweep and r["method"] == "stable"]
-        textbook = [r for r in rows if r["sweep"] == sweep and r["method"] == "textbook"]
-        worst = lambda rs, col: max(float(r[col]) for r in rs)
-        lines.append(
-            f"| {sweep} | {len(stable)} | {worst(stable, 'worst_over_bound'):.2f} | "
-            f"{sig(worst(stable, 'depth_rel_p99'))} | {sig(worst(stable, 'normal_deg_p99'))} | "
-            f"{sum(int(r['coverage_mismatch']) for r in stable)} | "
-            f"{sum(r['pass'] != 'yes' for r in textbook)} | "
-            f"{sig(worst(textbook, 'worst_over_bound'), 3) if textbook else '-'} |")
-    return lines
-
-
-def junit_cases(path: Path) -> dict[str, str]:
-    """Each case of `conformance --junit`'s file: its name -> pass or FAIL and what it measured."""
-    import xml.etree.ElementTree as ElementTree
-
-    cases = {}
-    for case in ElementTree.parse(path).getroot().iter("testcase"):
-        out = case.findtext("system-out") or ""
-        verdict = "FAIL" if case.find("failure") is not None else "pass"
-        depth = re.search(r"depth rel p99 (\S+)", out)
-        normal = re.search(r"normal p99 (\S+)", out)
-        samples = re.search(r"(\d+) partly covered, (\d+) wrong", out)
-        if depth and normal:
-            cases[case.get("name")] = f"{verdict}: {depth.group(1)}, {normal.group(1)} deg"
-        elif samples:
-            cases[case.get("name")] = f"{verdict}: {samples.group(2)} of {samples.group(1)} partly covered wrong"
-        else:
-            cases[case.get("name")] = verdict
-    return cases
-
-
-def conformance(folder: str) -> list[str]:
-    """`conformance` per case on every driver of one day (mesa-X.Y.Z.xml with info-mesa-X.Y.Z.txt)."""
-    runs = files(f"{folder}/*.xml")
-    date, machine = about(runs[0])
-    drivers, columns = [], []
-    for xml in runs:
-        info = xml.parent / f"info-{xml.stem}.txt"
-        if not info.exists():
-            raise ResultsError(f"{info.relative_to(ROOT)} is missing (`ellipsoid-splat info` of that driver)")
-        text = info.read_text()
-        driver = re.search(r"^driver:\s*(.+)$", text, re.M)
-        if driver is None:
-            raise ResultsError(f"{info.relative_to(ROOT)} names no driver")
-        drivers.append(driver.group(1))
-        columns.append(junit_cases(xml))
-    names = list(dict.fromkeys(n for c in columns for n in c))
-    lines = [f"Measured {date}; {machine}; lavapipe (no GPU), drivers " + " and ".join(drivers) +
-             ". Each case against the float64 reference: depth rel p99 and normal p99, or the "
-             "samples of partly covered pixels resolved wrong.", "",
-             "| case | " + " | ".join(drivers) + " |", "|---|" + "---|" * len(drivers)]
-    for name in names:
-        lines.append(f"| {name} | " + " | ".join(c.get(name, "not run") for c in columns) + " |")
-    return lines
-
-
-def headline() -> list[str]:
-    """The README's: ours against the CPU ray tracer on the same cores, and ours on a card."""
-    deep_table = helper("deep-table")
-    folder = ROOT / DEEP
-    lava = [r for p in files(f"{DEEP}/*-run*/results.csv") for r in read_csv(p)]
-    gpu_csv = files(f"{H200}/bench/results.csv")[0]
-    gpu = read_csv(gpu_csv)
-    tracer_text = files(f"{DEEP}/tracer-*-run1.txt")[0].read_text()
-    mitsuba = re.search(r"(Mitsuba [0-9.]+ [a-z_]+)", tracer_text)
-    if mitsuba is None:
-        raise ResultsError(f"{DEEP}: the tracer's files do not name Mitsuba's version")
-    _, lava_driver = device_of(lava)
-    card, card_driver = device_of(gpu)
-    date, machine = about(folder / "table.md")
-    gpu_date, gpu_machine = about(gpu_csv)
-    runs = deep_table.run_count(folder)
-    lines = [f"Lavapipe and Mitsuba rows: measured {date}; {machine}; lavapipe (no GPU), driver "
-             f"{lava_driver}, and {mitsuba.group(1)} on the same cores; medians of {runs} runs. "
-             f"Card rows: measured {gpu_date}; {gpu_machine}; card {card}, driver {card_driver}; "
-             "`bench --quick`, one run. 1920x1080; errors against the float64 reference.", "",
-             "| scene | renderer | runs on | ms a frame | coverage mismatch | depth rel p99 | normal p99 (deg) |",
-             "|---|---|---|---:|---:|---:|---:|"]
-    for scene in deep_table.SCENES:
-        count = next(int(r["count"]) for r in lava if r["scene"] == scene)
-        name = f"{scene} ({count:,})"
-
-        def ours(motion: str, label: str) -> str:
-            ms = deep_table.median_of(folder, motion, scene, "impostor", "wall_ms")
-            errors = [deep_table.median_of(folder, motion, scene, "impostor", c)
-                      for c in ("coverage_mismatch", "depth_rel_p99", "normal_deg_p99")]
-            if ms is None or None in errors:
-                raise ResultsError(f"{DEEP}: no impostor rows of {scene} ({motion})")
-            return (f"| {name} | ellipsoid-splat, {label} | lavapipe, 2 CPU cores | {ms:.1f} | "
-                    + " | ".join(sci(str(e)) for e in errors) + " |")
-        lines.append(ours("still", "still camera"))
-        lines.append(ours("orbit", "camera orbiting"))
-        for way, label in (("rays", "raw primary rays"), ("depth", "depth AOV")):
-            ms = deep_table.tracer(folder, scene, way)
-            if ms is None:
-                raise ResultsError(f"{DEEP}: no Mitsuba '{way}' time of {scene}")
-            lines.append(f"| {name} | Mitsuba 3, {label} | the same 2 CPU cores | {ms:.1f} | "
-                         "not measured | not measured | not measured |")
-        row = next((r for r in gpu if r["scene"] == scene and r["method"] == "impostor"), None)
-        if row is None:
-            raise ResultsError(f"{gpu_csv.relative_to(ROOT)}: no impostor row of {scene}")
-        lines.append(f"| {name} | ellipsoid-splat, still camera | {card} | {float(row['wall_ms']):.2f} | "
-                     f"{sci(row['coverage_mismatch'])} | {sci(row['depth_rel_p99'])} | "
-                     f"{sci(row['normal_deg_p99'])} |")
-    return lines
 
 
 @dataclass
@@ -444,45 +45,46 @@ class Table:
     make: Callable[[], list[str]]
 
 
-def fixed_runs(n):
-    return [f"{PLAN}/fixed-before-run{n}.csv", f"{PLAN}/fixed-after-run{n}.csv"]
+def runs_of(pattern: str, numbers) -> list[str]:
+    """One path per run number, `{run}` in the pattern."""
+    return [pattern.format(run=n) for n in numbers]
 
 
+H200_BENCH = f"{H200}/bench/results.csv"
 TABLES = [
-    Table("headline", "README.md", f"{DEEP}, {H200}/bench/results.csv", headline),
-    Table("methods-tensor-field-h200", "docs/performance.md", f"{H200}/bench/results.csv",
-          lambda: methods_side_by_side(f"{H200}/bench/results.csv", "tensor-field")),
-    Table("compact-h200", "docs/performance.md", f"{H200}/bench/results.csv",
-          lambda: compact(f"{H200}/bench/results.csv")),
-    Table("splat-h200", "docs/compute-splat.md", f"{H200}/bench/results.csv",
-          lambda: splat(f"{H200}/bench/results.csv")),
-    Table("roofline-h200", "docs/compute-splat.md", f"{H200}/bench/results.csv",
-          lambda: roofline(f"{H200}/bench/results.csv")),
+    Table("headline", "README.md", f"{DEEP}, {H200_BENCH}", lambda: headline(DEEP, H200)),
+    Table("methods-tensor-field-h200", "docs/performance.md", H200_BENCH,
+          lambda: bench.methods_side_by_side(H200_BENCH, "tensor-field")),
+    Table("compact-h200", "docs/performance.md", H200_BENCH, lambda: bench.compact(H200_BENCH)),
+    Table("splat-h200", "docs/compute-splat.md", H200_BENCH, lambda: bench.splat(H200_BENCH)),
+    Table("roofline-h200", "docs/compute-splat.md", H200_BENCH, lambda: bench.roofline(H200_BENCH)),
     Table("skip", "docs/culling.md", f"{PLAN}/skip-mesa-*.csv, {H200}/skip.csv",
-          lambda: skip([f"{PLAN}/skip-mesa-22.3.6.csv", f"{PLAN}/skip-mesa-25.0.7.csv", f"{H200}/skip.csv"])),
-    Table("stress", "docs/accuracy.md", STRESS, lambda: stress(STRESS)),
-    Table("deep-scenes", "docs/deep-scenes.md", DEEP, deep),
-    Table("antialias-h200", "docs/antialiasing.md", f"{H200}/bench/antialias.csv", lambda: antialias(H200)),
-    Table("conformance-lavapipe", "docs/conformance.md", CONFORMANCE, lambda: conformance(CONFORMANCE)),
-    Table("device-h200", "docs/conformance.md", H200, h200_device),
-    Table("plan-regret-mesa-22.3.6", "docs/plan.md", f"{PLAN}/regret-mesa-22.3.6-run*.csv",
-          lambda: regret(f"{PLAN}/regret-mesa-22.3.6-run*.csv")),
-    Table("plan-regret-mesa-25.0.7", "docs/plan.md", f"{PLAN}/regret-mesa-25.0.7-run*.csv",
-          lambda: regret(f"{PLAN}/regret-mesa-25.0.7-run*.csv")),
-    Table("plan-regret-final-mesa-22.3.6", "docs/plan.md", f"{PLAN}/regret-final-mesa-22.3.6-run*.csv",
-          lambda: regret(f"{PLAN}/regret-final-mesa-22.3.6-run*.csv")),
-    Table("plan-regret-final-mesa-25.0.7", "docs/plan.md", f"{PLAN}/regret-final-mesa-25.0.7-run*.csv",
-          lambda: regret(f"{PLAN}/regret-final-mesa-25.0.7-run*.csv")),
+          lambda: bench.skip([f"{PLAN}/skip-mesa-22.3.6.csv", f"{PLAN}/skip-mesa-25.0.7.csv",
+                              f"{H200}/skip.csv"])),
+    Table("antialias-h200", "docs/antialiasing.md", f"{H200}/bench/antialias.csv",
+          lambda: bench.antialias(H200)),
+    Table("stress", "docs/accuracy.md", STRESS, lambda: accuracy.stress(STRESS)),
+    Table("conformance-lavapipe", "docs/conformance.md", CONFORMANCE,
+          lambda: accuracy.conformance(CONFORMANCE)),
+    Table("device-h200", "docs/conformance.md", H200, lambda: runs.device_report(H200)),
+    Table("deep-scenes", "docs/deep-scenes.md", DEEP, lambda: runs.deep(DEEP)),
+] + [
+    Table(f"plan-regret-{which}", "docs/plan.md", f"{PLAN}/regret-{which}-run*.csv",
+          lambda which=which: runs.regret(f"{PLAN}/regret-{which}-run*.csv"))
+    for which in ("mesa-22.3.6", "mesa-25.0.7", "final-mesa-22.3.6", "final-mesa-25.0.7")
+] + [
     Table("plan-regret-h200", "docs/plan.md", f"{H200}/regret-run*.csv",
-          lambda: regret(f"{H200}/regret-run*.csv")),
+          lambda: runs.regret(f"{H200}/regret-run*.csv")),
     Table("plan-orbit", "docs/plan.md", f"{PLAN}/orbit-mesa-22.3.6.txt",
-          lambda: orbit(f"{PLAN}/orbit-mesa-22.3.6.txt")),
+          lambda: runs.orbit(f"{PLAN}/orbit-mesa-22.3.6.txt")),
+    # Of the three pairs the first shared the cores with a build (docs/plan.md).
     Table("plan-fixed", "docs/plan.md", f"{PLAN}/fixed-{{before,after}}-run2,3.csv",
-          lambda: before_after(f"{PLAN}/fixed-before-run{{run}}.csv", f"{PLAN}/fixed-after-run{{run}}.csv",
-                               [2, 3], {"impostor": "impostor-estimate"}, ["impostor", "impostor-draw"])),
+          lambda: runs.before_after(runs_of(f"{PLAN}/fixed-before-run{{run}}.csv", [2, 3]),
+                                    runs_of(f"{PLAN}/fixed-after-run{{run}}.csv", [2, 3]),
+                                    {"impostor": "impostor-estimate"}, ["impostor", "impostor-draw"])),
     Table("plan-draw", "docs/plan.md", f"{PLAN}/draw-{{before,after}}-run1-13.csv",
-          lambda: before_after(f"{PLAN}/draw-before-run{{run}}.csv", f"{PLAN}/draw-after-run{{run}}.csv",
-                               list(range(1, 14)))),
+          lambda: runs.before_after(runs_of(f"{PLAN}/draw-before-run{{run}}.csv", range(1, 14)),
+                                    runs_of(f"{PLAN}/draw-after-run{{run}}.csv", range(1, 14)))),
 ]
 
 
