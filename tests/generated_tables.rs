@@ -93,7 +93,7 @@ fn a_figure_typed_over_is_named_with_its_table_and_line() {
 #[test]
 fn results_changed_without_the_docs_fail_the_check() {
     let dir = scratch_copy("results");
-    // The first run's time of the viewer's orbit, ten times longer.
+    // The first run's time of the viewer's orbit, a digit typed in front of it.
     let log = dir.join("docs/results/plan/orbit-mesa-22.3.6.txt");
     let text = fs::read_to_string(&log).unwrap();
     assert!(text.contains("all frames "), "{text}");
