@@ -3,9 +3,11 @@
 //! `docs/**/*.md` (the measurements' own files under `docs/results/` aside) and the crate
 //! documentation of `src/lib.rs` (the embedding contract). A repeat is a fact kept in two
 //! places that will drift apart; keep it in the better one and link it from the other. Code
-//! blocks, tables, headings and pictures are not prose and are not compared. The README and
-//! the design document also stay short enough to read (`MAX_README_LINES`,
-//! `MAX_DESIGN_LINES`): past that, move detail to a topic file or the code's documentation.
+//! blocks, tables, headings and pictures are not prose and are not compared, nor is what
+//! `scripts/tables.py` writes between its markers (made from one results file, it cannot
+//! drift, and each table's line of date and machine may repeat another's). The README and the
+//! design document also stay short enough to read (`MAX_README_LINES`, `MAX_DESIGN_LINES`):
+//! past that, move detail to a topic file or the code's documentation.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -34,11 +36,16 @@ fn paragraphs(file: &str, markdown: &str) -> Vec<Paragraph> {
     let mut found = Vec::new();
     let mut current: Option<Paragraph> = None;
     let mut in_code = false;
+    let mut in_generated = false;
     for (index, line) in markdown.lines().enumerate() {
         let text = line.trim();
         let fence = text.starts_with("```");
+        if text.starts_with("<!-- table: ") {
+            in_generated = true;
+        }
         let not_prose = fence
             || in_code
+            || in_generated
             || text.is_empty()
             || text.starts_with('|')
             || text.starts_with('#')
@@ -53,6 +60,9 @@ fn paragraphs(file: &str, markdown: &str) -> Vec<Paragraph> {
         }
         if fence {
             in_code = !in_code;
+        }
+        if text == "<!-- end table -->" {
+            in_generated = false;
         }
         if not_prose {
             continue;
