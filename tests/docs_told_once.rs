@@ -259,3 +259,21 @@ fn the_crate_documentation_is_its_opening_doc_lines() {
     let rust = "//! # Title\n//!\n//! Text here.\n\nuse x;\n//! not crate docs\n";
     assert_eq!(crate_docs(rust), "# Title\n\nText here.");
 }
+
+/// A reader goes from the README to every topic in one click: each relative link of the
+/// README and `docs/` names a file (and heading) that exists (`scripts/check-doc-links.py`).
+#[test]
+fn every_relative_link_of_the_documentation_resolves() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let output = std::process::Command::new("python3")
+        .arg(root.join("scripts/check-doc-links.py"))
+        .current_dir(root)
+        .output()
+        .unwrap_or_else(|err| panic!("python3 scripts/check-doc-links.py could not start: {err}"));
+    assert!(
+        output.status.success(),
+        "broken links in the documentation:\n{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
