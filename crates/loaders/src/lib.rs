@@ -45,9 +45,9 @@
 //! | the report of a load and each glyph's origin (`Loaded`, `Origins`) | `src/loaded.rs` |
 //! | gzip: whole particle files gunzipped in memory, the head of a stream for detection | `src/gzip.rs` |
 //! | Ellipsoid CSV (`docs/formats.md`) | `src/csv.rs` |
-//! | 3D Gaussian Splatting PLY | `src/ply.rs` |
-//! | diffusion tensor NIfTI-1 | `src/nifti.rs` |
-//! | thermal ellipsoids, PDB and mmCIF | `src/pdb.rs` |
+//! | 3D Gaussian Splatting PLY (its own body reader: the measured reason in its module docs, `examples/ply_body_time.rs`) | `src/ply.rs` |
+//! | diffusion tensor NIfTI-1 (why not the `nifti` crate's reader and affine: its module docs) | `src/nifti.rs` |
+//! | thermal ellipsoids, PDB and mmCIF (why not pdbtbx's readers: its module docs and a test) | `src/pdb.rs` |
 //! | LAMMPS dumps (`docs/formats.md`) | `src/lammps.rs` |
 //! | extended XYZ (`docs/formats.md`) | `src/xyz.rs` |
 //! | what the particle formats share: type palette, column mapping, atom values to an ellipsoid, a frame sorted by id | `src/particles.rs` |

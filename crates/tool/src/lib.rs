@@ -8,7 +8,8 @@
 //!
 //! | what | where |
 //! |---|---|
-//! | command-line arguments, scene and camera from them (`docs/command-line.md`) | `src/cli.rs` |
+//! | command-line arguments (`docs/command-line.md`), one file per command or shared flag group, each checked into typed options | `src/cli/` |
+//! | what the arguments drive: the scene read and saved, the camera, the host memory check | `src/scene_io.rs`, `src/camera_setup.rs`, `src/host_memory.rs` |
 //! | subcommand dispatch and exit statuses (`docs/command-line.md`) | `src/main.rs` |
 //! | PNG and EXR writers, numbered file names (`docs/command-line.md`) | `src/output.rs` |
 //! | the renderer a `render` asks for, made ready (scene uploaded, plan warmed up) | `src/render_device.rs` |
@@ -22,21 +23,24 @@
 //! | the antialiased points of `stress` (`stress_aa.csv`) | `src/antialias_stress.rs` |
 //! | what antialiasing costs (`bench --antialias`) | `src/antialias_bench.rs` |
 //! | the interactive viewer (`view`): window, swapchain, input, picking, the moving sample | `src/view/` (`docs/viewer.md`) |
-//! | charts and tables | `src/report/` (`plot.rs`, `table.rs`) |
+//! | charts (on plotters' linear and log coordinates) and tables | `src/report/` (`plot.rs`, `table.rs`) |
 
 pub mod antialias_bench;
 pub mod antialias_stress;
 pub mod bench;
+pub mod camera_setup;
 pub mod cli;
 pub mod conformance;
 pub mod error;
 pub mod frame_range;
+pub mod host_memory;
 pub mod movie;
 pub mod mpi_flags;
 pub mod output;
 pub mod plan;
 pub mod render_device;
 pub mod report;
+pub mod scene_io;
 pub mod sequence;
 pub mod skip;
 pub mod stress;
