@@ -48,10 +48,10 @@
 //! # fn main() {}
 //! ```
 
-pub mod allocator;
+mod allocator;
 mod barriers;
-pub mod bounds;
-pub mod camera;
+mod bounds;
+mod camera;
 mod culling;
 mod depth;
 mod ellipsoid;
@@ -86,20 +86,8 @@ mod research;
 #[cfg(feature = "offscreen")]
 pub mod supersample;
 
-/// The frame plan's vocabulary: the exact paths a frame can take, how a host lets the plan
-/// choose ([`plan::PlanMode`], in [`Settings::plan`]), why a frame took its path, and the
-/// first guess's thresholds.
-pub mod plan {
-    pub use crate::footprint::Footprint;
-    pub use crate::path::{DrawPath, FramePath, HiddenLayers, PathKind, PlanMode, SplatPath};
-    pub use crate::renderer::{
-        DrawReason, Guess, Measured, PlanReason, MAX_SETUP_ONCE_INSTANCES, SETUP_ONCE_MAX_AREA_PX,
-        SPLAT_MAX_BOX_PIXELS, SPLAT_MAX_MEAN_AREA_PX, SPLAT_MIN_GLYPHS,
-        VISIBLE_FIRST_MIN_HIDDEN_PX,
-    };
-}
-
-pub use allocator::MemoryAllocator;
+pub use allocator::{BufferMemory, MemoryAllocator, MemoryUse};
+pub use bounds::ScreenBounds;
 pub use camera::{Camera, Intrinsics, Projection};
 pub use culling::Culling;
 pub use depth::DepthConvention;
@@ -108,10 +96,11 @@ pub use error::{Error, Result};
 pub use features::DeviceFeatures;
 pub use host_camera::HostViewport;
 pub use instances::{InstanceFormat, Placement};
-pub use renderer::{EllipsoidRenderer, FramePlan};
+pub use path::{FramePath, HiddenLayers, PathKind, PlanMode};
+pub use renderer::{EllipsoidRenderer, FramePlan, PlanReason};
 pub use scene::Scene;
 pub use settings::{Material, Settings};
-pub use target::{HostDevice, Pass, RendererOptions, Target, ID_FORMAT, NORMAL_FORMAT};
+pub use target::{HostDevice, Pass, RendererOptions, Target};
 
 #[cfg(feature = "offscreen")]
 pub use frame::{Frame, NO_INSTANCE};
@@ -129,6 +118,9 @@ pub mod internals {
     pub mod barriers {
         pub use crate::barriers::*;
     }
+    /// The pixel-ray contract's frame and rays (`Camera::basis`, `Camera::ray`), for the
+    /// float64 reference.
+    pub use crate::camera::{Basis, Ray};
     pub use crate::ellipsoid::{shape_color, symmetric_eigen};
     #[cfg(feature = "offscreen")]
     pub use crate::gpu::validation;

@@ -7,11 +7,6 @@ use crate::error::{Error, Result};
 use crate::features::DeviceFeatures;
 use crate::settings::Settings;
 
-/// Normal attachment format when `Target::aux_outputs` is set.
-pub const NORMAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
-/// Instance-ID attachment format when `Target::aux_outputs` is set.
-pub const ID_FORMAT: vk::Format = vk::Format::R32_UINT;
-
 /// The host's Vulkan objects the renderer works with, and the features the host enabled on
 /// its device. The handles are borrowed: the renderer never destroys them, and the host keeps
 /// them alive until it has destroyed the renderer.
@@ -89,13 +84,18 @@ pub struct Target {
     /// more than one, every sample is shaded on its own (sample-rate shading), so silhouettes
     /// are antialiased and depth is exact per sample against the host's meshes.
     pub samples: vk::SampleCountFlags,
-    /// Colour attachments 1 and 2 receive the world normal ([`NORMAL_FORMAT`]) and the
-    /// instance index ([`ID_FORMAT`]); otherwise the renderer writes attachment 0 only. It
+    /// Colour attachments 1 and 2 receive the world normal ([`Target::NORMAL_FORMAT`]) and the
+    /// instance index ([`Target::ID_FORMAT`]); otherwise the renderer writes attachment 0 only. It
     /// never writes other colour attachments (write mask 0).
     pub aux_outputs: bool,
 }
 
 impl Target {
+    /// Normal attachment format when [`Target::aux_outputs`] is set.
+    pub const NORMAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+    /// Instance-ID attachment format when [`Target::aux_outputs`] is set.
+    pub const ID_FORMAT: vk::Format = vk::Format::R32_UINT;
+
     /// A single-sample target of `pass` writing colour attachment 0 and depth (change
     /// `samples` and `aux_outputs` after).
     pub fn new(pass: Pass) -> Self {
@@ -187,11 +187,15 @@ impl Target {
                 return bad("colour attachment 0 has format UNDEFINED".into());
             }
             if self.aux_outputs
-                && (color_formats[1] != NORMAL_FORMAT || color_formats[2] != ID_FORMAT)
+                && (color_formats[1] != Target::NORMAL_FORMAT
+                    || color_formats[2] != Target::ID_FORMAT)
             {
                 return bad(format!(
-                    "aux outputs need attachments 1 and 2 as {NORMAL_FORMAT:?} and {ID_FORMAT:?}, got {:?} and {:?}",
-                    color_formats[1], color_formats[2]
+                    "aux outputs need attachments 1 and 2 as {:?} and {:?}, got {:?} and {:?}",
+                    Target::NORMAL_FORMAT,
+                    Target::ID_FORMAT,
+                    color_formats[1],
+                    color_formats[2]
                 ));
             }
         }

@@ -8,9 +8,9 @@ use clap::{Args, Parser, Subcommand};
 use glam::{DVec2, DVec3};
 
 use crate::error::{Error, Result};
-use ellipsoid_splat::camera::{Camera, Intrinsics, Projection};
 use ellipsoid_splat::Ellipsoid;
 use ellipsoid_splat::InstanceFormat;
+use ellipsoid_splat::{Camera, Intrinsics, Projection};
 use ellipsoid_splat::{Scene, NO_INSTANCE};
 use ellipsoid_splat_loaders as scene;
 
@@ -1527,7 +1527,7 @@ mod tests {
 
     #[test]
     fn plan_values_parse_and_flags_left_at_their_defaults_count_as_not_given() {
-        use ellipsoid_splat::plan::{PathKind, PlanMode};
+        use ellipsoid_splat::{PathKind, PlanMode};
         let args = render_args(&[]);
         assert_eq!(args.plan.mode(), PlanMode::Measure);
         assert_eq!(args.camera.given(), None);
