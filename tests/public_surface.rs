@@ -11,8 +11,8 @@ use std::path::Path;
 /// `#[doc(hidden)]` guards -- each name a `pub use` brings in, each `pub mod`, `fn`, `const`,
 /// `static`, `struct`, `enum`, `union`, `trait` and `type` -- and the same of each such
 /// `pub mod`'s own file or block. This is the reach of rustdoc's JSON of the crate without
-/// features, walked from the root (checked against it when the count changed). `read` gives a
-/// file's text.
+/// features walked from the root, which needs nightly (`scripts/count-public-items.sh` counts
+/// it: run it when this count changes). `read` gives a file's text.
 fn free_items(
     source: &str,
     dir: &Path,
@@ -49,17 +49,17 @@ fn free_items(
         // The whole item: a `use` to its `;`, a block to the `}` that closes it at column 0.
         let mut statement = line.to_string();
         let mut block = Vec::new();
-        if line.ends_with('{') {
+        if line.starts_with("pub use") {
+            while !statement.contains(';') {
+                statement += lines[i].trim();
+                i += 1;
+            }
+        } else if line.ends_with('{') {
             while i < lines.len() && lines[i] != "}" {
                 block.push(lines[i].strip_prefix("    ").unwrap_or(lines[i]));
                 i += 1;
             }
             i += 1;
-        } else if line.starts_with("pub use") {
-            while !statement.contains(';') {
-                statement += lines[i].trim();
-                i += 1;
-            }
         }
         let Some(rest) = statement.strip_prefix("pub ") else {
             continue;
@@ -211,6 +211,9 @@ pub mod internals {
     pub struct Secret;
 }
 pub mod block {
+    pub use crate::shown::{
+        Kind,
+    };
     pub const LIMIT: u32 = 1;
     pub(crate) fn private() {}
     #[cfg(not(feature = "extra"))]
@@ -234,6 +237,7 @@ impl Crate {
             "Hidden",
             "Renamed",
             "block",
+            "block::Kind",
             "block::LIMIT",
             "block::always",
             "deep",
