@@ -6,6 +6,13 @@
 //! Writes only to `OUT_DIR`: the SPIR-V, `spirv-files.txt` (this feature set's builds, one a
 //! line) and `spirv-origin.txt` (`compiled` and the compiler's version, or `committed` and
 //! why). Reruns when a shader or an include changes.
+//!
+//! `GLSLANG_VALIDATOR` overrides the compiler's path; every build runs with `--spirv-val` and
+//! `-I glsl/include`, the includes tracked for rebuilds. Copying the committed builds says so in
+//! a warning, and a missing committed file is an error naming it and how to install glslang.
+//! `tests/committed_spirv.rs` fails when a committed file differs by a byte from what the
+//! installed compiler (`spirv/COMPILER` names the version that made them) makes, or has no
+//! source left.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -6,6 +6,8 @@ over the fastest fixed path's, from one interleaved run). Figures come from the 
 only; nothing is typed by hand.
 
     python3 scripts/device-table.py REPORT_DIR
+
+scripts/tables.py imports `device_rows` and `regret_rows` to put the same figures into the docs.
 """
 
 import csv
@@ -75,26 +77,34 @@ def regrets(report: Path) -> list[tuple[str, str, str, str]]:
     return out
 
 
+def device_rows(report: Path) -> list[str]:
+    info = read(report / "info.txt")
+    device, driver = info_field(info, "device"), info_field(info, "driver")
+    return ["| device | driver | conformance | tests that draw |",
+            "|---|---|---|---|",
+            f"| {device} | {driver} | {conformance(report)} | {tests(report)} |"]
+
+
+def regret_rows(report: Path) -> list[str]:
+    lines = ["| scene | first guess | after learning | fastest fixed path |",
+             "|---|---|---|---|"]
+    for scene, guess, learned, fastest in regrets(report):
+        lines.append(f"| {scene} | {guess} | {learned} | {fastest} |")
+    return lines
+
+
 def main() -> None:
     if len(sys.argv) != 2:
         sys.exit(__doc__)
     report = Path(sys.argv[1])
     info = read(report / "info.txt")
-    device = info_field(info, "device")
-    driver = info_field(info, "driver")
     date = read(report / "date.txt").strip() or "?"
-    print(f"Device report, {date}: {device}, driver {driver}.\n")
-    print("| device | driver | conformance | tests that draw |")
-    print("|---|---|---|---|")
-    print(f"| {device} | {driver} | {conformance(report)} | {tests(report)} |")
-    table = regrets(report)
-    if table:
+    print(f"Device report, {date}: {info_field(info, 'device')}, driver {info_field(info, 'driver')}.\n")
+    print("\n".join(device_rows(report)))
+    if regrets(report):
         print("\nThe plan's regret (its time over the fastest fixed path's; path and ratio), "
               "`bench --quick`, one interleaved run:\n")
-        print("| scene | first guess | after learning | fastest fixed path |")
-        print("|---|---|---|---|")
-        for scene, guess, learned, fastest in table:
-            print(f"| {scene} | {guess} | {learned} | {fastest} |")
+        print("\n".join(regret_rows(report)))
 
 
 if __name__ == "__main__":

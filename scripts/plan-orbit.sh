@@ -39,23 +39,9 @@ for run in $(seq "$runs"); do
       }
       total="$(echo "$out" | sed -n 's/.*all frames \([0-9.]*\) ms.*/\1/p')"
       [ -n "$total" ] || { echo "plan-orbit: no frame times from the viewer ($scene, $plan)" >&2; exit 1; }
-      echo "$run $scene $plan $total" >> "$log"
-      echo "$run $scene $plan: all frames $total ms; $(echo "$out" | grep '^paths (frames)' || true)"
+      echo "$run $scene $plan: all frames $total ms; $(echo "$out" | grep '^paths (frames)' || true)" | tee -a "$log"
     done
   done
 done
-python3 - "$log" "$fixed" <<'EOF'
-import statistics, sys
-rows = [line.split() for line in open(sys.argv[1])]
-fixed = sys.argv[2]
-times = {}
-for run, scene, plan, ms in rows:
-    times.setdefault((scene, run), {})[plan] = float(ms)
-print(f"\n| scene | measure / {fixed}, all frames (median of runs) | range | runs |")
-print("|---|---:|---|---:|")
-for scene in dict.fromkeys(s for _, s, _, _ in rows):
-    ratios = [t["measure"] / t[fixed] for (s, _), t in times.items()
-              if s == scene and "measure" in t and fixed in t]
-    print(f"| {scene} | {statistics.median(ratios):.3f} | {min(ratios):.3f}-{max(ratios):.3f} "
-          f"| {len(ratios)} |")
-EOF
+echo
+python3 "$here/scripts/orbit-table.py" "$log"

@@ -11,6 +11,8 @@ Each cell is the median over the runs (their range in brackets). Figures come fr
 results.csv files only.
 
     python3 scripts/regret-table.py RESULTS.csv [RESULTS.csv ...]
+
+scripts/tables.py imports `table` to put the same figures into the docs.
 """
 
 import csv
@@ -27,10 +29,7 @@ def cell(values: list[float]) -> str:
     return f"{statistics.median(values):.2f} ({min(values):.2f}-{max(values):.2f})"
 
 
-def main() -> None:
-    paths = sys.argv[1:]
-    if not paths:
-        sys.exit(__doc__)
+def table(paths: list[str]) -> list[str]:
     runs = [list(csv.DictReader(open(p))) for p in paths]
     scenes: list[tuple[str, str]] = []
     for rows in runs:
@@ -39,10 +38,10 @@ def main() -> None:
             if r["method"] == "impostor" and key not in scenes:
                 scenes.append(key)
     driver = next((r.get("driver", "?") for rows in runs for r in rows), "?")
-    print(f"{len(runs)} runs on {driver}: the plan's time over the fastest fixed path's, median "
-          "over the runs (range)\n")
-    print("| scene | first guess | own frames | its path | learned | own frames | its path |")
-    print("|---|---|---:|---:|---|---:|---:|")
+    lines = [f"{len(runs)} runs on {driver}: the plan's time over the fastest fixed path's, median "
+             "over the runs (range)", "",
+             "| scene | first guess | own frames | its path | learned | own frames | its path |",
+             "|---|---|---:|---:|---|---:|---:|"]
     for scene, count in scenes:
         cells = []
         for method in ("impostor-estimate", "impostor"):
@@ -60,7 +59,15 @@ def main() -> None:
                 if len(fixed) == len(FIXED) and FIXED.get(path) in here:
                     by_path.append(float(here[FIXED[path]]["wall_ms"]) / min(fixed))
             cells += ["/".join(sorted(set(taken))) or "not timed", cell(own), cell(by_path)]
-        print(f"| {scene} ({int(count):,}) | " + " | ".join(cells) + " |")
+        lines.append(f"| {scene} ({int(count):,}) | " + " | ".join(cells) + " |")
+    return lines
+
+
+def main() -> None:
+    paths = sys.argv[1:]
+    if not paths:
+        sys.exit(__doc__)
+    print("\n".join(table(paths)))
 
 
 if __name__ == "__main__":

@@ -4,6 +4,19 @@
 //!
 //! All are global memory barriers: the renderer's buffers are its own and every hazard is
 //! between its own commands, so naming buffers would add nothing but recording cost.
+//!
+//! | barrier | source stages / access | destination stages / access | where |
+//! |---|---|---|---|
+//! | `INSTANCES_BEFORE_COPY` | vertex, fragment, compute, transfer / transfer write | transfer / transfer write | before an upload's copy |
+//! | `INSTANCES_AFTER_COPY` | transfer / transfer write | vertex, fragment, compute / shader read | after the copy |
+//! | `PREPASS_AFTER_PREVIOUS_FRAME` | draw indirect, vertex, fragment, compute / shader write | transfer, compute / transfer write, shader read and write | start of each chunk's pre-pass |
+//! | `PREPASS_CLEARED` | transfer / transfer write | compute / shader read and write | after the indirect reset and the tile, visibility, keep-bit and stamp clears |
+//! | `PREPASS_STEP` | compute / shader write | compute / shader read and write | between culling dispatches |
+//! | `PREPASS_STEP_TO_DISPATCH` | compute / shader write | draw indirect, compute / indirect-command read, shader read and write | before a visible-first splat pass, whose size and list the steps before it wrote (design §5.7) |
+//! | `PREPASS_TO_DRAW` | compute / shader write | draw indirect, vertex, fragment / indirect-command read, shader read | end of each chunk's pre-pass |
+//! | `COUNTER_TO_HOST` | fragment, compute / shader write | host / host read | after a counting frame's pass (`research`: `record_counter_barrier`) |
+//! | `VISIBILITY_CLEARED_TO_DRAW` | transfer / transfer write | fragment / shader read and write | `research` only: after the visibility clear of `impostor-visbuffer`, before its pass |
+//! | `VISIBILITY_DRAW_TO_RESOLVE` | fragment / shader write | vertex, fragment / shader read | `research` only: after `impostor-visbuffer`'s pass, before the host's |
 
 use ash::vk;
 

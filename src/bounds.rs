@@ -10,7 +10,10 @@
 //! perspective, `x` in orthographic) is extreme over `B` either where a plane of constant
 //! coordinate touches `E` at a point with `z >= near`, or on the rim `E ∩ {z = near}`. So the
 //! bounds are the extremes over those candidates, whatever the ellipsoid's position: wholly
-//! in front, cut by the near plane, straddling the eye plane, or around the eye.
+//! in front, cut by the near plane, straddling the eye plane, or around the eye (after Mara and
+//! McGuire). The polygon is the n-gon the renderer draws for ellipsoids wholly beyond the near
+//! plane, the rectangle otherwise. Pixel coordinates are `x` right, `y` down, pixel `(i, j)`
+//! covering `[i, i+1] x [j, j+1]`.
 
 use glam::{DMat3, DVec2, DVec3};
 
@@ -34,8 +37,10 @@ pub struct ScreenBounds {
 }
 
 impl Ellipsoid {
-    /// The bounds of this ellipsoid seen by `camera`, with a polygon of `corners` (at least 3)
-    /// corners; `None` when nothing of it lies beyond the near plane.
+    /// The exact bounds of this ellipsoid seen by `camera` (float64), for a host's tile or
+    /// light binning: the axis-aligned rectangle of its projected silhouette and a polygon of
+    /// `corners` (at least 3) corners around it, both for the part beyond the near plane;
+    /// `None` when nothing of it lies beyond the near plane.
     pub fn screen_bounds(&self, camera: &Camera, corners: usize) -> Option<ScreenBounds> {
         let view = ViewEllipsoid::new(self, camera);
         let near = camera.near;

@@ -1,14 +1,4 @@
-//! The camera and the pixel-ray contract of `docs/design.md` §3, in float64.
-//!
-//! `f = normalize(target - eye)`, `r = normalize(f x up)`, `u = r x f`. Every projection is
-//! described by its [`Intrinsics`] `(fx, fy, cx, cy)` in pixels, and every camera may carry a
-//! sub-pixel `jitter` `(dx, dy)`: continuous pixel position `(x, y)` (x right, y down from the
-//! image's top-left corner; pixel `(i, j)`'s centre is `(i + 0.5, j + 0.5)`) lies on the
-//! screen plane at `s = ((x + dx - cx) / fx, (cy - y - dy) / fy)` (x along `r`, y along `u`).
-//! Perspective: the ray leaves `eye` along `f + s.x r + s.y u`. Orthographic: the ray leaves
-//! `eye + s.x r + s.y u` along `f`. View depth of `p` is `dot(p - eye, f)`; nothing nearer than
-//! `near` is visible. The camera's `width x height` image is drawn at `viewport_origin` in the
-//! host's attachments.
+//! The camera and the pixel-ray contract of `docs/design.md` §3, in float64 ([`Camera`]).
 
 use glam::{DVec2, DVec3};
 
@@ -93,6 +83,13 @@ impl Intrinsics {
 }
 
 /// How the view volume is shaped.
+///
+/// The kinds are forms of one pinhole (or parallel) camera (design §3.2): `Perspective { fov_y_deg }` is `fx = fy =
+/// (H/2) / tan(fov_y/2)`, `(cx, cy) = (W/2, H/2)`; `Orthographic { height }` is `fx = fy = H /
+/// height`, centred; `PerspectiveIntrinsics(k)` and `OrthographicIntrinsics(k)` take any `k`
+/// with positive finite focal lengths -- off-centre (calibrated cameras), asymmetric (each eye of
+/// a stereo pair: `Intrinsics::from_tangents` takes OpenXR's per-eye angles), off-centre
+/// orthographic windows (`Intrinsics::from_ortho_window`) and non-square pixels. The field of view is in (0, 180) degrees.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Projection {
@@ -121,6 +118,16 @@ pub enum Projection {
 
 /// A validated camera: position, orientation, projection, near plane, image size, jitter and
 /// where the image lies in the host's attachments.
+///
+/// The pixel-ray contract (`docs/design.md` §3), in float64: `f = normalize(target - eye)`,
+/// `r = normalize(f x up)`, `u = r x f`. Every projection is described by its [`Intrinsics`] `(fx, fy, cx, cy)` in pixels, and every camera may carry a
+/// sub-pixel `jitter` `(dx, dy)`: continuous pixel position `(x, y)` (x right, y down from the
+/// image's top-left corner; pixel `(i, j)`'s centre is `(i + 0.5, j + 0.5)`) lies on the
+/// screen plane at `s = ((x + dx - cx) / fx, (cy - y - dy) / fy)` (x along `r`, y along `u`).
+/// Perspective: the ray leaves `eye` along `f + s.x r + s.y u`. Orthographic: the ray leaves
+/// `eye + s.x r + s.y u` along `f`. View depth of `p` is `dot(p - eye, f)`; nothing nearer than
+/// `near` is visible. The camera's `width x height` image is drawn at `viewport_origin` in the
+/// host's attachments.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
     /// Eye position (perspective centre, or the point of the orthographic image plane on the
@@ -440,7 +447,7 @@ impl Camera {
         (a, b)
     }
 
-    /// The shaders' screen map (§7.2): their NDC `v` is a screen-plane point over these
+    /// The shaders' screen map (design §3.2, `PushConstants`): their NDC `v` is a screen-plane point over these
     /// scales, `s = (v.x sx, v.y sy)`, and Vulkan's NDC of the image is `v - ndc_shift` (y
     /// up). Centred cameras have `sx / sy = W / H` and no shift.
     pub fn ndc_scale(&self) -> (f64, f64) {

@@ -1,9 +1,46 @@
-//! The library's error type: every failure names where it happened and why. (The loaders
-//! and the tool have their own, for files.)
+//! The library's error type: every failure names where it happened and why. It has only what
+//! the renderer itself can meet: Vulkan results, allocation failures (named), invalid arguments (naming where
+//! and why), missing device support, shader and pipeline failures; device loss and running out of
+//! memory have variants of their own (below, on [`Error`]). The loaders have their own
+//! (`crates/loaders/src/error.rs`: parse errors with file and line, I/O, invalid scenes, and the
+//! library's errors wrapped) and the tool its own (`crates/tool/src/error.rs`: the library's and
+//! the loaders' wrapped, invalid arguments, I/O, image encoding).
 
 use ash::vk;
 
 /// Everything that can go wrong in `ellipsoid-splat`.
+///
+/// # Device loss and running out of memory
+///
+/// What a host sees when the GPU runs out of memory or is lost, through every API: the Rust
+/// `Error`, the C ABI's `EsStatus` and `es_last_error()`, the Python package's exceptions. No panic
+/// reaches the host in either case, and destroying the renderer frees everything it made and
+/// nothing of the host's.
+///
+/// - **Out of memory** (`Error::OutOfMemory`, `ES_STATUS_ERROR_OUT_OF_MEMORY`, Python's
+///   `OutOfMemoryError`, a `DeviceError`): a Vulkan call, or the host's allocator, ran out while
+///   the renderer made something; the message names it (a buffer by its name, as in
+///   `out of GPU memory while creating ellipsoid instances (vkCreateBuffer)`, else the kind of
+///   object and the call). The call changed nothing the renderer draws, so it stays usable: free
+///   memory (a smaller scene, fewer or smaller views) and go on. An upload or update is staged
+///   first (its buffers made, its bytes in a staging buffer: `src/renderer/staged.rs`) and taken
+///   in only once that succeeded -- by the offscreen renderer only once its submission completed --
+///   so a failed one keeps the scene uploaded before; a buffer is replaced only once its
+///   successor exists; and a failed `vkQueueSubmit` ran nothing (the spec says so), so the
+///   offscreen renderer records again at the next call (`src/offscreen/submission.rs`).
+/// - **Device lost** (`Error::DeviceLost { call }`, `ES_STATUS_ERROR_DEVICE_LOST`, Python's
+///   `DeviceLostError`): `call` names the entry point that reported it (`vkQueueSubmit`,
+///   `vkWaitForFences`, ...). The offscreen renderer and the Python package then fail every later
+///   call that needs the GPU with the same error, and draw nothing. The embedded renderer never
+///   submits or waits: it records as before, and the host sees the loss in its own submissions
+///   and waits. Either way the renderer is done: wait for the device to be idle (on a lost device
+///   the wait returns, reporting the loss), destroy the renderer, make a new device.
+/// - **A host's own failures.** The embedded renderer takes an upload or update in when it is
+///   recorded: if the host then does not submit that command buffer, or its submission fails, the
+///   renderer draws glyphs that never reached the GPU -- upload them again.
+///
+/// `crates/fault-layer` tests this (`docs/testing.md`): a Vulkan layer of the tests' own makes the N-th call
+/// of a typical host's run fail, for every N.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
@@ -25,7 +62,7 @@ pub enum Error {
     NoDevice(String),
     /// The device was lost (a GPU fault, reset or driver crash) during `call`: nothing more can
     /// be done with it; destroy the renderer and make a new device (what each call does
-    /// meanwhile: `docs/design.md` §6.10).
+    /// meanwhile: the type's documentation).
     #[error("the Vulkan device was lost during {call}: create a new renderer (device) to go on")]
     DeviceLost {
         /// The Vulkan entry point that reported the loss, e.g. `vkQueueSubmit`.
@@ -33,7 +70,7 @@ pub enum Error {
     },
     /// Device or host memory ran out while creating `what`. The call changed nothing (a failed
     /// upload keeps the scene uploaded before): the renderer stays usable
-    /// (`docs/design.md` §6.10).
+    /// (the type's documentation).
     #[error("out of {} memory while creating {what}: {reason}", if *.device { "GPU" } else { "host" })]
     OutOfMemory {
         /// What was being allocated (a buffer's name, or the kind of object) and the Vulkan

@@ -10,6 +10,12 @@
 //!   the half floats' full precision), one float16 unused. The quantisation moves the surface
 //!   by at most about 2^-11 of a semi-axis (the float16 rounding) plus 2^-15 of a radian of
 //!   rotation; `bench` reports what that costs in accuracy beside the time it saves.
+//!
+//! `Ellipsoid`'s fields are public, so packing checks each glyph's own fields before anything
+//! else and refuses, naming it (`Invalid`, "ellipsoid k"), a centre that is not finite, semi-axes
+//! float32 does not hold above 0, a zero or non-finite quaternion, a colour outside [0, 1]; a
+//! quaternion off unit length is stored normalised. A scene whose glyphs lie too far apart for
+//! float32 offsets from one origin is refused as "scene", naming the glyphs at both ends.
 
 // Without `research` the module is private, and the conveniences only the benchmark calls
 // go unused.

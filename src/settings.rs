@@ -85,6 +85,25 @@ impl Material {
 /// [`crate::EllipsoidRenderer::set_settings`], which says what each change costs. A material
 /// shading cannot use (a weight not finite or below 0, shininess not above 0) is refused by
 /// name: by `EllipsoidRenderer::new`, and by every plan made while it is in force.
+///
+/// `Settings` (`src/settings.rs`), given in `RendererOptions::settings` or later through
+/// `set_settings`. Every field has a safe default; none but `material` and
+/// `instance_format` changes a pixel:
+///
+/// | field | default | what it does | a change takes effect |
+/// |---|---|---|---|
+/// | `material` | `Material::default()`: ambient 0.15, diffuse 0.75, specular 0.4, shininess 40, white highlights | the shading (design §4.8); a weight not finite or below 0, or shininess not above 0, is refused by `new` and by every plan while in force (`Error::Invalid`, "material ambient" ...) | at the next `record`; push constants, free |
+/// | `culling` | `Culling::ON` (`frustum`, `pixel_centres`, `occlusion`) | which exact culling the pre-pass does (design §5.3) | at the next frame |
+/// | `setup_once` | on | the pre-pass sets small glyphs up once (design §5.3) | at the next frame |
+/// | `cap_free_path` | on | the `NO_CAPS` variant when nothing reaches the near plane (design §4.6) | at the next frame |
+/// | `small_glyph_triangles` | off | the triangle footprint for glyphs of a few pixels (design §5.1) | at the next frame |
+/// | `instance_format` | `InstanceFormat::Full` | 48-byte float32 or 32-byte compact instances ([`crate::InstanceFormat`]) | at the next `upload` |
+/// | `plan` | `PlanMode::Measure` | how the plan chooses among the exact paths that can serve a frame -- the draw, the compute splat (design §5.6), the visible-first splat (design §5.7): by timing them on this device, by the first guess alone, or fixed (design §5.8) | at the next frame |
+/// | `per_sample_shading` | off | on multisampled targets, shade every sample (exact depth per sample) instead of once per pixel with exact per-sample coverage and one depth, the nearest covered sample's ([`crate::Target`]) | builds pipelines on first use |
+/// | `max_chunk_instances` | `u32::MAX` | the most instances per descriptor set (design §5.4) | set it before an `upload` |
+///
+/// A change that takes effect at the next frame may select a pipeline variant not built yet;
+/// it is built on first use (the draw's ahead of recording by `prepare_for`), and kept.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct Settings {

@@ -10,6 +10,21 @@ use crate::settings::Settings;
 /// The host's Vulkan objects the renderer works with, and the features the host enabled on
 /// its device. The handles are borrowed: the renderer never destroys them, and the host keeps
 /// them alive until it has destroyed the renderer.
+///
+/// `HostDevice::new(instance, physical_device, device, queue_family_index, enabled_features)`
+/// -- the handles borrowed, and the features the host enabled, of those the renderer uses
+/// (`DeviceFeatures`, `src/features.rs`: `maintenance4`, `dynamicRendering`,
+/// `sampleRateShading`, `shaderInt64`, `shaderBufferInt64Atomics`; `to_vk` gives the structs to
+/// chain into `VkDeviceCreateInfo`, `supported` reads what a device has, `missing_from` names
+/// what is missing). What a target needs is `Target::required_features()`: always
+/// `maintenance4` (the compute shaders use `LocalSizeId`); `dynamicRendering` only for
+/// `Pass::Dynamic` (a render-pass host need not enable it); `sampleRateShading` only for a
+/// multisampled target (its frames shade every sample with other sample counts, on devices
+/// without the standard sample locations, or with `Settings::per_sample_shading`, which a host
+/// may turn on at any frame). The compute splat
+/// (design §5.6) runs only where the host enabled `DeviceFeatures::COMPUTE_SPLAT` too, and the plan
+/// says so (`DrawReason`). `new` and `set_target` refuse a target whose features the host did
+/// not enable, naming them; the queue family must support graphics and compute.
 #[derive(Clone, Copy)]
 #[non_exhaustive]
 pub struct HostDevice<'a> {
@@ -75,14 +90,39 @@ pub enum Pass {
 }
 
 /// The pass the ellipsoids are drawn into and what the renderer writes there.
+///
+/// `Target::new(pass)` (fields `pass`, `samples`, `aux_outputs`; non-exhaustive) with
+/// `Pass::RenderPass { render_pass, subpass, color_attachment_count, depth_format }` or
+/// `Pass::Dynamic { color_formats, depth_format }` (`Target::dynamic(color, depth)` for the
+/// single-sample, colour-and-depth case).
+/// The renderer writes colour attachment 0, depth, and with `aux_outputs` attachments 1
+/// ([`Target::NORMAL_FORMAT`], `R32G32B32A32_SFLOAT`) and 2 ([`Target::ID_FORMAT`], `R32_UINT`); other colour
+/// attachments get a zero write mask. No blending. `set_target` switches targets; pipelines are
+/// kept per target. With `samples` 2 or 4 on a device with the standard sample locations
+/// (`FramePlan::coverage_samples`), the fragment stage runs once per pixel
+/// (`sampleShadingEnable` off) and decides each standard sample position exactly
+/// (`glsl/include/pixel_coverage.glsl`), writing the covered ones to `gl_SampleMask` (an empty
+/// mask writes nothing). In perspective with nothing in front of the near plane (`NO_CAPS`) and
+/// no far plane (`FAR_PLANE` off), a sample is covered where the silhouette's quadratic form
+/// says so: hit_stable's `den > 0` and `|q| < 1` are `den > 0` and
+/// `f = den^2 - k_y^2 |r_xy|^2 > 0` (design §4.2, §4.3), both affine or quadratic in the sample's
+/// offset from the pixel centre, so no division per sample; the hit is then computed once.
+/// Otherwise (caps, an eye inside, a far plane that may cut a glyph inside a pixel,
+/// orthographic) every sample runs the full hit. The two ways are compile-time variants because
+/// lavapipe executes both sides of a divergent branch. Either way the pixel gets one depth, the
+/// nearest covered sample's (a glyph in front of the host's geometry at every sample it covers
+/// shows at all of them; where they cross, a pixel's samples may fall on the wrong side), and is
+/// shaded at that sample. Other counts, devices without standard locations, and
+/// `Settings::per_sample_shading` shade every sample (`sampleShadingEnable`,
+/// `minSampleShading` 1): depth exact per sample. Single-sample stages write `gl_SampleMask`
+/// as it came in (the stage declares the output).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub struct Target {
     /// The pass's attachments.
     pub pass: Pass,
-    /// Samples per pixel of the attachments (1 or a power of two the device supports). With
-    /// more than one, every sample is shaded on its own (sample-rate shading), so silhouettes
-    /// are antialiased and depth is exact per sample against the host's meshes.
+    /// Samples per pixel of the attachments (1 or a power of two the device supports); how
+    /// more than one is covered and shaded is in the type's documentation.
     pub samples: vk::SampleCountFlags,
     /// Colour attachments 1 and 2 receive the world normal ([`Target::NORMAL_FORMAT`]) and the
     /// instance index ([`Target::ID_FORMAT`]); otherwise the renderer writes attachment 0 only. It
@@ -234,6 +274,10 @@ impl Target {
 
 /// How the renderer is set up for a host: [`RendererOptions::new`], then change the fields
 /// that differ.
+///
+/// `RendererOptions::new(target)` (fields `target`, `frames_in_flight` (1 ..= 16), `settings`,
+/// `pipeline_cache` (borrowed, may be null); non-exhaustive) gives one frame in flight,
+/// `Settings::default()` and no pipeline cache.
 #[derive(Clone, Debug)]
 #[non_exhaustive]
 pub struct RendererOptions {

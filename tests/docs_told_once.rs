@@ -1,8 +1,13 @@
 //! The documentation tells each fact once: no paragraph of at least `PARAGRAPH_WORDS` words and
-//! no sentence of at least `SENTENCE_WORDS` words appears twice across `README.md` and
-//! `docs/**/*.md` (the measurements' own files under `docs/results/` aside). A repeat is a fact
-//! kept in two places that will drift apart; keep it in the better one and link it from the
-//! other. Code blocks, tables, headings and pictures are not prose and are not compared.
+//! no sentence of at least `SENTENCE_WORDS` words appears twice across `README.md`,
+//! `docs/**/*.md` (the measurements' own files under `docs/results/` aside) and the crate
+//! documentation of `src/lib.rs` (the embedding contract). A repeat is a fact kept in two
+//! places that will drift apart; keep it in the better one and link it from the other. Code
+//! blocks, tables, headings and pictures are not prose and are not compared, nor is what
+//! `scripts/tables.py` writes between its markers (made from one results file, it cannot
+//! drift, and each table's line of date and machine may repeat another's). The README and the
+//! design document also stay short enough to read (`MAX_README_LINES`, `MAX_DESIGN_LINES`):
+//! past that, move detail to a topic file or the code's documentation.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -11,6 +16,13 @@ use std::path::Path;
 const PARAGRAPH_WORDS: usize = 25;
 /// The shortest sentence, in words, whose repeat fails the test.
 const SENTENCE_WORDS: usize = 20;
+
+/// The most lines `README.md` may have: what it is, the two commands, the main commands and
+/// the headline table; the rest belongs in `docs/`.
+const MAX_README_LINES: usize = 400;
+/// The most lines `docs/design.md` may have: the why and the numerics; the API contract is
+/// rustdoc and the user docs are topic files.
+const MAX_DESIGN_LINES: usize = 900;
 
 /// One paragraph of prose: where it starts (`file:line`) and its words.
 struct Paragraph {
@@ -24,11 +36,16 @@ fn paragraphs(file: &str, markdown: &str) -> Vec<Paragraph> {
     let mut found = Vec::new();
     let mut current: Option<Paragraph> = None;
     let mut in_code = false;
+    let mut in_generated = false;
     for (index, line) in markdown.lines().enumerate() {
         let text = line.trim();
         let fence = text.starts_with("```");
+        if text.starts_with("<!-- table: ") {
+            in_generated = true;
+        }
         let not_prose = fence
             || in_code
+            || in_generated
             || text.is_empty()
             || text.starts_with('|')
             || text.starts_with('#')
@@ -43,6 +60,9 @@ fn paragraphs(file: &str, markdown: &str) -> Vec<Paragraph> {
         }
         if fence {
             in_code = !in_code;
+        }
+        if text == "<!-- end table -->" {
+            in_generated = false;
         }
         if not_prose {
             continue;
@@ -123,7 +143,20 @@ fn repeats(documents: &[(String, String)]) -> Vec<String> {
     report
 }
 
-/// README.md and every Markdown file under docs/ but docs/results/, by path from the root.
+/// The crate documentation of a Rust file: its leading `//!` lines, as Markdown.
+fn crate_docs(rust: &str) -> String {
+    rust.lines()
+        .take_while(|line| line.starts_with("//!"))
+        .map(|line| {
+            let text = line.trim_start_matches("//!");
+            text.strip_prefix(' ').unwrap_or(text)
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// README.md, every Markdown file under docs/ but docs/results/, and the crate documentation
+/// of src/lib.rs, by path from the root.
 fn documentation(root: &Path) -> Vec<(String, String)> {
     fn walk(root: &Path, dir: &Path, out: &mut Vec<(String, String)>) {
         let mut entries: Vec<_> = std::fs::read_dir(dir)
@@ -149,6 +182,8 @@ fn documentation(root: &Path) -> Vec<(String, String)> {
     let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
     let mut documents = vec![("README.md".to_string(), readme)];
     walk(root, &root.join("docs"), &mut documents);
+    let lib = std::fs::read_to_string(root.join("src/lib.rs")).unwrap();
+    documents.push(("src/lib.rs".to_string(), crate_docs(&lib)));
     documents
 }
 
@@ -156,8 +191,12 @@ fn documentation(root: &Path) -> Vec<(String, String)> {
 fn no_paragraph_or_sentence_of_the_documentation_is_told_twice() {
     let documents = documentation(Path::new(env!("CARGO_MANIFEST_DIR")));
     assert!(
-        documents.len() > 10 && documents.iter().any(|(f, _)| f == "docs/design.md"),
-        "README.md and docs/ are read"
+        documents.len() > 10
+            && documents.iter().any(|(f, _)| f == "docs/design.md")
+            && documents
+                .iter()
+                .any(|(f, text)| f == "src/lib.rs" && text.contains("# Embedding")),
+        "README.md, docs/ and the crate documentation are read"
     );
     let report = repeats(&documents);
     assert!(
@@ -191,5 +230,50 @@ fn a_planted_repeat_is_named_at_both_places() {
     assert!(
         report[0].starts_with("paragraph at a.md:1 and b.md:3:"),
         "{report:?}"
+    );
+}
+
+#[test]
+fn the_readme_and_the_design_stay_short() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (file, limit) in [
+        ("README.md", MAX_README_LINES),
+        ("docs/design.md", MAX_DESIGN_LINES),
+    ] {
+        let lines = std::fs::read_to_string(root.join(file))
+            .unwrap_or_else(|e| panic!("reading {file}: {e}"))
+            .lines()
+            .count();
+        assert!(
+            lines <= limit,
+            "{file} has {lines} lines, more than {limit}: move detail to a docs/ topic file or \
+             the code's documentation, and link it"
+        );
+    }
+}
+
+/// The crate documentation is read as Markdown: the `//!` lines that open the file, without
+/// their prefix, and nothing after them.
+#[test]
+fn the_crate_documentation_is_its_opening_doc_lines() {
+    let rust = "//! # Title\n//!\n//! Text here.\n\nuse x;\n//! not crate docs\n";
+    assert_eq!(crate_docs(rust), "# Title\n\nText here.");
+}
+
+/// A reader goes from the README to every topic in one click: each relative link of the
+/// README and `docs/` names a file (and heading) that exists (`scripts/check-doc-links.py`).
+#[test]
+fn every_relative_link_of_the_documentation_resolves() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let output = std::process::Command::new("python3")
+        .arg(root.join("scripts/check-doc-links.py"))
+        .current_dir(root)
+        .output()
+        .unwrap_or_else(|err| panic!("python3 scripts/check-doc-links.py could not start: {err}"));
+    assert!(
+        output.status.success(),
+        "broken links in the documentation:\n{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
     );
 }

@@ -1,5 +1,5 @@
 //! Random call sequences against the embedding API, under validation with synchronization
-//! validation (issue 33, docs/design.md §9.3): uploads of 0, 1, a few and around the chunk
+//! validation (issue 33, docs/testing.md): uploads of 0, 1, a few and around the chunk
 //! limit's glyphs, updates in and out of range, every setting's variants, cameras of every
 //! kind and degenerate ones, new targets (resizes down to one pixel, render pass or dynamic
 //! rendering, either depth convention, 1 or 4 samples), views added and dropped, frames

@@ -1,5 +1,32 @@
 //! The standalone path: owns a device, renders a scene into offscreen targets and reads back
 //! colour, view depth, world normal and instance ID.
+//!
+//! The offscreen renderer (`src/offscreen/`, feature `offscreen`) owns its device and draws with
+//! dynamic rendering into its own `R8G8B8A8_SRGB` colour and `D32_SFLOAT` depth targets, plus the
+//! normal and ID targets, made and drawn into only when a frame's
+//! `Outputs { color, depth, normal, id }` asks for either (`Outputs::ALL`, `Outputs::COLOR_DEPTH`;
+//! the default asks for nothing).
+//! `render(&scene, &camera, outputs)` uploads and renders; `render_uploaded(&camera, outputs)` renders
+//! the uploaded scene and returns the `Frame` with its `FrameTiming`; `render_timed(&camera, outputs)`
+//! draws without reading back (the frame a benchmark times). The targets are made for one image size
+//! and one set of outputs and replaced when a frame needs another size or an output they lack
+//! (`targets.rs`); only the outputs asked for are copied to the read-back buffer and filled in the
+//! `Frame` (`src/frame.rs`; the others stay empty vectors): sRGB RGBA8 colour, view depth (depth-buffer
+//! values mapped back through the camera's depth map in float64; +inf where the depth buffer still
+//! holds its clear value), normal (0 where nothing is hit, `-f` on caps) and instance ID
+//! (`NO_INSTANCE = u32::MAX` where nothing is hit). Row 0 is the top row everywhere.
+//!
+//! # Files
+//!
+//! | file | what it holds |
+//! |---|---|
+//! | `mod.rs` | `OffscreenRenderer` (`new`, `upload`, `render`, `render_views`, `render_uploaded`, `render_timed`, `settings`, `set_settings`, `set_samples`, `plan`, `last_plan`, `plan_wisdom`, `load_plan_wisdom`, `gpu_memory_bytes`, `context`, `finish`) and `FrameTiming`; the context, command buffer, fence and queries |
+//! | `outputs.rs` | `Outputs { color, depth, normal, id }`, `ALL`, `COLOR_DEPTH` |
+//! | `targets.rs` | `Targets`: colour and depth always, normal and ID only when asked for, and the read-back buffer holding only the outputs asked for (normal first, for its 16-byte texel alignment); multisampled, the attachments drawn into beside the single-sample ones they resolve to |
+//! | `record.rs` | one frame: pre-pass, the dynamic-rendering pass (multisampled: resolving colour and normal by the mean), and the copies of the outputs asked for |
+//! | `sample_zero.rs` | multisampled depth and ID read at sample 0 by a compute fetch (`glsl/offscreen/sample_zero_*.comp`) into the read-back buffer, not resolved: one driver's `SAMPLE_ZERO` resolve of `R32_UINT` takes another sample (`docs/conformance.md`) |
+//! | `readback.rs` | the read-back buffer to a `Frame` (depth mapped back to view depth) |
+//! | `submission.rs` | `Submission`: what the last submission left (idle, unfinished, device lost) and the submit-and-wait that decides it, so a submission that failed before reaching the GPU leaves the renderer usable (`Error`) |
 
 use std::time::{Duration, Instant};
 

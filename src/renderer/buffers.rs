@@ -11,6 +11,23 @@ use crate::frame_slots::{FrameSlots, Retired};
 use crate::gpu::GpuBuffer;
 
 /// The bindings of the renderer's descriptor set, each backed by one buffer.
+///
+/// Descriptor set 0, all storage buffers, one per `Binding` (`src/renderer/buffers.rs`), each
+/// chunk's set pointing at its slices (design §5.4):
+///
+/// | binding | `Binding` | contents | stages | per chunk |
+/// |---:|---|---|---|---|
+/// | 0 | `Instances` | instances (`Instance`, `CompactInstance`) | vertex, fragment (the splat's resolve), compute | slice |
+/// | 1 | `FragmentCounter` | shaded fragments (`COUNT_FRAGMENTS`) and the compute splat's ray casts (`COUNT_RAY_CASTS`); host-visible | fragment, compute | whole |
+/// | 2 | `Visible` | visible instance indices (`uint` each) | vertex, compute | slice |
+/// | 3 | `IndirectDraw` | `IndirectDraw` | compute | the chunk's 40 bytes at `256 k` |
+/// | 4 | `CullGroups` | per group of 256: 8 words of keep bits; after all groups, one count per group (SCAN turns it into the first output slot) (written by CLASSIFY, or by the compute splat for the glyphs it leaves to the draw) | compute | the chunk's slice, 256-aligned |
+/// | 5 | `OcclusionTiles` | occlusion tiles (`uint` float bits per 4 x 4 tile, row-major from the top left) | compute | whole, shared |
+/// | 6 | `ShadingRecords` | `ShadingRecord`s | compute, fragment | slice (whole beyond `MAX_SETUP_ONCE_INSTANCES`) |
+/// | 7 | `FootprintRecords` | `FootprintRecord`s | vertex, compute | slice (likewise) |
+/// | 8 | `Visibility` | the compute splat's nearest hit per pixel, then its resolve tiles (`uint64_t`, row-major, design §5.6) | compute, vertex, fragment | whole, shared |
+/// | 9 | `FloorPixels` | the visible-pixel floor's lists (host-visible; 8 bytes unless the benchmark sets them, design §5.7) | compute | whole |
+/// | 10 | `GlyphStamps` | per glyph the stamps of the last frame that showed it and that left it to the draw (design §5.7) | compute | whole (frames with stamps have one chunk) |
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Binding {
     /// The instance records.

@@ -1,6 +1,15 @@
 //! Scenes beyond one storage-buffer binding: the instances are split into chunks, each with
 //! its own descriptor set (slices of the scene's buffers), pre-pass and draw, in instance
 //! order so depth ties resolve as in one draw.
+//!
+//! The renderer splits the scene into chunks of `min(maxStorageBufferRange / stride,
+//! Settings::max_chunk_instances)` instances, rounded down to a multiple of 256 and at least 256
+//! (so every slice stays aligned). The scene's buffers stay whole; each chunk gets its own
+//! descriptor set pointing at its slices (instances, visible list, indirect command at `256 k`,
+//! groups and, for scenes that have them, set-up records), its own pre-pass and its own draw. The
+//! push constant `first_instance` holds the chunk's first instance: shaders index chunk-relative
+//! and write the global ID `v_id + first_instance`. The occlusion tiles (and the fragment counter)
+//! are bound whole and shared by all chunks.
 
 /// Alignment of each chunk's slice of a buffer: a multiple of every device's
 /// `minStorageBufferOffsetAlignment` (at most 256 by the specification).

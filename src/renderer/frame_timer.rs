@@ -3,6 +3,18 @@
 //! and after its draw (inside it), in a query pool of the renderer's. The results are read
 //! when the frame slot begins again: the host waited for that slot then, so they are there
 //! and reading them never waits.
+//!
+//! **Timing** (`FrameTimer`, `src/renderer/frame_timer.rs`): a query pool of its own, four
+//! timestamps per view and frame slot (up to `TIMED_VIEWS` = 4 views): before and after the
+//! pre-pass (reset there, outside the pass), and before and after the draw (inside the host's
+//! pass). `begin_frame` reads a slot's results without waiting -- the host waited for that
+//! slot's fence -- and hands each view's pre-pass plus draw time to the learning, or reports
+//! it lost (the view's draw was not recorded, or the results were not available). A frame
+//! with nothing to teach -- its class settled, or its kind already timed enough -- writes no
+//! timestamp: lavapipe flushes its rasterizer at each, which cost small frames up to 9 % while
+//! every frame wrote them (measured 2026-11-26; no result file kept). A queue family without
+//! timestamps (`timestampValidBits` 0) gets no pool, and `PlanMode::Measure` then plans as
+//! `Estimate` (`EllipsoidRenderer::can_measure`).
 
 use ash::vk;
 

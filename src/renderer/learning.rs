@@ -13,6 +13,48 @@
 //! candidate is left to time the class is settled.
 //! Every candidate is exact, so exploring changes no pixel beyond what each path's exactness
 //! allows.
+//!
+//! # The rules in full
+//!
+//! **Scene classes** (`SceneClass`, `src/renderer/learning.rs`): frames alike enough to share a
+//! fastest path -- the glyph count, the sampled glyphs' mean area on screen and the layers they
+//! lie in (each in octaves), the image's pixels (octaves), the samples and whether the camera is
+//! still. A class met for the first time is measured; one learned is planned as learned. A
+//! frame whose size and layers lie within 0.75 octaves of a known class's (the same glyph count,
+//! pixels, samples and camera) is planned as that class (`PlanLearning::classify`): glyphs
+//! whose mean size sits at an octave's edge would otherwise flip a moving camera between two
+//! classes, each explored from the start.
+//!
+//! **Exploring** (`PlanLearning::choose`, `commit`, `record`): a new class first runs the
+//! choice (or the fastest so far) of its nearest neighbour -- a class of the same glyph count, pixels and
+//! samples within three octaves of size and layers (a still camera's neighbour one step
+//! further) -- or, without one, the first guess; a kind that took over twice its fastest's time
+//! in that neighbour is not timed again. Then each other candidate gets a trial, with four
+//! frames of the best so far between trials (exploring is spread out). A kind's first frame in
+//! the renderer's life warms up (its pipelines are built, and lavapipe bakes branch-steering
+//! values into its shaders) and is not timed; every later frame of it counts, in any class. A
+//! candidate whose median exceeds 1.3 times the best's is dropped as soon as its time comes in,
+//! so a far slower path costs one or two frames per class; the others are timed until each has
+//! three frames, or seven where its median lies within 10 % of its nearest rival's (a frame's
+//! noise on a shared CPU decides three frames' medians, and frames of either of two close
+//! paths cost little). The best's frames between trials are timed too (its median then
+//! comes from frames around the trials'), and of two close kinds the one timed first, if it
+//! lost, runs once more after the other, only that run's times counting (A B A, as a
+//! benchmark interleaves): a device still warming up makes the kind timed later look faster
+//! -- an H200 picked the visible-first splat, 6 % slower than the splat, in three runs of four
+//! on the million 2 px glyphs before this (`tests` in `learning.rs` model drifts of up to
+//! 20 %). While a trial's timed frames are in flight (their times come back when the
+//! host reuses the frame slot, frames in flight later), the trial waits on the best rather than
+//! draw more frames of a path that may be far slower. A kind whose time is lost (its view's
+//! draw was not recorded, or its timestamps were not available when its slot came round
+//! again), or whose trial runs eight frames without its timed ones, is dropped; views past the
+//! timer's first four count as frames with nothing to time. A class whose every time was lost
+//! settles untimed and is planned by the first guess. When
+//! no candidate is left to time, the class settles on the fastest median
+//! (`PlanReason::Measured`: its median and the runner-up's); until then its frames say
+//! `PlanReason::Exploring`, or `Estimated` while the first guess is timed. A frame of the
+//! visible-first trial that only stamps is not timed.
+//! The learning holds at most 256 classes, forgetting the least recently used.
 
 use crate::path::PathKind;
 

@@ -34,6 +34,35 @@
 //!
 //! The parts, one file each: [`FramePlan`] (what a frame does, decided once), the scene's
 //! buffers (one table), chunking, descriptor sets, pipelines, upload, pre-pass and draw.
+//!
+//! # Files
+//!
+//! | file | what it holds |
+//! |---|---|
+//! | `mod.rs` | `EllipsoidRenderer`: `new`, `plan`, `last_plan`, `plan_wisdom`, `load_plan_wisdom`, `can_measure`, `settings`, `set_settings`, `set_target`, `current_target`, `begin_frame` (which hands the slot's frame times to the plan's learning), `gpu_memory_bytes`, `count`, `origin`, `destroy`; sizing the scene's buffers; the per-chunk descriptor sets; the barrier contract in its module documentation |
+//! | `plan.rs` | `FramePlan`, every per-frame decision made once (the crate docs): which paths can serve the frame, the one it takes, its footprint, variants and sampling; `SETUP_ONCE_MAX_AREA_PX`, `MAX_SETUP_ONCE_INSTANCES`, `SPLAT_MAX_BOX_PIXELS`, `MAX_SPLAT_CHUNKS` |
+//! | `plan_reason.rs` | `PlanReason` (why a frame takes its path), `DrawReason` (what rules the splat out), `Guess`, `Measured` |
+//! | `estimate.rs` | the first guess from the scene's size on screen, and its lavapipe thresholds (design §5.8) |
+//! | `learning.rs` | `PlanLearning`, `SceneClass`: the candidates' times per scene class, the exploring schedule, the settled choices (design §5.8) |
+//! | `frame_timer.rs` | `FrameTimer`: timestamps around each view's pre-pass and draw in the host's command buffers, read when the slot begins again (design §5.8) |
+//! | `wisdom.rs` | what the plan learned as bytes, keyed by the device and driver build (design §5.8) |
+//! | `buffers.rs` | `SceneBuffers` and `Binding`: one storage buffer per descriptor binding as one table (name, stages, usage, memory), each grown by the same rule (a buffer too small is replaced and the old one retired, `src/frame_slots.rs`) |
+//! | `chunks.rs` | `Chunking`, `SLICE_ALIGN`: how a scene is split across bindings (design §5.4) |
+//! | `descriptors.rs` | the descriptor-set layout and one set per chunk, in a pool of its own |
+//! | `pipelines/mod.rs` | `Pipelines`: the two pipeline layouts (graphics push range `DRAW_PUSH_STAGES`, compute-only for the pre-pass) and every pipeline, built on first use and kept per key |
+//! | `pipelines/keys.rs` | `PipelineKey`, `SplatKey`, `CullKey`: each derived from the frame plan in one place, with its specialization constants (`SpecConstants`) |
+//! | `pipelines/create.rs` | creating the graphics and compute pipelines the keys describe |
+//! | `pipelines/raster.rs` | `Raster`: the fixed-function state that differs between the impostor and a baseline |
+//! | `push.rs` | `push_constants`: the `PushConstants` of a frame and chunk (`PushConstants`) |
+//! | `upload.rs` | `upload`, `update`: staged, recorded and taken in at once |
+//! | `staged.rs` | `StagedUpload`: an upload or update whose memory is made and bytes staged before anything of the renderer changes, its copy between barriers, then taken in or dropped (`Error`) |
+//! | `uploaded.rs` | `UploadedScene`: what the CPU keeps of the uploaded scene (count, origin, format, compact unit, all spheres, box, size sample) and the decisions made from it (`projected_sample`, `screen_share`, `beyond_near_plane`) |
+//! | `prepass/mod.rs` | `record_prepass`: one pre-pass per chunk, sharing the occlusion tiles; the dispatches of each path (design §5.3, §5.6, §5.7) |
+//! | `prepass/steps.rs` | `CullStep`, `CullSelect`, the workgroup sizes and the sizes of the buffers the steps fill |
+//! | `prepass/record.rs` | `Prepass`: one chunk's clears, dispatches and barriers, recorded |
+//! | `draw.rs` | `prepare_for` (pipelines ahead of recording) and `record`: one draw per chunk, with the view whose pre-pass had the same camera |
+//! | `viewport.rs` | the viewport and scissor of a camera's image |
+//! | `view.rs` | `View`, `MAX_VIEWS`: one view of a frame -- its pre-pass buffers, descriptor sets, prepared plan and history (the crate docs) |
 
 mod buffers;
 mod chunks;
@@ -165,6 +194,9 @@ impl EllipsoidRenderer {
     /// descriptor-set and pipeline layouts and a few small buffers through `allocator`;
     /// pipelines are built on first use of each variant, so a scene pays only for what it
     /// draws. Errors name what the host's device or target lacks.
+    ///
+    /// `EllipsoidRenderer::new` checks the queue family, features, depth format, colour attachment
+    /// count and formats, and sample count, and names what is missing.
     ///
     /// # Safety
     /// `host`'s handles are valid and belong together (the device was created from

@@ -44,6 +44,29 @@ pub const MAX_SETUP_ONCE_INSTANCES: u32 = (1 << 27) / size_of::<ShadingRecord>()
 /// What one frame does, decided once (see [`crate::EllipsoidRenderer::plan`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
+///
+/// **The frame plan.** `plan(&camera)` returns the `FramePlan`  a frame
+/// with that camera gets, every decision made once: `path` (a `FramePath`: the draw with the
+/// culling it does and whether it sets glyphs up once, or the splat with what it does about
+/// hidden layers -- `SplatAll`, `StampShown`, `VisibleFirst { rest }` -- and the largest box it
+/// walks; no invalid combination can be written), `reason` (why: the only path, fixed, the first
+/// guess, exploring, or measured, design §5.8), `candidates()`, `footprint` (design §5.1), `mean_area_px` (the
+/// sampled glyphs' mean projected area, if any is on screen), `depth_complexity` and
+/// `hidden_area_px` (about how many glyphs deep the scene lies where it covers the image, and
+/// the area per glyph it is expected to hide, design §5.7), `sample_grid` (where the culling proofs find
+/// a pixel's samples, design §5.3), `spheres`, `no_caps`, `compact`, `orthographic`, `reversed_z`,
+/// `coverage_samples` and `far_plane` ([`crate::Target`]); `prepass()`, `culling()` and `setup_once()` read
+/// the path. The pipeline keys and specialization constants are derived from it in one place
+/// (`pipelines/keys.rs`). A camera the renderer refuses, or an orthographic camera with a
+/// baseline that supports perspective only, is an error. The path depends on the frames recorded
+/// before (the camera of the view's last pre-pass and of its last stamping one) and on what was
+/// measured, so `plan` says what the next `record_prepass` with that camera would do, and
+/// `last_plan()` what the last one did. `record_prepass` makes the plan and keeps
+/// it with its camera; `record` with the same camera draws with that plan, so the pre-pass and the
+/// draw agree even if settings change between them; `record` with another camera makes a new plan
+/// and fails if that plan needs a pre-pass. The target is part of the plan: `set_target` applies
+/// from the next plan made (by `record_prepass`, or by `record` in a frame without a pre-pass), so
+/// call it before `record_prepass`.
 pub struct FramePlan {
     /// The exact path the frame takes.
     pub path: FramePath,

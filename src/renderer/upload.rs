@@ -22,7 +22,7 @@ impl EllipsoidRenderer {
     /// and compute shader reads. Buffers that are replaced are retired, not destroyed. An
     /// upload that fails (out of memory, say) changes nothing: the scene uploaded before stays.
     /// One that succeeds is the renderer's at once: a host that then does not submit `cmd`
-    /// uploads again (docs/design.md §6.10).
+    /// uploads again (`Error`'s documentation).
     ///
     /// # Safety
     /// As for [`EllipsoidRenderer::record_prepass`]: `cmd` is recording outside any pass and

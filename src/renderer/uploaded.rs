@@ -64,7 +64,9 @@ impl UploadedScene {
     }
 
     /// Mean projected area in square pixels of the sampled glyphs on screen beyond the near
-    /// plane, and their share of the sample; `None` when no sampled glyph is on screen beyond
+    /// plane (each `pi a1 a2` of its two largest semi-axes, scaled by the projection at its
+    /// centre, only glyphs near the screen, each capped at the screen area), and their share
+    /// of the sample; `None` when no sampled glyph is on screen beyond
     /// the near plane.
     pub fn projected_sample(&self, camera: &Camera) -> Option<(f64, f64)> {
         let k = camera.intrinsics();

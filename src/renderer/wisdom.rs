@@ -7,6 +7,12 @@
 //! count (u32), then per entry the scene class (8 bytes), the chosen kind (u32: 0 draw, 1
 //! splat, 2 visible-first) and each kind's median frame time in milliseconds (3 x f32, NaN
 //! where not timed); last, an FNV-1a hash of everything before it (u64).
+//!
+//! **Wisdom** (`src/renderer/wisdom.rs`): `plan_wisdom()` writes the settled classes -- class,
+//! choice, each candidate's median -- after a header naming the device's vendor and device IDs,
+//! driver version and pipeline-cache UUID (the key `VkPipelineCache` data is checked against),
+//! with an FNV-1a checksum; `load_plan_wisdom` refuses bytes of another device or driver build,
+//! another format version, or damaged ones, naming which, and changes nothing then.
 
 use crate::error::{Error, Result};
 use crate::path::PathKind;

@@ -1,5 +1,20 @@
 //! The renderer's research state and the benchmark's measuring aids: which baseline it
 //! draws, the compute splat's floors, and the exact counts of shaded pixels and ray casts.
+//!
+//! The benchmark's roofline (`research`: `EllipsoidRenderer::set_splat_floor`, methods
+//! `floor-memory` and `floor-arithmetic`) replaces the splat by a pass that only reads every
+//! instance, or by the splat's ray casts without their atomics, and skips the resolve: the two
+//! floors of what the machine allows for such frames. The floors still clear the keep bits and
+//! run the compaction, but draw no glyph left to the draw: where glyphs overflow, a floor omits
+//! that part of the frame (none do on the 2 px clouds the roofline is measured on).
+//!
+//! **What the benchmark counts** (`research`). `COUNT_RAY_CASTS` (spec constant 22) makes the
+//! splat add its ray casts to the second word of the fragment counter (binding 1), beside the
+//! shaded fragments: a frame's ray casts are those plus, for ray-casting fragment shaders, every
+//! shaded pixel. The visible-pixel floor (`SPLAT_FLOOR` 3, method `floor-visible`) reads every
+//! instance, sets each glyph up once and ray casts only the pixels the float64 reference shows it
+//! at, each once, from lists the host gives (`set_floor_pixels`, binding 9 `FloorPixels`:
+//! the glyph count, `count + 1` offsets, then the pixels as `x | y << 16`); nothing is kept.
 
 use ash::vk;
 

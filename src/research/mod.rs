@@ -4,6 +4,19 @@
 //! need it. Without the feature, `off.rs` stands in: an empty `Baseline` the frame plan can
 //! never hold, and a research state that changes nothing, so the renderer's own code carries
 //! no feature gates.
+//!
+//! # Files
+//!
+//! | file | what it holds |
+//! |---|---|
+//! | `mod.rs` | the module's public items (`DrawConfig`, `Geometry`, `Footprint`, `Intersection`, `Shading`, `Method`, `icosphere`) and what the renderer asks of it |
+//! | `baseline.rs` | the baselines' types and what differs when one is drawn: the pre-pass's proofs, set-up once, specialization constants, shaders, fixed-function state, a pass of its own |
+//! | `method.rs` | `Method`: the methods `bench` compares, each a plan mode or a baseline |
+//! | `measuring.rs` | `Research` (the renderer's research state) and `set_draw_config`, `set_splat_floor`, `forget_shown`, `set_floor_pixels`, `set_count_fragments`, `fragment_count`, `compute_ray_count`, `record_counter_barrier` |
+//! | `meshes.rs`, `icosphere.rs` | icosphere meshes and their buffers |
+//! | `visibility_draw.rs` | the visibility-buffer draw (`impostor-visbuffer`, design §5.6): its attachment-less pass in the pre-pass |
+//! | `shaders.rs` | the baselines' SPIR-V and every fragment shader's counting builds |
+//! | `offscreen.rs` | the offscreen renderer's research switches and its counting frames |
 
 mod baseline;
 mod icosphere;

@@ -6,6 +6,18 @@
 //!
 //! The fragment stage's atomics must be visible to the resolve's reads in the host's pass, so
 //! the draw runs before it, in a dynamic-rendering pass of its own with no attachments.
+//!
+//! The benchmark's visibility-buffer draw (`research`: `Shading::VisibilityBuffer`, method
+//! `impostor-visbuffer`, `FramePlan::visibility_draw`) measures shading once per visible pixel
+//! through the rasterizer: `record_prepass` clears the visibility buffer and draws every glyph,
+//! in a dynamic-rendering pass of its own with no attachments, with the shipped vertex stage and
+//! `research/ellipsoid_visibility.frag`, which runs the same hit and keeps the key with the same
+//! atomics (and marks the tile) instead of shading and exporting depth; the host's pass then
+//! only resolves. Its own pass is what makes it correct: the resolve reads, in the host's pass,
+//! what the draw's fragment stage wrote, and only a barrier between two passes orders that
+//! (inside one pass it would need a self-dependency of the host's render pass, or
+//! `VK_KHR_dynamic_rendering_local_read`). It is bit-identical to the draw
+//! (`tests/compute_splat.rs`) and slower on lavapipe ([`compute-splat.md`](compute-splat.md)).
 
 use ash::vk;
 

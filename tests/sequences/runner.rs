@@ -743,7 +743,7 @@ impl<'f> Case<'f> {
     }
 
     /// Submits what the renderer recorded, begins the next frame and drops its command
-    /// buffer unsubmitted: all a host may drop (design §6.2).
+    /// buffer unsubmitted: all a host may drop (the crate docs' order of calls).
     fn skip_frame(&mut self) -> Result<(), String> {
         if self.model.open.as_ref().is_some_and(|open| open.recorded) {
             self.submit()?;

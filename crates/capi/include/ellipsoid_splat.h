@@ -6,7 +6,7 @@
  * never unwinds into the caller. Option structs begin with struct_size: set it to sizeof the
  * struct. Nothing the host passes in is destroyed by the library. A renderer is used by one
  * thread at a time. The rules:
- * docs/design.md section 6.7 of the ellipsoid-splat repository.
+ * docs/c-and-cpp.md of the ellipsoid-splat repository.
  */
 
 #ifndef ELLIPSOID_SPLAT_H
@@ -82,13 +82,13 @@ typedef enum EsStatus {
   ES_STATUS_ERROR_VULKAN = 3,
   /**
    * Device or host memory ran out while the renderer made what the message names. The
-   * call changed nothing: the renderer stays usable (docs/design.md section 6.10).
+   * call changed nothing: the renderer stays usable (docs/c-and-cpp.md, "Errors").
    */
   ES_STATUS_ERROR_OUT_OF_MEMORY = 4,
   /**
    * The device was lost (the message names the call that reported it): wait for the
-   * device to be idle, destroy the renderer and make a new device (docs/design.md section
-   * 6.10).
+   * device to be idle, destroy the renderer and make a new device (docs/c-and-cpp.md,
+   * "Errors").
    */
   ES_STATUS_ERROR_DEVICE_LOST = 5,
   /**

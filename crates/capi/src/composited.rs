@@ -1,7 +1,7 @@
 //! In situ over MPI (feature `mpi`): each process of an application's communicator hands its
 //! own glyphs to `es_offscreen_render_composited`, and the root gets the frame of all of them,
 //! exactly the frame one process drawing every glyph reads back (`ellipsoid-splat-mpi`,
-//! design §6.9).
+//! design §6.3).
 
 use std::ffi::c_int;
 use std::panic::{catch_unwind, AssertUnwindSafe};

@@ -16,7 +16,7 @@
 //! each process of an MPI application draws its share and the root gets the whole frame
 //! (`es_offscreen_render_composited`, the only call that links MPI).
 //!
-//! The rules (`docs/design.md` §6.7): every function returns an [`EsStatus`]; after a failure
+//! The rules (`docs/c-and-cpp.md`): every function returns an [`EsStatus`]; after a failure
 //! [`es_last_error`] gives the message on the calling thread. No panic unwinds into the
 //! host: it becomes `ES_STATUS_ERROR_PANIC`, and the renderer it happened in refuses every
 //! call but `es_renderer_destroy`. Option structs begin with `struct_size` (set it to
@@ -24,6 +24,12 @@
 //! only the version the host was compiled with. Structs the library writes (settings,
 //! cameras, plans) are written whole, so growing one of them changes [`ES_ABI_VERSION`].
 //! Handles are opaque; nothing the host passes in is ever destroyed by the library.
+//!
+//! # Files
+//!
+//! | what | where |
+//! |---|---|
+//! | the C ABI (`docs/c-and-cpp.md`), one file per part: status and errors, device, target, allocator callbacks, glyphs, cameras, settings, plan, wisdom, renderer, the offscreen renderer (`offscreen.rs`) and its frame in the host's arrays (`frame.rs`), in situ over MPI (`composited.rs`, feature `mpi`) | `src/`; the header `include/ellipsoid_splat.h` (cbindgen, committed); `tests/` (the header's freshness, bad input, the C11 and C++ hosts in `tests/c/` and `tests/cpp_host/`, the offscreen renderer, in situ under `mpirun`); the in-situ example `examples/insitu_mpi.c`; `benches/c_overhead.rs` |
 
 mod allocator;
 mod camera;

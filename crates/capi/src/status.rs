@@ -20,11 +20,11 @@ pub enum EsStatus {
     /// A Vulkan call (or the host's allocator callback) failed.
     ErrorVulkan = 3,
     /// Device or host memory ran out while the renderer made what the message names. The
-    /// call changed nothing: the renderer stays usable (docs/design.md section 6.10).
+    /// call changed nothing: the renderer stays usable (docs/c-and-cpp.md, "Errors").
     ErrorOutOfMemory = 4,
     /// The device was lost (the message names the call that reported it): wait for the
-    /// device to be idle, destroy the renderer and make a new device (docs/design.md section
-    /// 6.10).
+    /// device to be idle, destroy the renderer and make a new device (docs/c-and-cpp.md,
+    /// "Errors").
     ErrorDeviceLost = 5,
     /// The library panicked (a bug): the renderer refuses every call but its destruction.
     ErrorPanic = 6,

@@ -17,6 +17,13 @@
 //! - `dispatch.rs`: the next layer's entry points per instance and device;
 //! - `intercepts.rs`: the device calls it intercepts, by class;
 //! - `control.rs`: the count, the armed fault and what each class of call does under it.
+//!
+//! # Files
+//!
+//! | what | where |
+//! |---|---|
+//! | the fault layer (`docs/testing.md`): loader-layer interface, next layer's entry points, the intercepted calls by class, the count and the armed fault | `src/interface.rs`, `dispatch.rs`, `intercepts.rs`, `control.rs` |
+//! | the fault walks: the run's checks, the layer and allocator faults as a test drives them, the test host's side, the runs per API | `tests/support/` (`walk.rs`, `layer.rs`, `allocator.rs`, `fault.rs`, `host_side.rs`, `log.rs`, `scenes.rs`), `tests/offscreen_faults.rs`, `embedded_faults.rs`, `c_abi_faults.rs`; Python's `crates/python/tests/test_faults.py` |
 
 mod control;
 mod dispatch;

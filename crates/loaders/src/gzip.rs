@@ -1,5 +1,10 @@
 //! gzip: the particle formats are read whole and gunzipped in memory; format detection looks
 //! at the first bytes inside a stream.
+//!
+//! The inflating is `flate2`'s (its multi-member decoder, which checks each member's CRC-32 and
+//! length); what this adds is only what the loaders need around it: bytes that are not gzip
+//! pass through unchanged, a truncated stream is told apart from corrupt data in an
+//! [`crate::Error::Parse`] naming the file, and detection inflates no more than it looks at.
 
 use std::path::Path;
 

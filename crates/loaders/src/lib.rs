@@ -35,6 +35,30 @@
 //! level (the format chosen, how long a load took), for hosts that install a logger. No
 //! environment variable is read. The progress bar is drawn only when asked for
 //! ([`LoadOptions::progress`]) and only on a terminal.
+//!
+//! # Files
+//!
+//! | what | where |
+//! |---|---|
+//! | format detection and loading by format | `src/load.rs` |
+//! | the options every loader shares (`LoadOptions`) | `src/options.rs` |
+//! | the report of a load and each glyph's origin (`Loaded`, `Origins`) | `src/loaded.rs` |
+//! | gzip: whole particle files gunzipped in memory, the head of a stream for detection | `src/gzip.rs` |
+//! | Ellipsoid CSV (`docs/formats.md`) | `src/csv.rs` |
+//! | 3D Gaussian Splatting PLY (its own body reader: the measured reason in its module docs, `examples/ply_body_time.rs`) | `src/ply.rs` |
+//! | diffusion tensor NIfTI-1 (why not the `nifti` crate's reader and affine: its module docs) | `src/nifti.rs` |
+//! | thermal ellipsoids, PDB and mmCIF (why not pdbtbx's readers: its module docs and a test) | `src/pdb.rs` |
+//! | LAMMPS dumps (`docs/formats.md`) | `src/lammps.rs` |
+//! | extended XYZ (`docs/formats.md`) | `src/xyz.rs` |
+//! | what the particle formats share: type palette, column mapping, atom values to an ellipsoid, a frame sorted by id | `src/particles.rs` |
+//! | multi-frame particle files read frame by frame (`Trajectory`) | `src/trajectory.rs` |
+//! | generated scenes (tensor field, random clouds, packed blocks) | `src/generate.rs` |
+//! | colour modes (`--color`: file, shape, principal direction, principal times FA, uniform) | `src/color_mode.rs` |
+//! | fractional anisotropy of three semi-axes | `src/anisotropy.rs` |
+//! | progress bar | `src/progress.rs` |
+//! | fuzz targets and corpus | `fuzz/` |
+//! | files written whole or not at all (`docs/command-line.md`) | `src/atomic_file.rs` |
+//! | one process's share of a scene file (`docs/mpi.md`): the plan by format, line-start byte ranges, each format's share, ids and species numbered across processes, the agreement, the `Exchange` it needs | `src/share/` (`mod.rs`, `line_ranges.rs`, `csv.rs`, `particles.rs`, `ply.rs`, `ids.rs`, `species.rs`, `collective.rs`, `exchange.rs`, `loaded_share.rs`) |
 
 pub mod anisotropy;
 pub mod atomic_file;

@@ -44,6 +44,23 @@
 //! ([`ellipsoid_splat::internals::shape_color`]). The notes of [`Loaded`] give the factor in
 //! effect and how many voxels were kept, background, below the FA threshold, masked and skipped.
 //!
+//! # Why not the `nifti` crate's reader and affine
+//! The crate parses the header (`NiftiHeader`) and decodes the voxels (`InMemNiftiVolume`)
+//! here. Its file reader is not used: it takes a `.nii.gz` as one gzip member and stops at the
+//! end of the first, so a file of several members (as `bgzip` writes them, or files joined
+//! with `cat`) comes out cut short (the test
+//! `gzip_members_after_the_first_are_read_where_the_nifti_crate_stops` shows it); it tells
+//! gzip by the name's `.gz` rather than by the bytes; and it reserves whatever the header
+//! declares before reading, where this refuses more than [`MAX_DATA_BYTES`] or than the gzip
+//! data can hold (read from the crate's 0.18.0 source). Its affine (behind
+//! the feature `nalgebra_affine`, which would bring in `nalgebra`) is not used either: with
+//! neither sform nor qform it returns nibabel's grid, centred and with x flipped, where NIfTI-1
+//! places voxel 0 at the origin with `diag(pixdim)` (as here); it panics on a negative voxel
+//! size (here an error naming `pixdim`) and on a `qfac` (`pixdim[0]`) other than +-1 (here its
+//! sign, 0 counting as +1 as the standard says); and it checks no entry for being finite nor
+//! the transform for being degenerate (read from the crate's 0.18.0 source; not tested, to
+//! keep `nalgebra` out of the build).
+//!
 //! # Hostile input
 //! [`parse_nifti`] never panics and never loops without consuming input. Every header field the
 //! volume depends on (sizes, dimensions, datatype, `vox_offset`, transforms) is checked before

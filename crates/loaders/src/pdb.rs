@@ -57,6 +57,10 @@
 //!   coordinates) and on a `nan` coordinate, and locates value errors by "row N" of a loop
 //!   rather than by line.
 //!
+//! The test `pdbtbx_readers_panic_or_lose_the_line_where_this_one_reports_it` feeds such
+//! inputs to pdbtbx inside `catch_unwind` at each `StrictnessLevel`, and fails when pdbtbx no
+//! longer panics or starts reporting the stray `ANISOU`.
+//!
 //! A `catch_unwind` around it would still leave errors without line numbers, so both dialects
 //! are read here: the PDB records needed are fixed-column lines, and the mmCIF subset is a
 //! small STAR tokenizer (quoted strings, `;` text fields, comments, loops, save frames). With

@@ -21,9 +21,11 @@
 //! the element and property definitions. The body does not. `ply-rs-bw` reads every record into
 //! a `DefaultElement`, an `IndexMap<String, Property>` with one key `String` per property: 62
 //! allocations and map insertions per splat for the reference layout, some 6 KB of heap per
-//! splat. Measured on 100,000 reference splats: about 1 s for `ply-rs-bw`'s maps alone against
-//! 10 ms for the whole of this loader, so 3 million splats would take half a minute and some
-//! 18 GB that way. Binary bodies are therefore read here, each wanted property at a byte offset
+//! splat, so 3 million splats would take some 18 GB that way. On 100,000 reference splats
+//! (`examples/ply_body_time.rs`, run by `scripts/ply-body-figure.sh`; 2026-11-27, 2-core
+//! Debian 12 at load 9.5, median of 7 interleaved rounds) `ply-rs-bw`'s maps alone took 4.8 s
+//! and the whole of this loader 59 ms: 81 times faster (noisy: rerun it on a quiet machine).
+//! Binary bodies are therefore read here, each wanted property at a byte offset
 //! fixed by the header (records of scalar properties all have the same size), straight into the
 //! ellipsoid list; ASCII bodies are read line by line, token by token. Both byte orders are
 //! read.

@@ -1181,3 +1181,29 @@ fn absurd_sizes_are_refused_without_allocating() {
     );
     assert!(start.elapsed().as_millis() < 500);
 }
+
+/// Why `nifti` inflates the file itself (its module documentation): the `nifti` crate's reader
+/// takes a `.nii.gz` as one gzip member and stops where it ends, so a file of several members
+/// (as `bgzip` writes, or files joined with `cat`) is cut short; this loader reads them all.
+#[test]
+fn gzip_members_after_the_first_are_read_where_the_nifti_crate_stops() {
+    let bytes = small_volume().bytes();
+    let mut members = gzip_stored(&bytes[..352]);
+    members.extend(gzip_stored(&bytes[352..]));
+    let dir = TempDir::new("nifti-members");
+    let path = dir.write("tensors.nii.gz", &members);
+    let ours = load_nifti(&path, &LoadOptions::default()).expect("both members are read");
+    assert!(same_glyphs(
+        &parse(&bytes, &LoadOptions::default()),
+        &ours,
+        0.0
+    ));
+    // The crate reads the same bytes as one member.
+    let one = dir.write("one.nii.gz", gzip_stored(&bytes));
+    assert!(nifti::ReaderOptions::new().read_file(&one).is_ok());
+    let theirs = nifti::ReaderOptions::new().read_file(&path);
+    assert!(
+        theirs.is_err(),
+        "the nifti crate read the second member too: the reason in the module docs is gone"
+    );
+}

@@ -899,3 +899,87 @@ fn inputs_that_make_pdbtbx_panic_are_loaded_or_reported() {
         &["is not finite: \"nan\""],
     );
 }
+
+/// pdbtbx 0.12's reader on `text` at each strictness level: `Err` where it panicked, else its
+/// atoms and the messages it returned.
+fn pdbtbx_read(text: &str, format: pdbtbx::Format) -> Vec<Result<(usize, Vec<String>), ()>> {
+    use pdbtbx::StrictnessLevel::{Loose, Medium, Strict};
+    [Strict, Medium, Loose]
+        .into_iter()
+        .map(|level| {
+            let read = std::panic::catch_unwind(|| {
+                pdbtbx::ReadOptions::new()
+                    .set_format(format)
+                    .set_level(level)
+                    .read_raw(std::io::BufReader::new(text.as_bytes()))
+            })
+            .map_err(|_| ())?;
+            Ok(match read {
+                Ok((pdb, messages)) => (
+                    pdb.atom_count(),
+                    messages.iter().map(|m| m.to_string()).collect(),
+                ),
+                Err(messages) => (0, messages.iter().map(|m| m.to_string()).collect()),
+            })
+        })
+        .collect()
+}
+
+#[test]
+fn pdbtbx_readers_panic_or_lose_the_line_where_this_one_reports_it() {
+    // The reason `pdb` reads the files itself (its module documentation): these inputs make
+    // pdbtbx panic at every strictness level. The loader's answers are in the test above.
+    let cryst = "CRYST1   10.000   10.000   10.000  90.00  90.00  90.00 Q 9 9 9       1\n";
+    let unknown_space_group = cryst.to_string() + &three_atoms();
+    let head = "data_x\nloop_\n_atom_site.group_PDB\n_atom_site.id\n_atom_site.type_symbol\n\
+                _atom_site.label_atom_id\n_atom_site.label_alt_id\n_atom_site.label_comp_id\n\
+                _atom_site.label_asym_id\n_atom_site.label_seq_id\n_atom_site.Cartn_x\n\
+                _atom_site.Cartn_y\n_atom_site.Cartn_z\n_atom_site.occupancy\n\
+                _atom_site.B_iso_or_equiv\n_atom_site.pdbx_PDB_model_num\n";
+    let cif_unknown_x = format!("{head}ATOM 1 N N . ALA A 1 ? 2 3 1 20 1\n");
+    let cif_nan_x = format!("{head}ATOM 1 N N . ALA A 1 nan 2 3 1 20 1\n");
+    for (what, text, format) in [
+        (
+            "unknown CRYST1 space group",
+            &unknown_space_group,
+            pdbtbx::Format::Pdb,
+        ),
+        (
+            "mmCIF '?' coordinate",
+            &cif_unknown_x,
+            pdbtbx::Format::Mmcif,
+        ),
+        ("mmCIF NaN coordinate", &cif_nan_x, pdbtbx::Format::Mmcif),
+    ] {
+        let outcomes = pdbtbx_read(text, format);
+        assert!(outcomes.iter().all(Result::is_err), "{what}: {outcomes:?}");
+    }
+    // The same files with the fault mended read without a panic.
+    for (text, format) in [
+        (three_atoms(), pdbtbx::Format::Pdb),
+        (
+            cif_unknown_x.replace(" ? 2 3 ", " 1 2 3 "),
+            pdbtbx::Format::Mmcif,
+        ),
+    ] {
+        let outcomes = pdbtbx_read(&text, format);
+        assert!(outcomes.iter().all(Result::is_ok), "{text}: {outcomes:?}");
+    }
+    // An ANISOU that matches no atom: pdbtbx reads the three atoms and tells its caller
+    // nothing about the stray record or its line 7.
+    let stray = three_atoms() + &anisou(7, " CB ", "ALA", 1, [100, 100, 100, 0, 0, 0], "C");
+    for outcome in pdbtbx_read(&stray, pdbtbx::Format::Pdb) {
+        let (atoms, messages) = outcome.expect("no panic on a stray ANISOU");
+        assert_eq!(atoms, 3);
+        assert!(
+            !messages.iter().any(|m| m.contains("ANISOU")),
+            "{messages:?}"
+        );
+    }
+    let e = parse_err_bytes(stray.as_bytes(), "ala.pdb", &LoadOptions::default());
+    e.assert_at(
+        7,
+        "serial (columns 7-11)",
+        &["has no matching ATOM/HETATM record"],
+    );
+}

@@ -1324,32 +1324,3 @@ fn three_million_splats_load_in_seconds() {
     std::fs::remove_file(&path).unwrap();
     assert!(best < 10.0, "{best} s");
 }
-
-#[test]
-#[ignore = "for comparison: ply-rs-bw's generic reader on 100,000 splats"]
-fn ply_rs_bw_generic_reader_for_comparison() {
-    let n = 100_000;
-    let path = std::env::temp_dir().join("ellipsoid-splat-100k.ply");
-    write_big_file(&path, n);
-    let bytes = std::fs::read(&path).unwrap();
-    let started = Instant::now();
-    let loaded = parse_ply(&bytes, &path, &LoadOptions::default()).unwrap();
-    let ours_before = started.elapsed().as_secs_f64();
-    assert_eq!(loaded.scene.len(), n);
-    drop(loaded);
-    let started = Instant::now();
-    let parser = ply_rs_bw::parser::Parser::<ply_rs_bw::ply::DefaultElement>::new();
-    let ply = parser.read_ply(&mut bytes.as_slice()).unwrap();
-    let generic = started.elapsed().as_secs_f64();
-    assert_eq!(ply.payload["vertex"].len(), n);
-    drop(ply);
-    let started = Instant::now();
-    let loaded = parse_ply(&bytes, &path, &LoadOptions::default()).unwrap();
-    let ours = started.elapsed().as_secs_f64();
-    assert_eq!(loaded.scene.len(), n);
-    println!(
-        "{n} splats: ply-rs-bw read_ply {generic:.3} s (maps only), parse_ply {ours_before:.3} s \
-         before it and {ours:.3} s after it (ellipsoids)"
-    );
-    std::fs::remove_file(&path).unwrap();
-}

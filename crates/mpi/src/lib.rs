@@ -36,6 +36,14 @@
 //! in situ through them.
 //!
 //! The core crate never links MPI; only this one does.
+//!
+//! # Files
+//!
+//! | what | where |
+//! |---|---|
+//! | sort-last compositing over MPI (`docs/mpi.md`): the key and pixel words, binary swap, the collective frame | `src/pixels.rs`, `binary_swap.rs`, `distributed.rs` |
+//! | the MPI tests' driver and the compositing benchmark; 1-8 ranks under `mpirun` | `src/bin/composite-check.rs`, `composite-bench.rs`; `tests/mpirun.rs` |
+//! | in situ over MPI (`docs/mpi.md`): the application's communicator by its Fortran handle, borrowed; every process learning of the first failure; a share made from another language's arguments, agreed on before drawing | `src/host_communicator.rs`, `failure.rs`, `share.rs` |
 
 pub mod binary_swap;
 pub mod distributed;

@@ -1,6 +1,6 @@
 //! In situ over MPI (feature `mpi`): each process of a Python application's communicator
 //! (mpi4py's, by its Fortran handle `comm.py2f()`) draws its own glyphs, and the root gets the
-//! frame of all of them (`ellipsoid-splat-mpi`, design §6.9). The Python half
+//! frame of all of them (`ellipsoid-splat-mpi`, design §6.3). The Python half
 //! (`Renderer.render_composited`) checks the arguments; a process whose arguments fail there
 //! calls `composite_failed` instead, so that every process learns of it and none waits.
 

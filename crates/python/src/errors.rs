@@ -19,7 +19,7 @@ pyo3::create_exception!(
     DeviceLostError,
     DeviceError,
     "The Vulkan device was lost (a GPU fault, reset or driver crash): every later call that \
-     needs the GPU raises this too; make a new Renderer (docs/design.md section 6.10)."
+     needs the GPU raises this too; make a new Renderer (docs/python.md, \"The rules of the package\")."
 );
 
 pyo3::create_exception!(
@@ -28,7 +28,7 @@ pyo3::create_exception!(
     DeviceError,
     "GPU or host memory ran out while the renderer made what the message names. The call \
      changed nothing (a failed upload keeps the glyphs uploaded before): the renderer stays \
-     usable (docs/design.md section 6.10)."
+     usable (docs/python.md, \"The rules of the package\")."
 );
 
 pyo3::create_exception!(

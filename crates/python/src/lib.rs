@@ -7,6 +7,12 @@
 //! memory running out; `PoisonedError` for a renderer an earlier call left broken),
 //! `OtherRankError` (a `RuntimeError`) for another MPI process's failure (feature `mpi`). No
 //! Rust panic reaches Python: each entry point catches them as `DeviceError`.
+//!
+//! # Files
+//!
+//! | what | where |
+//! |---|---|
+//! | the Python package (`docs/python.md`): argument checks, `Frame`, `Renderer` | `python/ellipsoid_splat/`; the native module `src/` (in situ over MPI: `composited.rs`, feature `mpi`); pytest in `tests/`; `examples/rust_frame.rs` (the Rust API's frame the tests compare with), `insitu_mpi.py` (in situ, mpi4py); `bench_overhead.py` |
 
 mod camera;
 #[cfg(feature = "mpi")]

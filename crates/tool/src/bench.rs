@@ -266,7 +266,7 @@ pub fn tensor_field_scene() -> BenchScene {
 /// Gumhold's lattice as a CPU ray tracer is benchmarked on (`--scene lattice`): 40^3 randomly
 /// rotated ellipsoids with semi-axes in [0.1, 0.45] on a unit lattice, framed as the demo is.
 pub fn lattice_scene() -> BenchScene {
-    let scene = lattice(40, crate::cli::LATTICE_SEED);
+    let scene = lattice(40, crate::scene_io::LATTICE_SEED);
     let (c, r) = scene.bounding_sphere().expect("lattice is not empty");
     let camera = Camera::framing(c, r, WIDTH, HEIGHT).expect("framing camera is valid");
     BenchScene {
@@ -280,7 +280,7 @@ pub fn lattice_scene() -> BenchScene {
 /// A liquid of 8,000 rods and spheres (`--scene md-liquid`), seen whole: the camera frames
 /// the box as the tensor field's does.
 pub fn md_liquid_scene() -> BenchScene {
-    let scene = md_liquid(crate::cli::MD_LIQUID_COUNT, crate::cli::MD_LIQUID_SEED);
+    let scene = md_liquid(crate::cli::MD_LIQUID_COUNT, crate::scene_io::MD_LIQUID_SEED);
     let (c, r) = scene.bounding_sphere().expect("md-liquid is not empty");
     let camera = Camera::framing(c, r, WIDTH, HEIGHT).expect("framing camera is valid");
     BenchScene {

@@ -15,13 +15,15 @@ use ellipsoid_splat_tool::antialias_stress::{
     antialias_points, run_antialias_point, write_antialias_report, AntialiasMode,
 };
 use ellipsoid_splat_tool::bench;
+use ellipsoid_splat_tool::camera_setup;
 use ellipsoid_splat_tool::cli::{
-    self, BenchArgs, Cli, Command, ConformanceArgs, DeviceArgs, RenderArgs, StressArgs,
+    BenchArgs, Cli, Command, ConformanceArgs, DeviceArgs, RenderArgs, StressArgs,
 };
 use ellipsoid_splat_tool::error::{Error, Result};
 use ellipsoid_splat_tool::output::{self, Image};
 use ellipsoid_splat_tool::plan;
 use ellipsoid_splat_tool::render_device;
+use ellipsoid_splat_tool::scene_io;
 use ellipsoid_splat_tool::sequence;
 use ellipsoid_splat_tool::skip;
 use ellipsoid_splat_tool::stress::{run_point, sweep_points, write_report, Extent, StressResult};
@@ -69,16 +71,16 @@ fn render(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
     // Every argument, the scene's size and the output files, before anything is allocated.
     let plan = args.check()?;
-    let loaded = args.load.load(&plan.scene)?;
+    let loaded = scene_io::load_colored(&plan.scene, &args.load)?;
     for note in &loaded.notes {
         eprintln!("{}: {note}", args.scene);
     }
     let scene = loaded.scene;
-    let camera = cli::camera_for(args, &scene)?;
-    if let Some(warning) = cli::nothing_in_view(args, &camera, &scene) {
+    let camera = camera_setup::camera_for(args, &scene)?;
+    if let Some(warning) = camera_setup::nothing_in_view(args, &camera, &scene) {
         eprintln!("warning: {warning}");
     }
-    cli::save_scene(args, &scene, &camera)?;
+    scene_io::save_scene(args, &scene, &camera)?;
     let load_time = start.elapsed();
 
     // Only the targets of the outputs asked for are allocated, drawn and read back.

@@ -10,12 +10,14 @@ use std::time::{Duration, Instant};
 use ellipsoid_splat::Frame;
 use ellipsoid_splat_loaders::{Loaded, Progress, Trajectory};
 
-use crate::cli::{self, RenderArgs, SceneSpec};
+use crate::camera_setup;
+use crate::cli::{RenderArgs, SceneSpec};
 use crate::error::{Error, Result};
 use crate::frame_range::FrameRange;
 use crate::movie::Movie;
 use crate::output::{self, numbered, Image};
 use crate::render_device::{self, Prepared};
+use crate::scene_io;
 
 /// What a finished sequence took.
 #[derive(Clone, Debug)]
@@ -56,11 +58,11 @@ pub fn render_sequence(args: &RenderArgs, range: FrameRange) -> Result<SequenceR
     for note in &first.notes {
         eprintln!("{}: frame {}: {note}", args.scene, indices[0] + 1);
     }
-    let camera = cli::camera_for(args, &first.scene)?;
-    if let Some(warning) = cli::nothing_in_view(args, &camera, &first.scene) {
+    let camera = camera_setup::camera_for(args, &first.scene)?;
+    if let Some(warning) = camera_setup::nothing_in_view(args, &camera, &first.scene) {
         eprintln!("warning: frame {}: {warning}", indices[0] + 1);
     }
-    cli::save_scene(args, &first.scene, &camera)?;
+    scene_io::save_scene(args, &first.scene, &camera)?;
     // Started before the device is looked for, so a missing ffmpeg is said at once.
     let mut movie = match &args.movie {
         Some(file) => Some(Movie::start(file, args.width, args.height, args.fps)?),

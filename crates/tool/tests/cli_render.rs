@@ -277,7 +277,9 @@ fn a_sample_count_the_device_lacks_is_named() {
 #[test]
 fn camera_flags_render_the_reference_picture() {
     use clap::Parser;
-    use ellipsoid_splat_tool::cli::{camera_for, Cli, Command as Tool};
+    use ellipsoid_splat_tool::camera_setup::camera_for;
+    use ellipsoid_splat_tool::cli::{Cli, Command as Tool};
+    use ellipsoid_splat_tool::scene_io::load_colored;
     let dir = std::env::temp_dir().join(format!("ellipsoid-splat-camera-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (fx, fy, cx, cy, dx, dy) = (150.0, 165.0, 58.0, 71.0, 0.31, -0.27);
@@ -348,7 +350,7 @@ fn camera_flags_render_the_reference_picture() {
         panic!("not a render");
     };
     let plan = render.check().unwrap();
-    let scene = render.load.load(&plan.scene).unwrap().scene;
+    let scene = load_colored(&plan.scene, &render.load).unwrap().scene;
     let camera = camera_for(&render, &scene).unwrap();
     assert_eq!((camera.width, camera.height), (w, h));
     assert_eq!(camera.viewport_origin, [x0, y0]);

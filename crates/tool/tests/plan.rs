@@ -163,9 +163,9 @@ fn bench_on_a_users_scene_reports_the_plans_regret() {
                 let regret: f64 = regret.parse().unwrap_or_else(|_| {
                     panic!("{}: plan_regret {regret:?} is not a number", row["method"])
                 });
-                // A ratio of two medians of the same run: never far below 1 (the fastest
-                // fixed path is one of the plan's own paths).
-                assert!(regret.is_finite() && regret >= 0.5, "regret {regret}");
+                // A ratio of two medians of the same run, so a positive number; how near 1
+                // it lies is a timing, which belongs to the benchmark's figures, not a test.
+                assert!(regret.is_finite() && regret > 0.0, "regret {regret}");
             }
             method => assert_eq!(regret, "", "{method} has no regret"),
         }

@@ -1,6 +1,6 @@
 //! What each pipeline is specialised for, derived from the frame plan in this one place:
 //! the draw's and the resolve's graphics pipelines, the compute splat's and the pre-pass
-//! steps', and the specialization constants of each (docs/design.md §7.4).
+//! steps', and the specialization constants of each (`SpecConstants` in `src/gpu_layout.rs`).
 
 use crate::culling::Culling;
 use crate::footprint::Footprint;

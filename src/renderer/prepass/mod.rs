@@ -1,6 +1,33 @@
 //! The pre-pass of a frame, outside the host's pass: the culling steps before the draw, or
 //! the compute splat (plain or visible-first) and the compaction of what it leaves to the
 //! draw; one per chunk, sharing the occlusion tiles.
+//!
+//! The visible-first splat's steps (design §5.7):
+//!
+//! 1. CLASSIFY with `CULL_SELECT` `SHOWN`, SCAN, SCATTER (`glsl/cull.comp`): the glyphs whose stamp
+//!    (`GlyphStamps`, binding 10) is the last stamping frame's (`IndirectDraw::shown`), in
+//!    instance order. SCAN also writes the splat's dispatch over the list
+//!    (`IndirectDraw::dispatch_x` to `dispatch_z`).
+//! 2. The first pass: `glsl/splat.comp` with `SPLAT_LIST`, dispatched indirectly (after
+//!    `PREPASS_STEP_TO_DISPATCH`), takes its glyphs from the list; otherwise it is the splat of
+//!    design §5.6, except that a glyph too large for it is left to the draw by its stamp (the keep bits
+//!    are busy with the lists).
+//! 3. KEY_TILES: each 4 x 4 occlusion tile takes the farthest depth-buffer value the visibility
+//!    buffer holds at its on-screen pixels (as bits: positive floats order like their bits; an
+//!    empty pixel gives the empty key's, which hides nothing).
+//! 4. CLASSIFY `REST`, SCAN, SCATTER: the glyphs not stamped, with frustum and pixel-centre
+//!    culling, kept unless every tile under the pixels with a sample in their rectangle (the
+//!    rectangle the culling trusts, design §5.3) hides them: their nearest point, moved nearer by
+//!    `DEPTH_GAP` (1e-4) of the depths involved (`|cz| + |A^T f|`: the difference may be far
+//!    smaller than its terms), lies beyond the near plane and has a depth-buffer value more than
+//!    two float steps beyond the tile's; a glyph that may reach the near plane is kept. Every
+//!    hit of the glyph then lies beyond what each of its pixels holds, so it can neither win nor
+//!    tie one, and the splat's atomics would change nothing. The second pass splats the list.
+//! 5. MARK_SHOWN: one workgroup per resolve tile a glyph marked (a loop of no trips elsewhere:
+//!    lavapipe runs a branch's body whatever the condition, but not a loop's) stamps the glyph
+//!    each pixel shows with the frame's stamp.
+//! 6. CLASSIFY `DRAWN`, SCAN, SCATTER: the glyphs a pass left to the draw, in instance order, for
+//!    the indirect draw after the resolve.
 
 mod record;
 pub(crate) mod steps;

@@ -34,7 +34,7 @@ shapes, dtypes and values (naming the argument), ``OSError`` for files, ``Device
 panic reaches Python), after which that renderer raises ``PoisonedError`` (a ``DeviceError``)
 on every call. Two subclasses of ``DeviceError`` name what a caller reacts to:
 ``OutOfMemoryError`` (the call changed nothing, the renderer stays usable) and
-``DeviceLostError`` (make a new ``Renderer``); docs/design.md section 6.10 has the rules.
+``DeviceLostError`` (make a new ``Renderer``); docs/python.md has the rules.
 ``OtherRankError`` (a ``RuntimeError``) is raised where another MPI process failed.
 """
 

@@ -1,9 +1,12 @@
 //! `bench --scene`: a user's scenes, read with `render`'s loader flags and framed with its
-//! camera flags by the same code `render` runs (`cli.rs`), so a scene benchmarks as it renders.
+//! camera flags by the same code `render` runs (`scene_io`, `camera_setup`), so a scene
+//! benchmarks as it renders.
 
 use super::{BenchScene, HEIGHT, WIDTH};
-use crate::cli::{self, BenchArgs, RenderArgs, SceneSpec};
+use crate::camera_setup;
+use crate::cli::{BenchArgs, RenderArgs, SceneSpec};
 use crate::error::{Error, Result};
+use crate::scene_io;
 
 /// The scenes of `args.scene`, each loaded (or generated) and framed; `taken` are the names
 /// of the run's other scenes, which a user's scene of the same name does not reuse (it gets
@@ -29,10 +32,10 @@ pub fn user_scenes(args: &BenchArgs, taken: &[String]) -> Result<(Vec<BenchScene
                 Error::invalid("--scene", format!("cannot read '{}': {e}", path.display()))
             })?;
         }
-        let loaded = render.load.load(&parsed)?;
+        let loaded = scene_io::load_colored(&parsed, &render.load)?;
         messages.extend(loaded.notes.iter().map(|note| format!("{spec}: {note}")));
-        let camera = cli::camera_for(&render, &loaded.scene)?;
-        if let Some(warning) = cli::nothing_in_view(&render, &camera, &loaded.scene) {
+        let camera = camera_setup::camera_for(&render, &loaded.scene)?;
+        if let Some(warning) = camera_setup::nothing_in_view(&render, &camera, &loaded.scene) {
             messages.push(format!("warning: {spec}: {warning}"));
         }
         let name = (1..)

@@ -3,7 +3,8 @@
 //!
 //! Every chart is [`WIDTH`] x [`HEIGHT`] pixels, white background, title on top, legend in a
 //! panel right of the plot (so it never hides data). Axes are linear or base-10 logarithmic
-//! ([`Axis::log`]); a log axis spans whatever the data spans (1e-12..1e7 is fine) and silently
+//! ([`Axis::log`]), plotters' own coordinates and ticks (`RangedCoordf64`, `LogCoord`) with this
+//! module's labels; a log axis spans whatever the data spans (1e-12..1e7 is fine) and silently
 //! skips points it cannot show (zero, negative, NaN, infinite), as a linear axis skips non-finite
 //! ones. A chart with no drawable point still renders, with "no data" in the plot.
 //!
@@ -17,6 +18,8 @@ use std::ops::Range;
 use std::path::Path;
 use std::sync::OnceLock;
 
+use plotters::coord::ranged1d::{BoldPoints, KeyPointHint, KeyPointWeight};
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -702,8 +705,9 @@ enum Kind {
     Categories(Vec<String>),
 }
 
-/// A plotters axis (`Ranged`) that is linear, logarithmic or categorical, with its own tick
-/// placement and label formatting; one concrete type keeps the chart code free of generics.
+/// One axis of a chart: plotters' linear (`RangedCoordf64`) or logarithmic (`LogCoord`)
+/// coordinates, or named categories, with this module's tick labels. One concrete type keeps
+/// the chart code free of generics; the mapping and the ticks are plotters' own.
 #[derive(Debug, Clone, PartialEq)]
 struct Scale {
     kind: Kind,
@@ -803,19 +807,21 @@ impl Scale {
         s
     }
 
+    /// Plotters' linear coordinates over the range (also the categories' positions).
+    fn linear(&self) -> RangedCoordf64 {
+        (self.lo..self.hi).into()
+    }
+
+    /// Plotters' base-10 logarithmic coordinates over the range.
+    fn log(&self) -> LogCoord<f64> {
+        (self.lo..self.hi).log_scale().into()
+    }
+
     /// Number of categories (0 for a numeric axis).
     fn len(&self) -> usize {
         match &self.kind {
             Kind::Categories(names) => names.len(),
             _ => 0,
-        }
-    }
-
-    /// `v` as a fraction of the axis (0 at `lo`, 1 at `hi`).
-    fn fraction(&self, v: f64) -> f64 {
-        match self.kind {
-            Kind::Log => (v.log10() - self.lo.log10()) / (self.hi.log10() - self.lo.log10()),
-            _ => (v - self.lo) / (self.hi - self.lo),
         }
     }
 
@@ -843,119 +849,32 @@ impl Scale {
         }
     }
 
-    /// At most `max` labelled ticks.
-    fn majors(&self, max: usize) -> Vec<f64> {
-        if max == 0 {
-            return Vec::new();
-        }
-        match &self.kind {
-            Kind::Linear => linear_ticks(self.lo, self.hi, max).0,
-            Kind::Log => self.log_ticks(max).0,
-            Kind::Categories(names) => {
-                let step = names.len().div_ceil(max).max(1);
-                (0..names.len()).step_by(step).map(|i| i as f64).collect()
-            }
-        }
-    }
-
-    /// Unlabelled grid lines between the majors (at most `max` in all).
-    fn minors(&self, max: usize) -> Vec<f64> {
-        let minors = match &self.kind {
-            Kind::Linear => linear_ticks(self.lo, self.hi, N_LABELS).1,
-            Kind::Log => self.log_ticks(N_LABELS).1,
-            Kind::Categories(_) => Vec::new(),
-        };
-        if minors.len() <= max {
-            minors
-        } else {
-            Vec::new()
-        }
-    }
-
-    /// Log-axis ticks and the minor grid: whole decades (every k-th if there are many); within
-    /// two decades or less, 1-2-5 multiples, or all 1..9 multiples when 1-2-5 gives fewer than
-    /// four, or linear ticks when neither fits.
-    fn log_ticks(&self, max: usize) -> (Vec<f64>, Vec<f64>) {
-        let (a, b) = (self.lo.log10(), self.hi.log10());
-        let first = (a - 1e-9).ceil() as i32;
-        let last = (b + 1e-9).floor() as i32;
-        let inside = |v: f64| v >= self.lo * (1.0 - 1e-12) && v <= self.hi * (1.0 + 1e-12);
-        let decades = (last - first + 1).max(0) as usize;
-        let pow = |d: i32| 10f64.powi(d);
-        if decades > 2 {
-            let k = (1..).find(|k| decades.div_ceil(*k) <= max).unwrap_or(1) as i32;
-            let majors: Vec<f64> = (first..=last)
-                .filter(|d| d.rem_euclid(k) == 0)
-                .map(pow)
-                .collect();
-            let minors: Vec<f64> = if k == 1 {
-                (first - 1..=last)
-                    .flat_map(|d| (2..=9).map(move |m| m as f64 * pow(d)))
-                    .filter(|&v| inside(v))
-                    .collect()
-            } else {
-                (first..=last)
-                    .filter(|d| d.rem_euclid(k) != 0)
-                    .map(pow)
-                    .collect()
-            };
-            return (majors, minors);
-        }
-        let all: Vec<f64> = (first - 1..=last)
-            .flat_map(|d| (1..=9).map(move |m| m as f64 * pow(d)))
-            .filter(|&v| inside(v))
-            .collect();
-        let majors: Vec<f64> = all
-            .iter()
-            .copied()
-            .filter(|&v| {
-                let m = (v / pow(v.log10().floor() as i32)).round();
-                m == 1.0 || m == 2.0 || m == 5.0
+    /// Plotters' log ticks (it ignores the hint's weight). They start at the first power of
+    /// ten inside the range, leaving the part below it bare (0.12..2 gets 1 and 2 only), so
+    /// they are also taken from the whole decade the range starts in, and the set with more
+    /// ticks inside the range kept; a tick plotters gives twice (10 ends 1..10 and starts
+    /// 10..100) is kept once.
+    fn log_key_points(&self, max: usize) -> Vec<f64> {
+        // A hair below the power of ten, which plotters' rounding could otherwise skip.
+        let decade = (10f64.powf(self.lo.log10().floor()) * 0.999_999).max(f64::MIN_POSITIVE);
+        [self.lo, decade]
+            .map(|lo| {
+                let coord: LogCoord<f64> = (lo..self.hi).log_scale().into();
+                let mut points = coord.key_points(max);
+                points.retain(|&v| v >= self.lo * (1.0 - 1e-12) && v <= self.hi * (1.0 + 1e-12));
+                points.sort_by(f64::total_cmp);
+                points.dedup_by(|a, b| (*a / *b - 1.0).abs() < 1e-9);
+                points
             })
-            .collect();
-        if majors.len() >= 4 && majors.len() <= max {
-            let minors = all.into_iter().filter(|v| !majors.contains(v)).collect();
-            (majors, minors)
-        } else if all.len() >= 3 && all.len() <= max {
-            (all, Vec::new())
-        } else if (2..=max).contains(&majors.len()) {
-            let minors = all.into_iter().filter(|v| !majors.contains(v)).collect();
-            (majors, minors)
-        } else {
-            linear_ticks(self.lo, self.hi, max)
-        }
+            .into_iter()
+            .max_by_key(Vec::len)
+            .unwrap_or_default()
     }
-}
 
-/// "Nice" linear ticks (multiples of 1, 2 or 5 times a power of ten), at most `max` of them, and
-/// the minor ticks at a fifth of that step.
-fn linear_ticks(lo: f64, hi: f64, max: usize) -> (Vec<f64>, Vec<f64>) {
-    let span = hi - lo;
-    if max == 0 || !(span.is_finite() && span > 0.0) {
-        return (Vec::new(), Vec::new());
+    /// The labelled ticks, at most `max`.
+    fn majors(&self, max: usize) -> Vec<f64> {
+        self.key_points(BoldPoints(max))
     }
-    let raw = span / (max.saturating_sub(1).max(1)) as f64;
-    let magnitude = 10f64.powf(raw.log10().floor());
-    let step = [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .map(|m| m * magnitude)
-        .find(|&s| s >= raw)
-        .unwrap_or(10.0 * magnitude);
-    let ticks = |step: f64| -> Vec<f64> {
-        let (first, last) = ((lo / step).ceil(), (hi / step).floor());
-        if !(first.is_finite() && last.is_finite()) || last - first > 10_000.0 {
-            return Vec::new();
-        }
-        (first as i64..=last as i64)
-            .map(|i| i as f64 * step)
-            .collect()
-    };
-    let majors = ticks(step);
-    let minors = ticks(step / 5.0)
-        .into_iter()
-        .filter(|v| majors.iter().all(|m| (m - v).abs() > step * 1e-6))
-        .collect();
-    (majors, minors)
 }
 
 impl Ranged for Scale {
@@ -963,22 +882,35 @@ impl Ranged for Scale {
     type ValueType = f64;
 
     fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
-        let t = self.fraction(*value);
-        let t = if t.is_finite() {
-            t.clamp(-10.0, 11.0)
-        } else {
-            -10.0
-        };
-        (limit.0 as f64 + t * (limit.1 - limit.0) as f64).round() as i32
+        match self.kind {
+            Kind::Log => self.log().map(value, limit),
+            _ => self.linear().map(value, limit),
+        }
     }
 
-    fn key_points<Hint: plotters::coord::ranged1d::KeyPointHint>(&self, hint: Hint) -> Vec<f64> {
-        let mut points = self.majors(hint.bold_points());
-        if let plotters::coord::ranged1d::KeyPointWeight::Any = hint.weight() {
-            let room = hint.max_num_points().saturating_sub(points.len());
-            points.extend(self.minors(room));
+    fn key_points<Hint: KeyPointHint>(&self, hint: Hint) -> Vec<f64> {
+        match &self.kind {
+            Kind::Log => {
+                let (max, weight) = (hint.max_num_points(), hint.weight());
+                let points = self.log_key_points(max);
+                // Within less than a decade there may be no such tick to label; the linear
+                // ticks of the same range label it instead.
+                match weight {
+                    _ if points.len() >= 2 || max < 2 => points,
+                    KeyPointWeight::Bold => self.linear().key_points(BoldPoints(max)),
+                    KeyPointWeight::Any => self.linear().key_points(max),
+                }
+            }
+            Kind::Linear => self.linear().key_points(hint),
+            // One tick per category, every k-th when there are more than the hint allows.
+            Kind::Categories(names) => match hint.weight() {
+                KeyPointWeight::Bold => {
+                    let step = names.len().div_ceil(hint.max_num_points().max(1)).max(1);
+                    (0..names.len()).step_by(step).map(|i| i as f64).collect()
+                }
+                KeyPointWeight::Any => Vec::new(),
+            },
         }
-        points
     }
 
     fn range(&self) -> Range<f64> {
@@ -1198,21 +1130,45 @@ mod tests {
 
     #[test]
     fn ticks() {
+        let inside = |s: &Scale, v: &[f64]| v.iter().all(|&t| t >= s.lo && t <= s.hi);
+        // Nineteen decades: plotters labels every k-th power of ten, at most N_LABELS.
         let s = Scale::fit([1e-12, 1e7].into_iter(), true, 0.0);
         let majors = s.majors(N_LABELS);
         assert!(majors.len() <= N_LABELS && majors.len() >= 5, "{majors:?}");
+        assert!(inside(&s, &majors), "{majors:?}");
+        for &m in &majors {
+            let decade = m.log10().round();
+            assert!(
+                (m / 10f64.powf(decade) - 1.0).abs() < 1e-9,
+                "{m} in {majors:?}"
+            );
+        }
         assert_eq!(s.label(1e-12), "1e-12");
         assert_eq!(s.label(1e6), "1e6");
 
         let s = Scale::fit([1.0, 1000.0].into_iter(), true, 0.0);
-        assert_eq!(s.majors(N_LABELS), vec![1.0, 10.0, 100.0, 1000.0]);
+        let majors = s.majors(N_LABELS);
+        for decade in [1.0, 10.0, 100.0, 1000.0] {
+            assert!(
+                majors.iter().any(|&m| (m / decade - 1.0).abs() < 1e-9),
+                "{decade}: {majors:?}"
+            );
+        }
         assert_eq!(s.label(100.0), "100");
+        // The log axis puts each decade the same distance apart: 10 halfway from 1 to 100.
+        let s = Scale::fit([1.0, 100.0].into_iter(), true, 0.0);
+        assert_eq!(s.map(&10.0, (0, 1000)), 500);
+        assert_eq!(s.map(&1.0, (0, 1000)), 0);
 
-        let s = Scale::fit([3.0, 40.0].into_iter(), true, 0.0);
-        assert_eq!(s.majors(N_LABELS), vec![5.0, 10.0, 20.0]);
+        // Less than a decade still gets labels.
+        let s = Scale::fit([3.0, 5.0].into_iter(), true, 0.0);
+        let majors = s.majors(N_LABELS);
+        assert!(majors.len() >= 2 && inside(&s, &majors), "{majors:?}");
 
         let s = Scale::fit([0.0, 1.0].into_iter(), false, 0.0);
-        assert_eq!(s.majors(N_LABELS).len(), 6);
+        let majors = s.majors(N_LABELS);
+        assert!(majors.len() >= 2 && majors.len() <= N_LABELS, "{majors:?}");
+        assert!(inside(&s, &majors), "{majors:?}");
         assert_eq!(s.label(0.6000000000000001), "0.6");
 
         let s = Scale::fit([1e-7, 5e-7].into_iter(), false, 0.0);

@@ -116,7 +116,9 @@ impl ViewCamera {
     /// The `render` flags that draw exactly this camera at `width` x `height`. Numbers are
     /// printed so they read back to the same float64 (Rust's shortest round-trip form).
     pub fn render_flags(&self, width: u32, height: u32) -> crate::error::Result<String> {
-        Ok(crate::cli::camera_flags(&self.camera(width, height)?))
+        Ok(crate::camera_setup::camera_flags(
+            &self.camera(width, height)?,
+        ))
     }
 
     /// Turns the eye about the target: `dx` pixels of drag turn about `up`, `dy` pixels tilt

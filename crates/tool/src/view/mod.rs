@@ -88,7 +88,10 @@ pub fn run(args: &ViewArgs) -> Result<()> {
             let trajectory = Trajectory::open(path, &render.load.options())?;
             (trajectory.frame(0)?, Playback::of(trajectory))
         }
-        generated => (generated.load(&render.load.options())?, None),
+        generated => (
+            crate::scene_io::load(generated, &render.load.options())?,
+            None,
+        ),
     };
     for note in &loaded.notes {
         eprintln!("{}: {note}", render.scene);
@@ -99,7 +102,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let color_mode = render.load.color_mode();
     let mut scene = loaded.scene;
     color_mode.apply(&mut scene.ellipsoids);
-    let camera = cli::camera_for(&render, &scene)?;
+    let camera = crate::camera_setup::camera_for(&render, &scene)?;
     let bounds = scene
         .bounding_sphere()
         .ok_or_else(|| Error::invalid("--scene", "has no ellipsoids"))?;

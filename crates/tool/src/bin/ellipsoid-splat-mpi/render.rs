@@ -14,10 +14,12 @@ use mpi::traits::*;
 use ellipsoid_splat::{supersample, Frame, Scene};
 use ellipsoid_splat_loaders::{load_share, LoadedShare, Split};
 use ellipsoid_splat_mpi::render_composited;
-use ellipsoid_splat_tool::cli::{self, RenderArgs, RenderPlan, SceneSpec};
+use ellipsoid_splat_tool::camera_setup;
+use ellipsoid_splat_tool::cli::{RenderArgs, RenderPlan, SceneSpec};
 use ellipsoid_splat_tool::mpi_flags::check_distributable;
 use ellipsoid_splat_tool::output::{self, Image};
 use ellipsoid_splat_tool::render_device;
+use ellipsoid_splat_tool::scene_io;
 
 use crate::agree::agree;
 use crate::error::Result;
@@ -53,8 +55,7 @@ fn read_share<C: Communicator>(
     let mut share = match scene {
         SceneSpec::File(path) => load_share(path, &options, &MpiExchange::new(comm))?,
         generated => {
-            let made = generated
-                .load(&options)
+            let made = scene_io::load(generated, &options)
                 .and_then(|loaded| Ok(LoadedShare::of_whole(loaded, rank, size)?));
             agree(comm, made.map_err(Into::into))?
         }
@@ -128,7 +129,7 @@ pub fn run<C: Communicator>(comm: &C, args: &RenderArgs) -> Result<()> {
     let (least_cpu, most_cpu) = spread(comm, cpu);
     let sphere = whole_bounds(comm, &share.scene).map(Scene::sphere_around);
     let k = args.supersample;
-    let cameras = cli::camera_around(args, sphere).and_then(|camera| {
+    let cameras = camera_setup::camera_around(args, sphere).and_then(|camera| {
         let drawn = supersample::supersampled_camera(&camera, k)?;
         Ok((camera, drawn))
     });
@@ -145,7 +146,7 @@ pub fn run<C: Communicator>(comm: &C, args: &RenderArgs) -> Result<()> {
             );
         }
         if let Some(sphere) = sphere {
-            if let Some(warning) = cli::nothing_in_view_around(args, &camera, sphere) {
+            if let Some(warning) = camera_setup::nothing_in_view_around(args, &camera, sphere) {
                 eprintln!("warning: {warning}");
             }
         }
