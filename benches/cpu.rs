@@ -11,9 +11,9 @@ use std::path::Path;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
-use ellipsoid_splat::camera::{Camera, Projection};
 use ellipsoid_splat::internals::pack_instances;
 use ellipsoid_splat::research::icosphere;
+use ellipsoid_splat::{Camera, Projection};
 use ellipsoid_splat_loaders::{parse_csv, random_cloud, tensor_field};
 use ellipsoid_splat_reference::reference::render_reference;
 use glam::DVec3;

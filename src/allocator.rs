@@ -1,24 +1,5 @@
-//! The host's GPU memory allocator, as the renderer uses it: every buffer the renderer
-//! creates gets its memory from the host's allocator, named, and gives it back there, so the
-//! host's memory budget sees all of it. The renderer needs three kinds of memory
-//! ([`MemoryUse`]) and nothing else from an allocator.
-//!
-//! Implemented for `gpu_allocator::vulkan::Allocator` (feature `gpu-allocator`, on by
-//! default) and `vk_mem::Allocator` (feature `vk-mem`, VMA); a host on another allocator
-//! implements [`MemoryAllocator`] itself.
-//!
-//! **The allocator.** Every buffer the renderer uses is made by the host's allocator through
-//! the `MemoryAllocator` trait (`src/allocator.rs`): `create_buffer` takes the
-//! `VkBufferCreateInfo`, one of three uses (`MemoryUse::GpuOnly`, `Upload`, `Readback`; the
-//! last two host-visible, coherent and mapped for their lifetime) and a name, and returns the
-//! buffer with its memory bound, as `vmaCreateBuffer` does; `destroy_buffer` gives both back.
-//! The trait is implemented for `gpu_allocator::vulkan::Allocator` (feature `gpu-allocator`, on
-//! by default) and for `vk_mem::Allocator` (feature `vk-mem`, VMA 0.5: explicit required and
-//! preferred property flags rather than VMA's usage guesses, mapped allocations for the
-//! host-visible uses); a host on another allocator implements it (it is an `unsafe trait`: the
-//! memory must be bound and sized as asked). Every method that allocates or frees takes `&mut
-//! dyn MemoryAllocator`. `gpu_memory_bytes()` counts the allocations' sizes, as the host's
-//! allocator reports them, so its budget sees the renderer's memory.
+//! The host's GPU memory allocator as the renderer uses it ([`MemoryAllocator`], whose
+//! documentation is the contract), and its implementations for gpu-allocator and vk-mem.
 
 #[cfg(feature = "gpu-allocator")]
 mod gpu_allocator;
@@ -130,8 +111,16 @@ impl BufferMemory {
 }
 
 /// The host's GPU memory allocator. The renderer asks it for every buffer it needs, with
-/// memory bound (as `vmaCreateBuffer` makes them), and gives each back to it; every call
-/// passes the same device and allocator.
+/// memory bound (as `vmaCreateBuffer` makes them) and named, and gives each back to it, so the
+/// host's memory budget sees all of it (`gpu_memory_bytes()` counts the sizes it reports); every
+/// call passes the same device and allocator. The renderer needs three kinds of memory
+/// ([`MemoryUse`]) and nothing else from an allocator; every method that allocates or frees
+/// takes `&mut dyn MemoryAllocator`.
+///
+/// Implemented for `gpu_allocator::vulkan::Allocator` (feature `gpu-allocator`, on by default)
+/// and for `vk_mem::Allocator` (feature `vk-mem`, VMA 0.5: explicit required and preferred
+/// property flags rather than VMA's usage guesses, mapped allocations for the host-visible
+/// uses); a host on another allocator implements it itself.
 ///
 /// # Safety
 /// `create_buffer` returns a buffer made from `info` on `device` with memory bound that meets

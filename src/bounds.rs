@@ -36,34 +36,38 @@ pub struct ScreenBounds {
     pub polygon: Vec<DVec2>,
 }
 
-/// The bounds of `e` seen by `camera`, with a polygon of `corners` (at least 3) corners;
-/// `None` when nothing of it lies beyond the near plane.
-pub fn screen_bounds(e: &Ellipsoid, camera: &Camera, corners: usize) -> Option<ScreenBounds> {
-    let view = ViewEllipsoid::new(e, camera);
-    let near = camera.near;
-    if view.c.z + view.s.z_axis.z.sqrt() < near {
-        return None;
+impl Ellipsoid {
+    /// The exact bounds of this ellipsoid seen by `camera` (float64), for a host's tile or
+    /// light binning: the axis-aligned rectangle of its projected silhouette and a polygon of
+    /// `corners` (at least 3) corners around it, both for the part beyond the near plane;
+    /// `None` when nothing of it lies beyond the near plane.
+    pub fn screen_bounds(&self, camera: &Camera, corners: usize) -> Option<ScreenBounds> {
+        let view = ViewEllipsoid::new(self, camera);
+        let near = camera.near;
+        if view.c.z + view.s.z_axis.z.sqrt() < near {
+            return None;
+        }
+        let orthographic = camera.is_orthographic();
+        let x = view.range(0, near, orthographic)?;
+        let y = view.range(1, near, orthographic)?;
+        let to_pixel = |p: DVec2| camera.screen_to_pixel(p);
+        let lo = to_pixel(DVec2::new(x.0, y.1));
+        let hi = to_pixel(DVec2::new(x.1, y.0));
+        let rect = [lo.x, lo.y, hi.x, hi.y];
+        let polygon = match view.projected_ellipse(near, orthographic) {
+            Some((centre, axes)) => circumscribed_polygon(centre, axes, corners.max(3))
+                .into_iter()
+                .map(to_pixel)
+                .collect(),
+            None => vec![
+                DVec2::new(rect[0], rect[1]),
+                DVec2::new(rect[0], rect[3]),
+                DVec2::new(rect[2], rect[3]),
+                DVec2::new(rect[2], rect[1]),
+            ],
+        };
+        Some(ScreenBounds { rect, polygon })
     }
-    let orthographic = camera.is_orthographic();
-    let x = view.range(0, near, orthographic)?;
-    let y = view.range(1, near, orthographic)?;
-    let to_pixel = |p: DVec2| camera.screen_to_pixel(p);
-    let lo = to_pixel(DVec2::new(x.0, y.1));
-    let hi = to_pixel(DVec2::new(x.1, y.0));
-    let rect = [lo.x, lo.y, hi.x, hi.y];
-    let polygon = match view.projected_ellipse(near, orthographic) {
-        Some((centre, axes)) => circumscribed_polygon(centre, axes, corners.max(3))
-            .into_iter()
-            .map(to_pixel)
-            .collect(),
-        None => vec![
-            DVec2::new(rect[0], rect[1]),
-            DVec2::new(rect[0], rect[3]),
-            DVec2::new(rect[2], rect[3]),
-            DVec2::new(rect[2], rect[1]),
-        ],
-    };
-    Some(ScreenBounds { rect, polygon })
 }
 
 /// The ellipsoid in view coordinates relative to the eye.
@@ -232,7 +236,7 @@ mod tests {
             None,
         )
         .unwrap();
-        let b = screen_bounds(&e, &camera, 4).unwrap();
+        let b = e.screen_bounds(&camera, 4).unwrap();
         let want = [50.0, 50.0, 150.0, 150.0];
         for (got, want) in b.rect.iter().zip(want) {
             assert!((got - want).abs() < 1e-9, "{:?}", b.rect);
@@ -256,7 +260,7 @@ mod tests {
             None,
         )
         .unwrap();
-        let b = screen_bounds(&e, &camera, 8).unwrap();
+        let b = e.screen_bounds(&camera, 8).unwrap();
         let slope = 3.0 / (100.0f64 - 9.0).sqrt();
         let half_px = slope * 100.0; // tan(45 deg) = 1: one slope unit is 100 pixels
         for (got, want) in b.rect.iter().zip([

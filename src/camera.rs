@@ -1,31 +1,9 @@
-//! The camera and the pixel-ray contract of `docs/design.md` §3, in float64.
-//!
-//! `f = normalize(target - eye)`, `r = normalize(f x up)`, `u = r x f`. Every projection is
-//! described by its [`Intrinsics`] `(fx, fy, cx, cy)` in pixels, and every camera may carry a
-//! sub-pixel `jitter` `(dx, dy)`: continuous pixel position `(x, y)` (x right, y down from the
-//! image's top-left corner; pixel `(i, j)`'s centre is `(i + 0.5, j + 0.5)`) lies on the
-//! screen plane at `s = ((x + dx - cx) / fx, (cy - y - dy) / fy)` (x along `r`, y along `u`).
-//! Perspective: the ray leaves `eye` along `f + s.x r + s.y u`. Orthographic: the ray leaves
-//! `eye + s.x r + s.y u` along `f`. View depth of `p` is `dot(p - eye, f)`; nothing nearer than
-//! `near` is visible. The camera's `width x height` image is drawn at `viewport_origin` in the
-//! host's attachments.
+//! The camera and the pixel-ray contract of `docs/design.md` §3, in float64 ([`Camera`]).
 
 use glam::{DVec2, DVec3};
 
 use crate::depth::{DepthConvention, DepthMap};
 use crate::error::{Error, Result};
-
-/// The most a camera's principal point (with its jitter) may lie from its image's centre, in
-/// half image widths and heights: the shaders' NDC of a pixel is the image's NDC plus this
-/// shift, and must stay well inside float32's range of exact small integers.
-pub const MAX_PRINCIPAL_SHIFT: f64 = 64.0;
-
-/// The most a camera's principal point (with its jitter) may lie from its image's centre, in
-/// pixels: the shaders add the shift to each pixel's NDC in float32, which adds at most
-/// `p 2^-23` pixels of rounding at a shift of `p` pixels to the `(W/2) 2^-23` (at most 2^-10)
-/// a centred camera has, so 8192 pixels keep every pixel's position within 2^-9 of a pixel,
-/// on any image size (§4.9).
-pub const MAX_PRINCIPAL_SHIFT_PX: f64 = 8192.0;
 
 /// The pinhole intrinsics of a camera, in pixels, as OpenCV writes them: focal lengths
 /// `fx, fy` (pixels per unit of screen-plane slope in perspective; pixels per world unit in
@@ -140,6 +118,16 @@ pub enum Projection {
 
 /// A validated camera: position, orientation, projection, near plane, image size, jitter and
 /// where the image lies in the host's attachments.
+///
+/// The pixel-ray contract (`docs/design.md` §3), in float64: `f = normalize(target - eye)`,
+/// `r = normalize(f x up)`, `u = r x f`. Every projection is described by its [`Intrinsics`] `(fx, fy, cx, cy)` in pixels, and every camera may carry a
+/// sub-pixel `jitter` `(dx, dy)`: continuous pixel position `(x, y)` (x right, y down from the
+/// image's top-left corner; pixel `(i, j)`'s centre is `(i + 0.5, j + 0.5)`) lies on the
+/// screen plane at `s = ((x + dx - cx) / fx, (cy - y - dy) / fy)` (x along `r`, y along `u`).
+/// Perspective: the ray leaves `eye` along `f + s.x r + s.y u`. Orthographic: the ray leaves
+/// `eye + s.x r + s.y u` along `f`. View depth of `p` is `dot(p - eye, f)`; nothing nearer than
+/// `near` is visible. The camera's `width x height` image is drawn at `viewport_origin` in the
+/// host's attachments.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
     /// Eye position (perspective centre, or the point of the orthographic image plane on the
@@ -194,6 +182,18 @@ pub struct Ray {
 const MAX_SIDE: u32 = 16384;
 
 impl Camera {
+    /// The most a camera's principal point (with its jitter) may lie from its image's centre, in
+    /// half image widths and heights: the shaders' NDC of a pixel is the image's NDC plus this
+    /// shift, and must stay well inside float32's range of exact small integers.
+    pub const MAX_PRINCIPAL_SHIFT: f64 = 64.0;
+
+    /// The most a camera's principal point (with its jitter) may lie from its image's centre, in
+    /// pixels: the shaders add the shift to each pixel's NDC in float32, which adds at most
+    /// `p 2^-23` pixels of rounding at a shift of `p` pixels to the `(W/2) 2^-23` (at most 2^-10)
+    /// a centred camera has, so 8192 pixels keep every pixel's position within 2^-9 of a pixel,
+    /// on any image size (§4.9).
+    pub const MAX_PRINCIPAL_SHIFT_PX: f64 = 8192.0;
+
     /// A checked camera with the default depth convention, no jitter, drawn at the
     /// attachments' origin. Errors name the bad field.
     pub fn new(
@@ -352,19 +352,25 @@ impl Camera {
         let (shift_x, shift_y) = self.ndc_shift();
         let shift_px =
             (0.5 * shift_x.abs() * self.width as f64).max(0.5 * shift_y.abs() * self.height as f64);
-        if shift_px > MAX_PRINCIPAL_SHIFT_PX {
+        if shift_px > Self::MAX_PRINCIPAL_SHIFT_PX {
             let k = self.intrinsics();
             return Err(Error::invalid(
                 "camera principal point",
                 format!(
                     "({}, {}) with jitter ({}, {}) lies {shift_px:.0} pixels from the centre of \
-                     the {}x{} image, more than {MAX_PRINCIPAL_SHIFT_PX} (float32 would round \
+                     the {}x{} image, more than {} (float32 would round \
                      pixel positions)",
-                    k.cx, k.cy, self.jitter.x, self.jitter.y, self.width, self.height
+                    k.cx,
+                    k.cy,
+                    self.jitter.x,
+                    self.jitter.y,
+                    self.width,
+                    self.height,
+                    Self::MAX_PRINCIPAL_SHIFT_PX
                 ),
             ));
         }
-        if shift_x.abs().max(shift_y.abs()) > MAX_PRINCIPAL_SHIFT {
+        if shift_x.abs().max(shift_y.abs()) > Self::MAX_PRINCIPAL_SHIFT {
             let k = self.intrinsics();
             return Err(Error::invalid(
                 "camera principal point",
@@ -375,7 +381,7 @@ impl Camera {
                     k.cy,
                     self.jitter.x,
                     self.jitter.y,
-                    MAX_PRINCIPAL_SHIFT,
+                    Self::MAX_PRINCIPAL_SHIFT,
                     self.width,
                     self.height
                 ),
@@ -385,6 +391,7 @@ impl Camera {
     }
 
     /// The camera frame of the contract.
+    #[doc(hidden)] // For the float64 reference, as its types (`internals`).
     pub fn basis(&self) -> Basis {
         let forward = (self.target - self.eye).normalize();
         let right = forward.cross(self.up).normalize();
@@ -462,12 +469,14 @@ impl Camera {
     }
 
     /// The ray through the centre of pixel `(i, j)`.
+    #[doc(hidden)] // For the float64 reference, as its types (`internals`).
     pub fn ray(&self, i: u32, j: u32) -> Ray {
         self.ray_at_pixel(DVec2::new(i as f64 + 0.5, j as f64 + 0.5))
     }
 
     /// The ray through continuous pixel position `pixel` (pixel `(i, j)`'s centre at
     /// `(i + 0.5, j + 0.5)`), jitter included.
+    #[doc(hidden)] // For the float64 reference, as its types (`internals`).
     pub fn ray_at_pixel(&self, pixel: DVec2) -> Ray {
         let b = self.basis();
         let s = self.pixel_to_screen(pixel);

@@ -35,8 +35,8 @@
 //!   or a flipped one whose bottom edge lies above the attachment's top, skewed image axes, a
 //!   mirrored image (a left-handed frame, or a y-up projection drawn with a viewport that is not
 //!   flipped -- the message says to flip one of them), a depth axis tilted away from `f`, an
-//!   oblique orthographic projection, a principal point beyond `MAX_PRINCIPAL_SHIFT` or
-//!   `MAX_PRINCIPAL_SHIFT_PX` (design §3.2).
+//!   oblique orthographic projection, a principal point beyond [`Camera::MAX_PRINCIPAL_SHIFT`] or
+//!   [`Camera::MAX_PRINCIPAL_SHIFT_PX`] (design §3.2).
 //!   Structure is checked to a relative tolerance of 1e-6.
 //! - Perspective: the eye solves `m0.p = m1.p = m3.p = 0` (with their `w` terms). Depth is
 //!   `a + c/d` with `a = alpha/k`, `c = (m2.w + alpha f.eye)/k` and `alpha = m2.xyz . f`; reversed

@@ -141,16 +141,18 @@
 //!
 //! # Public surface and stability
 //!
-//! The crate root is the host's vocabulary (at most 30 items without features, counted by
-//! `tests/public_surface.rs`), with the public modules `allocator`, `bounds` (exact screen bounds
-//! on the CPU), `camera` and `plan` (the frame plan's vocabulary). `research` adds the module
+//! The crate root is the host's vocabulary, and without features all of it: at most 30 free
+//! items, no public module (counted by `tests/public_surface.rs`). Limits are associated
+//! constants ([`Target::NORMAL_FORMAT`], [`Camera::MAX_PRINCIPAL_SHIFT`]); the plan's details a
+//! host reads but never names (the draw's and the splat's paths, the reasons' payloads, the
+//! footprint) are types it cannot name, and the first guess's thresholds are private. `research` adds the module
 //! `research`; `offscreen` adds the standalone renderer, its `Frame`, its own Vulkan `Context` and
 //! the module `supersample` (a frame drawn K times larger and box-filtered in linear light, shared
 //! by the tool's `--supersample` and the Python package). Everything else is private, or in the
 //! one `#[doc(hidden)] pub mod internals` that the workspace's other crates, the tests and the
 //! benchmarks use (barriers as data, the validation messenger, eigen-solver and shape colours,
-//! the icosphere and packer of the research build, two set-up limits); it may change in any
-//! release. The option structs ([`RendererOptions`], [`Settings`], [`Material`], [`Culling`],
+//! the packer, the offscreen background, the float64 reference's `Basis` and `Ray`); it may
+//! change in any release. The option structs ([`RendererOptions`], [`Settings`], [`Material`], [`Culling`],
 //! [`Target`], [`DeviceFeatures`], [`HostDevice`], and with `offscreen` `ContextOptions` and
 //! `Outputs`) are `#[non_exhaustive]` with constructors (`new`, `default`, named constants), so a
 //! new field is not a breaking change; so are the enums a later version may grow ([`Projection`],
@@ -212,10 +214,10 @@
 //! # fn main() {}
 //! ```
 
-pub mod allocator;
+mod allocator;
 mod barriers;
-pub mod bounds;
-pub mod camera;
+mod bounds;
+mod camera;
 mod culling;
 mod depth;
 mod ellipsoid;
@@ -250,20 +252,8 @@ mod research;
 #[cfg(feature = "offscreen")]
 pub mod supersample;
 
-/// The frame plan's vocabulary: the exact paths a frame can take, how a host lets the plan
-/// choose ([`plan::PlanMode`], in [`Settings::plan`]), why a frame took its path, and the
-/// first guess's thresholds.
-pub mod plan {
-    pub use crate::footprint::Footprint;
-    pub use crate::path::{DrawPath, FramePath, HiddenLayers, PathKind, PlanMode, SplatPath};
-    pub use crate::renderer::{
-        DrawReason, Guess, Measured, PlanReason, MAX_SETUP_ONCE_INSTANCES, SETUP_ONCE_MAX_AREA_PX,
-        SPLAT_MAX_BOX_PIXELS, SPLAT_MAX_MEAN_AREA_PX, SPLAT_MIN_GLYPHS,
-        VISIBLE_FIRST_MIN_HIDDEN_PX,
-    };
-}
-
-pub use allocator::MemoryAllocator;
+pub use allocator::{BufferMemory, MemoryAllocator, MemoryUse};
+pub use bounds::ScreenBounds;
 pub use camera::{Camera, Intrinsics, Projection};
 pub use culling::Culling;
 pub use depth::DepthConvention;
@@ -272,10 +262,11 @@ pub use error::{Error, Result};
 pub use features::DeviceFeatures;
 pub use host_camera::HostViewport;
 pub use instances::{InstanceFormat, Placement};
-pub use renderer::{EllipsoidRenderer, FramePlan};
+pub use path::{FramePath, HiddenLayers, PathKind, PlanMode};
+pub use renderer::{EllipsoidRenderer, FramePlan, PlanReason};
 pub use scene::Scene;
 pub use settings::{Material, Settings};
-pub use target::{HostDevice, Pass, RendererOptions, Target, ID_FORMAT, NORMAL_FORMAT};
+pub use target::{HostDevice, Pass, RendererOptions, Target};
 
 #[cfg(feature = "offscreen")]
 pub use frame::{Frame, NO_INSTANCE};
@@ -293,6 +284,9 @@ pub mod internals {
     pub mod barriers {
         pub use crate::barriers::*;
     }
+    /// The pixel-ray contract's frame and rays (`Camera::basis`, `Camera::ray`), for the
+    /// float64 reference.
+    pub use crate::camera::{Basis, Ray};
     pub use crate::ellipsoid::{shape_color, symmetric_eigen};
     #[cfg(feature = "offscreen")]
     pub use crate::gpu::validation;

@@ -11,11 +11,14 @@ use crate::culling::Culling;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum FramePath {
     /// Every glyph rasterized as an impostor, after the pre-pass when it culls or sets glyphs
-    /// up once.
+    /// up once (the path's `culling` and `setup_once`, also [`crate::FramePlan::culling`] and
+    /// [`crate::FramePlan::setup_once`]).
     Draw(DrawPath),
     /// The glyphs ray cast by a compute pass into a visibility buffer and shaded once per
     /// pixel by a resolve inside the host's pass; those too large for it are drawn in the
-    /// same frame (docs/design.md §5.6).
+    /// same frame (docs/design.md §5.6). The path's `hidden` says what it does about hidden
+    /// glyphs ([`HiddenLayers`]), its `max_box_pixels` the most pixel centres a glyph's box
+    /// may hold for the splat to walk it.
     Splat(SplatPath),
 }
 

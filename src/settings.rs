@@ -120,14 +120,14 @@ pub struct Settings {
     /// Draw glyphs of a few pixels as one triangle instead of the oriented rectangle on
     /// single-sample targets. Off by default: fewer vertices and primitives, but 1.65 shaded
     /// fragments per covered pixel instead of 1.27. On multisampled targets `Auto` takes the
-    /// triangle below the same size whatever this says
-    /// ([`crate::plan::Footprint::for_area_multisampled`]).
+    /// triangle below the same size whatever this says (`Footprint::for_area_multisampled`
+    /// in `src/footprint.rs`).
     pub small_glyph_triangles: bool,
     /// How `upload` stores instances: full float32 (default) or the compact 32-byte records,
     /// a third less memory at a measured accuracy cost.
     pub instance_format: InstanceFormat,
     /// How the frame plan chooses among the exact paths that can serve a frame -- the
-    /// draw, the compute splat, the visible-first splat ([`crate::plan::FramePath`]): by
+    /// draw, the compute splat, the visible-first splat ([`crate::FramePath`]): by
     /// measuring them on this device (the default), by its first guess alone, or as fixed.
     /// Every path draws the same picture (bit for bit on lavapipe; within the float64
     /// reference's bounds on any driver), so the choice costs time, never a pixel.

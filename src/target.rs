@@ -7,11 +7,6 @@ use crate::error::{Error, Result};
 use crate::features::DeviceFeatures;
 use crate::settings::Settings;
 
-/// Normal attachment format when `Target::aux_outputs` is set.
-pub const NORMAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
-/// Instance-ID attachment format when `Target::aux_outputs` is set.
-pub const ID_FORMAT: vk::Format = vk::Format::R32_UINT;
-
 /// The host's Vulkan objects the renderer works with, and the features the host enabled on
 /// its device. The handles are borrowed: the renderer never destroys them, and the host keeps
 /// them alive until it has destroyed the renderer.
@@ -101,7 +96,7 @@ pub enum Pass {
 /// `Pass::Dynamic { color_formats, depth_format }` (`Target::dynamic(color, depth)` for the
 /// single-sample, colour-and-depth case).
 /// The renderer writes colour attachment 0, depth, and with `aux_outputs` attachments 1
-/// (`NORMAL_FORMAT = R32G32B32A32_SFLOAT`) and 2 (`ID_FORMAT = R32_UINT`); other colour
+/// ([`Target::NORMAL_FORMAT`], `R32G32B32A32_SFLOAT`) and 2 ([`Target::ID_FORMAT`], `R32_UINT`); other colour
 /// attachments get a zero write mask. No blending. `set_target` switches targets; pipelines are
 /// kept per target. With `samples` 2 or 4 on a device with the standard sample locations
 /// (`FramePlan::coverage_samples`), the fragment stage runs once per pixel
@@ -129,13 +124,18 @@ pub struct Target {
     /// Samples per pixel of the attachments (1 or a power of two the device supports); how
     /// more than one is covered and shaded is in the type's documentation.
     pub samples: vk::SampleCountFlags,
-    /// Colour attachments 1 and 2 receive the world normal ([`NORMAL_FORMAT`]) and the
-    /// instance index ([`ID_FORMAT`]); otherwise the renderer writes attachment 0 only. It
+    /// Colour attachments 1 and 2 receive the world normal ([`Target::NORMAL_FORMAT`]) and the
+    /// instance index ([`Target::ID_FORMAT`]); otherwise the renderer writes attachment 0 only. It
     /// never writes other colour attachments (write mask 0).
     pub aux_outputs: bool,
 }
 
 impl Target {
+    /// Normal attachment format when [`Target::aux_outputs`] is set.
+    pub const NORMAL_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+    /// Instance-ID attachment format when [`Target::aux_outputs`] is set.
+    pub const ID_FORMAT: vk::Format = vk::Format::R32_UINT;
+
     /// A single-sample target of `pass` writing colour attachment 0 and depth (change
     /// `samples` and `aux_outputs` after).
     pub fn new(pass: Pass) -> Self {
@@ -227,11 +227,15 @@ impl Target {
                 return bad("colour attachment 0 has format UNDEFINED".into());
             }
             if self.aux_outputs
-                && (color_formats[1] != NORMAL_FORMAT || color_formats[2] != ID_FORMAT)
+                && (color_formats[1] != Target::NORMAL_FORMAT
+                    || color_formats[2] != Target::ID_FORMAT)
             {
                 return bad(format!(
-                    "aux outputs need attachments 1 and 2 as {NORMAL_FORMAT:?} and {ID_FORMAT:?}, got {:?} and {:?}",
-                    color_formats[1], color_formats[2]
+                    "aux outputs need attachments 1 and 2 as {:?} and {:?}, got {:?} and {:?}",
+                    Target::NORMAL_FORMAT,
+                    Target::ID_FORMAT,
+                    color_formats[1],
+                    color_formats[2]
                 ));
             }
         }

@@ -12,8 +12,7 @@
 //! polygon is convex, counter-clockwise on screen, holds the whole region and touches it with
 //! every edge, with the least area an n-gon around the projected ellipse can have.
 
-use ellipsoid_splat::bounds::{screen_bounds, ScreenBounds};
-use ellipsoid_splat::{Camera, Ellipsoid, Projection};
+use ellipsoid_splat::{Camera, Ellipsoid, Projection, ScreenBounds};
 use ellipsoid_splat_loaders::random_cloud;
 use ellipsoid_splat_reference::reference::intersect;
 use glam::{DQuat, DVec2, DVec3};
@@ -48,7 +47,7 @@ fn inside(polygon: &[DVec2], p: DVec2, slack: f64) -> bool {
 
 fn check(e: &Ellipsoid, camera: &Camera, tight: bool, what: &str) -> usize {
     let pixels = covered(e, camera);
-    let bounds = screen_bounds(e, camera, 8);
+    let bounds = e.screen_bounds(camera, 8);
     let Some(ScreenBounds { rect, polygon }) = bounds else {
         assert!(
             pixels.is_empty(),
@@ -534,7 +533,7 @@ fn rect_is_the_exact_extent_of_silhouette_and_near_cap() {
     for (name, camera) in cameras() {
         let (w, h) = (camera.width as f64, camera.height as f64);
         for (what, e) in scene(&camera) {
-            let bounds = screen_bounds(&e, &camera, 8);
+            let bounds = e.screen_bounds(&camera, 8);
             let o = outline(&e, &camera, SAMPLES);
             let (b, o) = match (bounds, o) {
                 (Some(b), Some(o)) => (b, o),
@@ -583,7 +582,7 @@ fn rect_clipped_to_the_image_is_tight_to_covered_pixels() {
         let (w, h) = (camera.width as f64, camera.height as f64);
         let clip = |r: [f64; 4]| [r[0].max(0.0), r[1].max(0.0), r[2].min(w), r[3].min(h)];
         for (what, e) in scene(&camera) {
-            let (Some(b), Some(o)) = (screen_bounds(&e, &camera, 8), outline(&e, &camera, 1024))
+            let (Some(b), Some(o)) = (e.screen_bounds(&camera, 8), outline(&e, &camera, 1024))
             else {
                 continue;
             };
@@ -693,7 +692,9 @@ fn polygon_is_convex_and_counter_clockwise_on_screen() {
                 continue;
             };
             for corners in CORNERS {
-                let b = screen_bounds(&e, &camera, corners).expect("something beyond near");
+                let b = e
+                    .screen_bounds(&camera, corners)
+                    .expect("something beyond near");
                 let p = &b.polygon;
                 if o.silhouette.is_some() {
                     assert_eq!(p.len(), corners, "{name} {what}: corners");
@@ -761,7 +762,9 @@ fn polygon_holds_and_touches_the_silhouette() {
             let r = extent(&o.points);
             let size = (r[2] - r[0]).max(r[3] - r[1]).max(1.0);
             for corners in CORNERS {
-                let b = screen_bounds(&e, &camera, corners).expect("something beyond near");
+                let b = e
+                    .screen_bounds(&camera, corners)
+                    .expect("something beyond near");
                 // Counter-clockwise on screen, as the previous test asserts; reversed, it has the
                 // positive area `outside_by` wants.
                 let poly: Vec<DVec2> = b.polygon.iter().rev().copied().collect();

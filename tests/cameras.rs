@@ -4,7 +4,7 @@
 //! views in one frame -- against the float64 reference: no coverage mismatch, depth p99 within
 //! 1e-6, under validation and synchronization validation.
 
-use ellipsoid_splat::plan::PathKind;
+use ellipsoid_splat::PathKind;
 use ellipsoid_splat::{Camera, Frame, HostViewport, Intrinsics, Outputs, Projection, NO_INSTANCE};
 use ellipsoid_splat_loaders::random_cloud;
 use ellipsoid_splat_reference::compare::{compare, Bounds, ErrorStats};

@@ -8,12 +8,12 @@ use ellipsoid_splat::Outputs;
 use ellipsoid_splat_reference::testing as common;
 
 use common::{finish_validated, validated_renderer};
-use ellipsoid_splat::plan::{PathKind, PlanMode};
 use ellipsoid_splat::Culling;
 use ellipsoid_splat::Ellipsoid;
 use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::Scene;
 use ellipsoid_splat::{Camera, Projection};
+use ellipsoid_splat::{PathKind, PlanMode};
 use ellipsoid_splat_loaders::{packed_block, random_cloud};
 use glam::{DQuat, DVec3};
 

@@ -10,7 +10,7 @@
 use ellipsoid_splat_test_host as host;
 
 use ash::vk;
-use ellipsoid_splat::plan::PathKind;
+use ellipsoid_splat::PathKind;
 use ellipsoid_splat::{
     Camera, DeviceFeatures, Ellipsoid, EllipsoidRenderer, HostDevice, Material, Pass,
     RendererOptions, Scene, Settings, Target,

@@ -15,11 +15,11 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use ellipsoid_splat::plan::{PathKind, PlanMode};
 #[cfg(feature = "research")]
 use ellipsoid_splat::research::DrawConfig;
 #[cfg(feature = "research")]
 use ellipsoid_splat::research::Method;
+use ellipsoid_splat::{PathKind, PlanMode};
 
 /// Without `research` every case draws the shipped impostor.
 #[cfg(not(feature = "research"))]

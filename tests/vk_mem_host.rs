@@ -4,11 +4,11 @@
 //! of its memory back. Prints the GPU memory the scene takes with each allocator.
 
 use ash::vk;
-use ellipsoid_splat::plan::{PathKind, PlanMode};
 use ellipsoid_splat::{
     DeviceFeatures, EllipsoidRenderer, HostDevice, MemoryAllocator, RendererOptions, Scene,
     Settings, Target, NO_INSTANCE,
 };
+use ellipsoid_splat::{PathKind, PlanMode};
 use ellipsoid_splat_loaders::random_cloud;
 use ellipsoid_splat_reference::reference::render_reference;
 use ellipsoid_splat_test_host::{DepthKind, Host, HostTarget, TargetKind};

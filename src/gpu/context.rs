@@ -68,7 +68,7 @@ pub struct DeviceInfo {
     /// Whether fragment shaders may write storage buffers (the `bench` fragment counter).
     pub fragment_stores_and_atomics: bool,
     /// Whether `shaderInt64` and `shaderBufferInt64Atomics` were enabled: the compute splat
-    /// path ([`crate::plan::FramePath::Splat`]) needs both.
+    /// path ([`crate::FramePath::Splat`]) needs both.
     pub compute_splat: bool,
     /// The renderer's features the device was created with.
     pub renderer_features: DeviceFeatures,
@@ -501,8 +501,13 @@ fn device_info(
             & props.limits.framebuffer_depth_sample_counts
             & props.limits.sampled_image_depth_sample_counts
             & props.limits.sampled_image_integer_sample_counts
-            & attachment_sample_counts(instance, pd, crate::target::NORMAL_FORMAT, transient)
-            & attachment_sample_counts(instance, pd, crate::target::ID_FORMAT, sampled),
+            & attachment_sample_counts(
+                instance,
+                pd,
+                crate::target::Target::NORMAL_FORMAT,
+                transient,
+            )
+            & attachment_sample_counts(instance, pd, crate::target::Target::ID_FORMAT, sampled),
     }
 }
 

@@ -51,7 +51,7 @@ use crate::renderer::{EllipsoidRenderer, FramePlan};
 use crate::research;
 use crate::scene::Scene;
 use crate::settings::Settings;
-use crate::target::{HostDevice, Pass, RendererOptions, Target, ID_FORMAT, NORMAL_FORMAT};
+use crate::target::{HostDevice, Pass, RendererOptions, Target};
 
 pub use outputs::Outputs;
 use sample_zero::SampleZero;
@@ -581,7 +581,7 @@ fn check_views(extent: vk::Extent2D, cameras: &[Camera]) -> Result<()> {
 /// with `samples` per pixel.
 fn target(aux_outputs: bool, samples: vk::SampleCountFlags) -> Target {
     let color_formats = if aux_outputs {
-        vec![COLOR_FORMAT, NORMAL_FORMAT, ID_FORMAT]
+        vec![COLOR_FORMAT, Target::NORMAL_FORMAT, Target::ID_FORMAT]
     } else {
         vec![COLOR_FORMAT]
     };

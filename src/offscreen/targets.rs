@@ -7,7 +7,7 @@ use gpu_allocator::vulkan::Allocator;
 
 use crate::error::Result;
 use crate::gpu::{GpuBuffer, GpuImage};
-use crate::target::{ID_FORMAT, NORMAL_FORMAT};
+use crate::target::Target;
 
 use super::{OffscreenRenderer, Outputs, COLOR_FORMAT, DEPTH_FORMAT};
 
@@ -119,8 +119,8 @@ impl Targets {
             ),
         ];
         if outputs.aux() {
-            specs.push(("normal target", NORMAL_FORMAT, attach, color_aspect));
-            specs.push(("id target", ID_FORMAT, attach, color_aspect));
+            specs.push(("normal target", Target::NORMAL_FORMAT, attach, color_aspect));
+            specs.push(("id target", Target::ID_FORMAT, attach, color_aspect));
         }
         // Build one at a time so a failure frees the ones already made: the single-sample
         // images, then (multisampled) the attachments drawn into, which only the pass uses.
@@ -138,7 +138,7 @@ impl Targets {
             // read at sample 0 by a compute fetch (`sample_zero.rs`): sampled.
             let drawn_into = |usage: vk::ImageUsageFlags, format| {
                 let attachment = usage & !vk::ImageUsageFlags::TRANSFER_SRC;
-                if format == DEPTH_FORMAT || format == ID_FORMAT {
+                if format == DEPTH_FORMAT || format == Target::ID_FORMAT {
                     attachment | vk::ImageUsageFlags::SAMPLED
                 } else {
                     attachment | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT

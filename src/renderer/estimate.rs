@@ -2,7 +2,7 @@
 //! thresholds measured on lavapipe (`docs/compute-splat.md`,
 //! `docs/hidden-layers.md`). On other devices the plan measures the
 //! candidates and keeps the fastest (`learning.rs`); this is where it starts, and all of
-//! [`crate::plan::PlanMode::Estimate`].
+//! [`crate::PlanMode::Estimate`].
 
 use crate::path::PathKind;
 

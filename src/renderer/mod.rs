@@ -99,13 +99,13 @@ use crate::target::{HostDevice, RendererOptions, Target};
 pub(crate) use buffers::Binding;
 use buffers::SceneBuffers;
 use chunks::Chunking;
-pub use estimate::{SPLAT_MAX_MEAN_AREA_PX, SPLAT_MIN_GLYPHS, VISIBLE_FIRST_MIN_HIDDEN_PX};
 use frame_timer::FrameTimer;
 use learning::PlanLearning;
 use pipelines::Pipelines;
+pub use plan::FramePlan;
 use plan::PlanInputs;
-pub use plan::{FramePlan, MAX_SETUP_ONCE_INSTANCES, SETUP_ONCE_MAX_AREA_PX, SPLAT_MAX_BOX_PIXELS};
-pub use plan_reason::{DrawReason, Guess, Measured, PlanReason};
+use plan::MAX_SETUP_ONCE_INSTANCES;
+pub use plan_reason::PlanReason;
 use uploaded::UploadedScene;
 use view::{View, MAX_VIEWS};
 
@@ -310,7 +310,7 @@ impl EllipsoidRenderer {
     }
 
     /// The plan of the last `record_prepass`: the path the frame took and why (with
-    /// [`crate::plan::PlanMode::Measure`], "measured: X ms against Y ms" once its class is learned).
+    /// [`crate::PlanMode::Measure`], "measured: X ms against Y ms" once its class is learned).
     pub fn last_plan(&self) -> Option<&FramePlan> {
         self.last_plan.as_ref()
     }
@@ -336,7 +336,7 @@ impl EllipsoidRenderer {
     }
 
     /// Whether the plan can measure on this device (its queue family has timestamps); where
-    /// it cannot, [`crate::plan::PlanMode::Measure`] plans as [`crate::plan::PlanMode::Estimate`] does.
+    /// it cannot, [`crate::PlanMode::Measure`] plans as [`crate::PlanMode::Estimate`] does.
     pub fn can_measure(&self) -> bool {
         self.timer.available()
     }

@@ -73,7 +73,8 @@ pub struct FramePlan {
     /// Why it takes that path.
     pub reason: PlanReason,
     /// The polygon the draw rasterizes each glyph as (every glyph, or in a splatted frame
-    /// those the splat leaves to the draw), from the glyphs' mean size on screen.
+    /// those the splat leaves to the draw), from the glyphs' mean size on screen; its
+    /// `vertices()` per instance.
     pub footprint: Footprint,
     /// Mean projected area of the sampled glyphs on screen (square pixels), if any is.
     pub mean_area_px: Option<f64>,

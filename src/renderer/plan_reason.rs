@@ -97,17 +97,19 @@ pub struct Measured {
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum PlanReason {
-    /// The draw is the only path that can serve the frame.
+    /// The draw is the only path that can serve the frame; the payload prints why.
     Only(DrawReason),
-    /// The host fixed the path ([`crate::plan::PlanMode::Fixed`]).
+    /// The host fixed the path ([`crate::PlanMode::Fixed`]).
     Fixed,
     /// The first guess, from the scene's size on screen (before measuring, or with
-    /// [`crate::plan::PlanMode::Estimate`]).
+    /// [`crate::PlanMode::Estimate`]); the payload prints which threshold decided.
     Estimated(Guess),
     /// The plan is still timing the candidates for this scene class (the frame runs one of
     /// them, or the fastest so far between two trials).
     Exploring,
-    /// The fastest candidate measured for this scene class on this device.
+    /// The fastest candidate measured for this scene class on this device: the payload's
+    /// `ms`, the median GPU time of the path's frames, and `runner_up`, the next fastest
+    /// kind and its median where another was timed.
     Measured(Measured),
 }
 

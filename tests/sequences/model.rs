@@ -5,8 +5,8 @@
 
 use std::collections::BTreeMap;
 
-use ellipsoid_splat::plan::{PathKind, PlanMode};
 use ellipsoid_splat::{Culling, Ellipsoid, Error, InstanceFormat, Material, Placement, Settings};
+use ellipsoid_splat::{PathKind, PlanMode};
 
 use super::ops::{MaterialChoice, SettingsChoice, CHUNK_LIMITS};
 

@@ -7,11 +7,11 @@
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use ash::vk;
-use ellipsoid_splat::plan::{FramePath, HiddenLayers};
 use ellipsoid_splat::{
     Camera, DeviceFeatures, EllipsoidRenderer, HostDevice, OffscreenRenderer, Pass,
     RendererOptions, Scene, Target,
 };
+use ellipsoid_splat::{FramePath, HiddenLayers};
 use ellipsoid_splat_reference::testing::{finish_validated, validated_renderer};
 use ellipsoid_splat_test_host::{DepthKind, Host, HostTarget, TargetKind};
 

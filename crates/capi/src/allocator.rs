@@ -8,7 +8,7 @@ use std::ptr::NonNull;
 use ash::vk::{
     self, Buffer as VkBuffer, BufferCreateInfo as VkBufferCreateInfo, Result as VkResult,
 };
-use ellipsoid_splat::allocator::{BufferMemory, MemoryUse};
+use ellipsoid_splat::{BufferMemory, MemoryUse};
 use ellipsoid_splat::{Error, MemoryAllocator, Result};
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 

@@ -2,10 +2,11 @@
 //! plain struct.
 
 use std::ffi::{c_char, CStr, CString};
+use std::fmt::Display;
 use std::sync::Mutex;
 
-use ellipsoid_splat::plan::{DrawReason, FramePath, HiddenLayers, PlanReason};
 use ellipsoid_splat::FramePlan;
+use ellipsoid_splat::{FramePath, HiddenLayers, PlanReason};
 
 use crate::camera::{read_camera, EsCamera};
 use crate::renderer::{with_renderer, EsRenderer};
@@ -109,19 +110,24 @@ pub(crate) const FRAME_PLAN_V2: usize = 96;
 const _: () = assert!(std::mem::size_of::<EsFramePlan>() == FRAME_PLAN_V2);
 const _: () = assert!(std::mem::offset_of!(EsFramePlan, path) == FRAME_PLAN_V1);
 
-/// The library's sentence of `reason`, NUL-terminated in static storage: each reason's text
-/// is made once and kept for the life of the process (a handful of short strings).
-fn reason_text(reason: DrawReason) -> *const c_char {
-    static TEXTS: Mutex<Vec<(DrawReason, &'static CStr)>> = Mutex::new(Vec::new());
+/// The library's sentence of `reason` (why the draw is the only path), NUL-terminated in
+/// static storage: each distinct sentence is made once and kept for the life of the process
+/// (a handful of short strings).
+fn reason_text(reason: impl Display) -> *const c_char {
+    static TEXTS: Mutex<Vec<&'static CStr>> = Mutex::new(Vec::new());
+    let sentence = CString::new(reason.to_string().replace('\0', " ")).unwrap_or_default();
     let mut texts = TEXTS
         .lock()
         .unwrap_or_else(|poisoned| poisoned.into_inner());
-    if let Some((_, text)) = texts.iter().find(|(r, _)| *r == reason) {
+    if let Some(text) = texts
+        .iter()
+        .copied()
+        .find(|text| *text == sentence.as_c_str())
+    {
         return text.as_ptr();
     }
-    let text = CString::new(reason.to_string().replace('\0', " ")).unwrap_or_default();
-    let text: &'static CStr = Box::leak(text.into_boxed_c_str());
-    texts.push((reason, text));
+    let text: &'static CStr = Box::leak(sentence.into_boxed_c_str());
+    texts.push(text);
     text.as_ptr()
 }
 

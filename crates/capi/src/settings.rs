@@ -1,7 +1,7 @@
 //! The material, the work-skipping and the frame plan's mode a host may tune.
 
-use ellipsoid_splat::plan::{PathKind, PlanMode};
 use ellipsoid_splat::{Culling, Material, Settings};
+use ellipsoid_splat::{PathKind, PlanMode};
 
 use crate::status::{guard, output, versioned_prefix, EsStatus, Failure};
 

@@ -131,7 +131,7 @@ fn the_offscreen_renderer_draws_what_the_rust_api_draws() {
         DVec3::new(1.0, 2.0, 8.0),
         DVec3::ZERO,
         DVec3::Y,
-        ellipsoid_splat::camera::Projection::Perspective { fov_y_deg: 40.0 },
+        ellipsoid_splat::Projection::Perspective { fov_y_deg: 40.0 },
         1.0,
         WIDTH,
         HEIGHT,

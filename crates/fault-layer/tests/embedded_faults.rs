@@ -8,7 +8,7 @@
 mod support;
 
 use ash::vk;
-use ellipsoid_splat::plan::PlanMode;
+use ellipsoid_splat::PlanMode;
 use ellipsoid_splat::{Camera, EllipsoidRenderer, Error, HostDevice, RendererOptions};
 use glam::DVec3;
 use support::allocator::{self, FailingAllocator};

@@ -4,7 +4,7 @@
 
 mod support;
 
-use ellipsoid_splat::plan::PlanMode;
+use ellipsoid_splat::PlanMode;
 use ellipsoid_splat::{ContextOptions, Error, OffscreenRenderer, Outputs};
 use glam::DVec3;
 use support::fault::Fault;

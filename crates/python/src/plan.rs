@@ -1,6 +1,6 @@
 //! The frame plan as Python sees it: the mode by name, and the last frame's plan as a dict.
 
-use ellipsoid_splat::plan::{FramePath, HiddenLayers, PathKind, PlanMode, PlanReason};
+use ellipsoid_splat::{FramePath, HiddenLayers, PathKind, PlanMode, PlanReason};
 use ellipsoid_splat::FramePlan;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;

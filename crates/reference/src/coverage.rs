@@ -13,7 +13,7 @@
 
 use std::fmt;
 
-use ellipsoid_splat::camera::Camera;
+use ellipsoid_splat::Camera;
 use ellipsoid_splat::Scene;
 use ellipsoid_splat::{Error, Result};
 use ellipsoid_splat::{Frame, NO_INSTANCE};

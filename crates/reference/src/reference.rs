@@ -20,7 +20,8 @@ use std::thread;
 
 use glam::{DMat3, DVec2, DVec3};
 
-use ellipsoid_splat::camera::{Basis, Camera, Ray};
+use ellipsoid_splat::internals::{Basis, Ray};
+use ellipsoid_splat::Camera;
 use ellipsoid_splat::Ellipsoid;
 use ellipsoid_splat::Scene;
 use ellipsoid_splat::NO_INSTANCE;
@@ -675,7 +676,7 @@ fn clipped_slopes(x: f64, z: f64, r: f64, near: f64) -> Option<(f64, f64)> {
 
 #[cfg(test)]
 mod tests {
-    use ellipsoid_splat::camera::Projection;
+    use ellipsoid_splat::Projection;
     use glam::{DQuat, EulerRot};
 
     use super::*;

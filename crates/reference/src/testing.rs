@@ -5,9 +5,9 @@
 use crate::compare::{compare, Bounds, ErrorStats};
 use crate::reference::render_reference;
 use crate::shading::compare_colors;
-use ellipsoid_splat::plan::{HiddenLayers, PathKind, PlanMode};
 use ellipsoid_splat::{Camera, Frame, InstanceFormat, OffscreenRenderer, Outputs, Scene};
 use ellipsoid_splat::{ContextOptions, FramePlan, Settings, NO_INSTANCE};
+use ellipsoid_splat::{HiddenLayers, PathKind, PlanMode};
 
 /// Prints the library's log on stderr, for runs that want each validation message as it
 /// arrives (`scripts/validation-modes.sh` sets `ELLIPSOID_SPLAT_PRINT_VALIDATION`).

@@ -24,17 +24,17 @@ use std::path::Path;
 use ash::vk;
 
 use crate::error::Result;
-use ellipsoid_splat::plan::{PathKind, PlanMode};
 use ellipsoid_splat::ContextOptions;
 use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::{Outputs, Settings};
+use ellipsoid_splat::{PathKind, PlanMode};
 
 use crate::antialias_stress::AntialiasMode;
 use crate::bench::{frustum_cloud, median, tensor_field_scene, BenchScene, RoundOrder};
 use crate::error::Error;
 use crate::report::{format_table, scatter_chart, write_csv, Axis, Series};
-use ellipsoid_splat::camera::Camera;
 use ellipsoid_splat::supersample::{box_filter, supersampled_camera};
+use ellipsoid_splat::Camera;
 use ellipsoid_splat::Material;
 use ellipsoid_splat_reference::coverage::{compare_coverage, coverage_from, SamplePattern};
 use ellipsoid_splat_reference::{render_reference, Bounds};

@@ -9,8 +9,8 @@ use ash::vk;
 use glam::{DQuat, DVec3};
 
 use crate::error::Result;
-use ellipsoid_splat::camera::Camera;
 use ellipsoid_splat::research::DrawConfig;
+use ellipsoid_splat::Camera;
 use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::{Ellipsoid, Material, Outputs, Scene, Settings};
 use ellipsoid_splat_reference::coverage::{

@@ -31,11 +31,11 @@ use crate::report::{
     bar_chart, fmt_sci, format_table, line_chart, markdown_table, scatter_chart, write_csv, Axis,
     Series,
 };
-use ellipsoid_splat::camera::{Camera, Projection};
-use ellipsoid_splat::plan::PlanMode;
 use ellipsoid_splat::research::{Geometry, Method};
 use ellipsoid_splat::FramePlan;
 use ellipsoid_splat::OffscreenRenderer;
+use ellipsoid_splat::PlanMode;
+use ellipsoid_splat::{Camera, Projection};
 use ellipsoid_splat::{Outputs, Scene, Settings};
 use ellipsoid_splat_loaders::{lattice, md_liquid, random_cloud, tensor_field, Progress};
 use ellipsoid_splat_reference::render_reference;

@@ -2,8 +2,8 @@
 //! framing the scene where they leave positions out; the warning when it shows nothing; and
 //! a camera written back as `render` flags.
 
-use ellipsoid_splat::camera::{Camera, Projection};
 use ellipsoid_splat::Scene;
+use ellipsoid_splat::{Camera, Projection};
 use glam::{DVec2, DVec3};
 
 use crate::cli::values::xyz;

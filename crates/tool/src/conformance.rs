@@ -9,12 +9,12 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use ash::vk;
-use ellipsoid_splat::plan::{PathKind, PlanMode};
 use ellipsoid_splat::research::{DrawConfig, Method};
 use ellipsoid_splat::{
     Camera, ContextOptions, DepthConvention, Ellipsoid, Intrinsics, Material, OffscreenRenderer,
     Outputs, Projection, Scene, Settings,
 };
+use ellipsoid_splat::{PathKind, PlanMode};
 use ellipsoid_splat_loaders::{random_cloud, tensor_field};
 use ellipsoid_splat_reference::compare::{compare, Bounds, ErrorStats};
 use ellipsoid_splat_reference::coverage::{compare_coverage, reference_coverage, SamplePattern};

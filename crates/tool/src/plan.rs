@@ -4,8 +4,8 @@
 use ash::vk;
 
 use crate::error::Result;
-use ellipsoid_splat::plan::{FramePath, HiddenLayers, PathKind, PlanMode, PlanReason};
 use ellipsoid_splat::{Camera, FramePlan, OffscreenRenderer, Outputs};
+use ellipsoid_splat::{FramePath, HiddenLayers, PathKind, PlanMode, PlanReason};
 
 /// The most frames `render --plan measure` draws with its camera before the frame it writes,
 /// waiting for the plan to have timed every candidate (about 10 to 20 frames do).

@@ -9,13 +9,13 @@ use glam::DVec3;
 use crate::bench::{frustum_cloud, median, HEIGHT, WIDTH};
 use crate::error::{Error, Result};
 use crate::report::{bar_chart, format_table, write_csv, Axis};
-use ellipsoid_splat::camera::Camera;
-use ellipsoid_splat::plan::{PathKind, PlanMode};
 use ellipsoid_splat::research::{DrawConfig, Method};
+use ellipsoid_splat::Camera;
 use ellipsoid_splat::Frame;
 use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::Scene;
 use ellipsoid_splat::{Outputs, Settings};
+use ellipsoid_splat::{PathKind, PlanMode};
 use ellipsoid_splat_loaders::{packed_block, random_cloud, Progress};
 
 /// Columns of `skip.csv`.

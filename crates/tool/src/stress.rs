@@ -5,10 +5,10 @@
 use glam::{DQuat, DVec3, EulerRot};
 
 use crate::error::Result;
-use ellipsoid_splat::camera::{Camera, Projection};
 use ellipsoid_splat::research::{DrawConfig, Intersection};
 use ellipsoid_splat::Ellipsoid;
 use ellipsoid_splat::OffscreenRenderer;
+use ellipsoid_splat::{Camera, Projection};
 use ellipsoid_splat::{Outputs, Scene};
 use ellipsoid_splat_loaders::random_cloud;
 use ellipsoid_splat_reference::render_reference;

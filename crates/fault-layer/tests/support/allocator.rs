@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicBool, AtomicI64, AtomicU64, Ordering};
 use std::sync::Mutex;
 
 use ash::vk::{self, Handle};
-use ellipsoid_splat::allocator::{BufferMemory, MemoryUse};
+use ellipsoid_splat::{BufferMemory, MemoryUse};
 use ellipsoid_splat::{Error, MemoryAllocator, Result};
 use ellipsoid_splat_capi::{EsAllocatorCallbacks, EsBuffer, EsMemoryUse};
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme, Allocator};

@@ -14,7 +14,7 @@ use glam::{DQuat, DVec3};
 use mpi::collective::SystemOperation;
 use mpi::traits::*;
 
-use ellipsoid_splat::camera::Projection;
+use ellipsoid_splat::Projection;
 use ellipsoid_splat::{Camera, ContextOptions, Ellipsoid, OffscreenRenderer, Outputs, Scene};
 use ellipsoid_splat_mpi::render_composited;
 

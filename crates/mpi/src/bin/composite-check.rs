@@ -19,7 +19,7 @@ use std::process::ExitCode;
 use glam::DVec3;
 use mpi::traits::*;
 
-use ellipsoid_splat::camera::Projection;
+use ellipsoid_splat::Projection;
 use ellipsoid_splat::{
     Camera, ContextOptions, DepthConvention, Ellipsoid, OffscreenRenderer, Outputs, Scene,
 };

@@ -6,7 +6,7 @@
 
 use glam::DQuat;
 
-use ellipsoid_splat::camera::Camera;
+use ellipsoid_splat::Camera;
 
 /// How the camera of the timed frames moves.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -2,7 +2,7 @@
 //! `camera_setup`).
 
 use clap::Args;
-use ellipsoid_splat::camera::Intrinsics;
+use ellipsoid_splat::Intrinsics;
 use glam::DVec3;
 
 use super::values::{parse_intrinsics, parse_number, parse_vec3};

@@ -93,7 +93,7 @@ mod tests {
 
     #[test]
     fn plan_values_parse_and_flags_left_at_their_defaults_count_as_not_given() {
-        use ellipsoid_splat::plan::{PathKind, PlanMode};
+        use ellipsoid_splat::{PathKind, PlanMode};
         let args = render_args(&[]);
         assert_eq!(args.plan.mode(), PlanMode::Measure);
         assert_eq!(args.camera.given(), None);

@@ -1,7 +1,7 @@
 //! How flag values are read (clap's value parsers; each error says what the value should be)
 //! and how vectors are written back into messages.
 
-use ellipsoid_splat::camera::Intrinsics;
+use ellipsoid_splat::Intrinsics;
 use glam::{DVec2, DVec3};
 
 use super::render::MAX_IMAGE_SIDE;

@@ -48,8 +48,8 @@ use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
 use crate::error::{Error, Result};
-use ellipsoid_splat::plan::{PlanMode, PlanReason};
 use ellipsoid_splat::{Ellipsoid, Scene, Settings};
+use ellipsoid_splat::{PlanMode, PlanReason};
 use ellipsoid_splat_loaders::{ColorMode, Trajectory};
 
 use crate::cli::{self, SceneSpec, ViewArgs};

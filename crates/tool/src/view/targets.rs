@@ -9,7 +9,7 @@ use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result};
 use ellipsoid_splat::Error as VulkanError;
-use ellipsoid_splat::{ID_FORMAT, NORMAL_FORMAT};
+use ellipsoid_splat::Target;
 
 use super::VkCall;
 
@@ -224,8 +224,13 @@ impl Targets {
         let color_aspect = vk::ImageAspectFlags::COLOR;
         let specs = [
             ("viewer colour", color_format, color_usage, color_aspect),
-            ("viewer normal", NORMAL_FORMAT, color_usage, color_aspect),
-            ("viewer id", ID_FORMAT, color_usage, color_aspect),
+            (
+                "viewer normal",
+                Target::NORMAL_FORMAT,
+                color_usage,
+                color_aspect,
+            ),
+            ("viewer id", Target::ID_FORMAT, color_usage, color_aspect),
             (
                 "viewer depth",
                 DEPTH_FORMAT,

@@ -14,8 +14,7 @@ use ash::vk;
 use winit::window::Window;
 
 use ellipsoid_splat::{
-    Camera, Ellipsoid, EllipsoidRenderer, FramePlan, Pass, RendererOptions, Scene, Settings,
-    Target, ID_FORMAT, NORMAL_FORMAT,
+    Camera, Ellipsoid, EllipsoidRenderer, FramePlan, Pass, RendererOptions, Scene, Settings, Target,
 };
 
 use super::device::Gpu;
@@ -164,7 +163,7 @@ impl Viewer {
     fn target(&self) -> Target {
         {
             let mut target = Target::new(Pass::Dynamic {
-                color_formats: vec![self.format.format, NORMAL_FORMAT, ID_FORMAT],
+                color_formats: vec![self.format.format, Target::NORMAL_FORMAT, Target::ID_FORMAT],
                 depth_format: DEPTH_FORMAT,
             });
             target.samples = vk::SampleCountFlags::TYPE_1;
