@@ -12,13 +12,16 @@ mod meshes;
 mod method;
 mod offscreen;
 mod shaders;
+mod traced;
 mod visibility_draw;
 
 pub use baseline::{DrawConfig, Footprint, Geometry, Intersection, Shading};
 pub use icosphere::{icosphere, Icosphere};
 pub use method::Method;
+pub use traced::TracedBuild;
 
 pub(crate) use baseline::Baseline;
 pub(crate) use measuring::Research;
 pub(crate) use offscreen::{begin_counting, counts};
 pub(crate) use shaders::counted;
+pub(crate) use traced::ray_query_supported;
