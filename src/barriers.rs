@@ -217,6 +217,71 @@ pub const VISIBILITY_DRAW_TO_RESOLVE: Barrier = Barrier {
     dst_access: vk::AccessFlags::SHADER_READ,
 };
 
+/// The traced path (feature `research`), before its boxes and hierarchy are rebuilt: the
+/// previous frame's traversal and build are done with them.
+pub const TRACED_BEFORE_BUILD: Barrier = Barrier {
+    purpose: "previous traversal's and build's reads and writes -> this frame's box count, boxes \
+              and build",
+    src_stages: stages(&[
+        vk::PipelineStageFlags::COMPUTE_SHADER,
+        vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
+    ]),
+    src_access: access(&[
+        vk::AccessFlags::SHADER_WRITE,
+        vk::AccessFlags::ACCELERATION_STRUCTURE_WRITE_KHR,
+    ]),
+    dst_stages: stages(&[
+        vk::PipelineStageFlags::TRANSFER,
+        vk::PipelineStageFlags::COMPUTE_SHADER,
+        vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
+    ]),
+    dst_access: access(&[
+        vk::AccessFlags::TRANSFER_WRITE,
+        vk::AccessFlags::SHADER_READ,
+        vk::AccessFlags::SHADER_WRITE,
+        vk::AccessFlags::ACCELERATION_STRUCTURE_READ_KHR,
+        vk::AccessFlags::ACCELERATION_STRUCTURE_WRITE_KHR,
+    ]),
+};
+
+/// The traced path (feature `research`): the boxes written -> the bottom level's build reads
+/// them.
+pub const TRACED_BOXES_TO_BUILD: Barrier = Barrier {
+    purpose: "box writes -> the bottom level's build",
+    src_stages: vk::PipelineStageFlags::COMPUTE_SHADER,
+    src_access: vk::AccessFlags::SHADER_WRITE,
+    dst_stages: vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
+    dst_access: access(&[
+        vk::AccessFlags::SHADER_READ,
+        vk::AccessFlags::ACCELERATION_STRUCTURE_READ_KHR,
+    ]),
+};
+
+/// The traced path (feature `research`): the bottom level built -> the top level's build
+/// reads it (and reuses the scratch).
+pub const TRACED_BOTTOM_TO_TOP: Barrier = Barrier {
+    purpose: "bottom-level build -> top-level build (reads it, reuses the scratch)",
+    src_stages: vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
+    src_access: vk::AccessFlags::ACCELERATION_STRUCTURE_WRITE_KHR,
+    dst_stages: vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
+    dst_access: access(&[
+        vk::AccessFlags::ACCELERATION_STRUCTURE_READ_KHR,
+        vk::AccessFlags::ACCELERATION_STRUCTURE_WRITE_KHR,
+    ]),
+};
+
+/// The traced path (feature `research`): the hierarchy built -> the traversal's ray queries.
+pub const TRACED_BUILT_TO_TRACE: Barrier = Barrier {
+    purpose: "hierarchy build -> the traversal's ray queries",
+    src_stages: vk::PipelineStageFlags::ACCELERATION_STRUCTURE_BUILD_KHR,
+    src_access: vk::AccessFlags::ACCELERATION_STRUCTURE_WRITE_KHR,
+    dst_stages: vk::PipelineStageFlags::COMPUTE_SHADER,
+    dst_access: access(&[
+        vk::AccessFlags::ACCELERATION_STRUCTURE_READ_KHR,
+        vk::AccessFlags::SHADER_READ,
+    ]),
+};
+
 /// Every barrier above that a host's frames may record (the two `research` ones are in
 /// `RESEARCH`, with that feature).
 pub const ALL: [Barrier; 8] = [
@@ -232,3 +297,11 @@ pub const ALL: [Barrier; 8] = [
 
 /// The `research` barriers of `impostor-visbuffer`.
 pub const RESEARCH: [Barrier; 2] = [VISIBILITY_CLEARED_TO_DRAW, VISIBILITY_DRAW_TO_RESOLVE];
+
+/// The traced path's barriers (feature `research`, `impostor-traced`).
+pub const TRACED: [Barrier; 4] = [
+    TRACED_BEFORE_BUILD,
+    TRACED_BOXES_TO_BUILD,
+    TRACED_BOTTOM_TO_TOP,
+    TRACED_BUILT_TO_TRACE,
+];

@@ -315,3 +315,84 @@ fn visibility_draw_hazards_are_covered() {
         );
     }
 }
+
+/// The traced path (`impostor-traced`) builds its boxes and hierarchy before the pre-pass:
+/// each step after the one it reads, and the whole after the previous frame's traversal and
+/// build (acceleration-structure writes count as writes here).
+#[cfg(feature = "research")]
+#[test]
+fn traced_hazards_are_covered() {
+    let build = S::ACCELERATION_STRUCTURE_BUILD_KHR;
+    let structure_write = at(build, A::ACCELERATION_STRUCTURE_WRITE_KHR);
+    let covers_all = |barrier: &Barrier, first: Access, then: Access| {
+        let writes = A::TRANSFER_WRITE | A::SHADER_WRITE | A::ACCELERATION_STRUCTURE_WRITE_KHR;
+        barrier.src_stages.contains(first.stage)
+            && barrier.dst_stages.contains(then.stage)
+            && (!first.access.intersects(writes)
+                || (barrier.src_access.contains(first.access & writes)
+                    && barrier.dst_access.contains(then.access)))
+    };
+    let hazards = [
+        (
+            "previous traversal's hierarchy reads -> this frame's build",
+            at(S::COMPUTE_SHADER, A::ACCELERATION_STRUCTURE_READ_KHR),
+            structure_write,
+            barriers::TRACED_BEFORE_BUILD,
+        ),
+        (
+            "previous build -> this frame's box writes",
+            structure_write,
+            at(S::COMPUTE_SHADER, A::SHADER_WRITE),
+            barriers::TRACED_BEFORE_BUILD,
+        ),
+        (
+            "previous box reads -> this frame's box count",
+            at(build, A::SHADER_READ),
+            at(S::TRANSFER, A::TRANSFER_WRITE),
+            barriers::TRACED_BEFORE_BUILD,
+        ),
+        (
+            "box count -> the boxes shader",
+            at(S::TRANSFER, A::TRANSFER_WRITE),
+            at(S::COMPUTE_SHADER, A::SHADER_READ),
+            barriers::PREPASS_CLEARED,
+        ),
+        (
+            "boxes -> the bottom level's build",
+            at(S::COMPUTE_SHADER, A::SHADER_WRITE),
+            at(build, A::SHADER_READ),
+            barriers::TRACED_BOXES_TO_BUILD,
+        ),
+        (
+            "bottom level -> the top level's build",
+            structure_write,
+            at(build, A::ACCELERATION_STRUCTURE_READ_KHR),
+            barriers::TRACED_BOTTOM_TO_TOP,
+        ),
+        (
+            "the bottom level's scratch -> the top level's",
+            structure_write,
+            structure_write,
+            barriers::TRACED_BOTTOM_TO_TOP,
+        ),
+        (
+            "hierarchy -> the traversal's ray queries",
+            structure_write,
+            at(S::COMPUTE_SHADER, A::ACCELERATION_STRUCTURE_READ_KHR),
+            barriers::TRACED_BUILT_TO_TRACE,
+        ),
+    ];
+    for (what, first, then, barrier) in hazards {
+        assert!(
+            covers_all(&barrier, first, then),
+            "{what}: {barrier:?} does not order {first:?} before {then:?}"
+        );
+    }
+    for barrier in barriers::TRACED {
+        assert!(
+            hazards.iter().any(|(_, _, _, b)| *b == barrier),
+            "{} covers no listed hazard",
+            barrier.purpose
+        );
+    }
+}

@@ -701,3 +701,121 @@ fn ray_casts_are_counted_against_the_reference() {
     );
     finish_validated(renderer);
 }
+
+/// The traced path (`research`, method `impostor-traced`: ray queries along a hierarchy of
+/// the glyphs' boxes, one invocation per pixel) draws what the draw draws, on the cases of
+/// the visibility-buffer draw that fit one chunk: perspective, orthographic, standard depth,
+/// the near plane cutting glyphs, exact ties (the lower instance wins) and glyphs through the
+/// eye plane. Only drivers with ray queries run it (Mesa 25's lavapipe, not 22's): elsewhere
+/// it says it skipped.
+#[cfg(feature = "research")]
+#[test]
+fn traced_path_matches_the_draw() {
+    use ellipsoid_splat::research::Method;
+    let mut renderer = validated_renderer();
+    if !renderer.context().info().ray_query {
+        println!("traced_path_matches_the_draw: SKIPPED the traced cases (no ray queries)");
+        finish_validated(renderer);
+        return;
+    }
+    let camera = Camera::look_at(
+        DVec3::new(3.0, -2.0, 24.0),
+        DVec3::ZERO,
+        45.0,
+        1.0,
+        200,
+        150,
+    )
+    .unwrap();
+    // Smaller than the visibility-buffer draw's cases: lavapipe's traversal is slow.
+    let medium = random_cloud(2_000, 23, 10.0, 0.5);
+    let ortho = Camera {
+        projection: Projection::Orthographic { height: 20.0 },
+        ..camera
+    };
+    let standard = camera
+        .with_depth(DepthConvention::STANDARD_INFINITE)
+        .expect("depth convention");
+    let finite = camera
+        .with_depth(DepthConvention {
+            reversed: false,
+            far: Some(30.0),
+        })
+        .expect("depth convention");
+    let inside = Camera::look_at(DVec3::new(0.5, 0.2, 7.0), DVec3::ZERO, 60.0, 5.5, 200, 150)
+        .expect("camera");
+    let cut = random_cloud(2_000, 24, 5.0, 0.25);
+    assert_reaches_near_plane(&cut, &inside);
+    let (tiny, tiny_camera) = tiny_glyphs();
+    let mut tied = Vec::new();
+    for e in tiny.ellipsoids.iter().take(3_000) {
+        tied.push(*e);
+        tied.push(Ellipsoid {
+            color: [0.1, 0.9, 0.1],
+            ..*e
+        });
+    }
+    let tied = Scene::new(tied);
+    let mut eye_plane = medium.ellipsoids.clone();
+    for (k, x) in [(10, -1.0), (20, 1.5)] {
+        eye_plane[k] = Ellipsoid::new(
+            DVec3::new(x, 0.3, 24.0),
+            DVec3::new(0.8, 0.5, 1.5),
+            DQuat::from_rotation_y(0.4),
+            Some([0.2, 0.4, 0.9]),
+        )
+        .expect("glyph");
+    }
+    let eye_plane = Scene::new(eye_plane);
+    let cases = [
+        ("perspective", &medium, camera),
+        ("orthographic", &medium, ortho),
+        ("standard depth", &medium, standard),
+        ("standard finite depth", &medium, finite),
+        ("near-plane cut", &cut, inside),
+        ("exact ties", &tied, tiny_camera),
+        ("through the eye plane", &eye_plane, camera),
+    ];
+    let agreement = Agreement::of(&renderer);
+    for (name, scene, camera) in cases {
+        let render = |renderer: &mut OffscreenRenderer, method: Method| {
+            renderer.set_draw_config(method.config());
+            renderer.set_settings(method.settings());
+            renderer.set_traced(method.traced());
+            renderer.upload(scene).expect("upload");
+            // The traced method replaces only the splat's frames: the frame must splat.
+            let plan = renderer.plan(&camera).expect("plan");
+            assert_eq!(
+                splats(&plan),
+                method == Method::ImpostorTraced,
+                "{name}: {plan:?}"
+            );
+            renderer
+                .render_uploaded(&camera, Outputs::ALL)
+                .expect("render")
+                .0
+        };
+        let drawn = render(&mut renderer, Method::ImpostorDraw);
+        let traced = render(&mut renderer, Method::ImpostorTraced);
+        let seen = Seen {
+            scene,
+            camera: &camera,
+            format: InstanceFormat::Full,
+        };
+        assert_frames_agree(agreement, name, &drawn, &traced, seen);
+        // A second frame traces the hierarchy the first built.
+        let again = renderer
+            .render_uploaded(&camera, Outputs::ALL)
+            .expect("render")
+            .0;
+        assert_frames_agree(
+            agreement,
+            &format!("{name}, built before"),
+            &drawn,
+            &again,
+            seen,
+        );
+    }
+    renderer.set_traced(ellipsoid_splat::research::TracedBuild::Off);
+    finish_validated(renderer);
+}

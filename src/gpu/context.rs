@@ -72,6 +72,10 @@ pub struct DeviceInfo {
     pub compute_splat: bool,
     /// The renderer's features the device was created with.
     pub renderer_features: DeviceFeatures,
+    /// Whether ray queries were enabled (with acceleration structures and buffer device
+    /// addresses): the benchmark's traced path (`impostor-traced`) needs them.
+    #[cfg(feature = "research")]
+    pub ray_query: bool,
     /// Sample counts the device supports for the offscreen attachments: colour, depth and
     /// integer colour (the ID output) alike.
     pub sample_counts: vk::SampleCountFlags,
@@ -200,7 +204,8 @@ impl Context {
             device: device.clone(),
             physical_device,
             debug_settings: Default::default(),
-            buffer_device_address: false,
+            // The traced path's acceleration structures are built from device addresses.
+            buffer_device_address: enabled.ray_query,
             allocation_sizes: Default::default(),
         });
         let allocator = match allocator {
@@ -393,6 +398,13 @@ fn choose_device(
     }
 }
 
+/// The device extensions ray queries need (the benchmark's traced path).
+pub(crate) const RAY_QUERY_EXTENSIONS: [&std::ffi::CStr; 3] = [
+    ash::khr::acceleration_structure::NAME,
+    ash::khr::ray_query::NAME,
+    ash::khr::deferred_host_operations::NAME,
+];
+
 /// Optional features that were enabled.
 #[derive(Clone, Copy)]
 struct EnabledFeatures {
@@ -400,6 +412,8 @@ struct EnabledFeatures {
     fragment_stores_and_atomics: bool,
     /// The renderer's features that were enabled.
     renderer: DeviceFeatures,
+    /// Ray queries (the benchmark's traced path, `research` only).
+    ray_query: bool,
 }
 
 /// Creates the device with dynamic rendering; returns it and the optional features enabled.
@@ -443,8 +457,11 @@ fn create_device(
         pipeline_statistics: supported.pipeline_statistics_query == vk::TRUE,
         fragment_stores_and_atomics: supported.fragment_stores_and_atomics == vk::TRUE,
         renderer,
+        // SAFETY: `pd` was enumerated from `instance`.
+        ray_query: unsafe { crate::research::ray_query_supported(instance, pd) },
     };
-    let (core, mut features12, features13) = renderer.to_vk();
+    let (core, features12, features13) = renderer.to_vk();
+    let mut features12 = features12.buffer_device_address(enabled.ray_query);
     let features = core
         .pipeline_statistics_query(enabled.pipeline_statistics)
         .fragment_stores_and_atomics(enabled.fragment_stores_and_atomics);
@@ -453,11 +470,26 @@ fn create_device(
     let queues = [vk::DeviceQueueCreateInfo::default()
         .queue_family_index(family)
         .queue_priorities(&priorities)];
-    let create = vk::DeviceCreateInfo::default()
+    let mut structures =
+        vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default().acceleration_structure(true);
+    let mut queries = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
+    let extensions: Vec<*const c_char> = if enabled.ray_query {
+        RAY_QUERY_EXTENSIONS
+            .iter()
+            .map(|name| name.as_ptr())
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let mut create = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
         .enabled_features(&features)
+        .enabled_extension_names(&extensions)
         .push_next(&mut features13)
         .push_next(&mut features12);
+    if enabled.ray_query {
+        create = create.push_next(&mut structures).push_next(&mut queries);
+    }
     // SAFETY: every pointer in `create` refers to locals that outlive the call.
     let device = unsafe { instance.create_device(pd, &create, None) }.call("vkCreateDevice")?;
     Ok((device, enabled))
@@ -496,6 +528,8 @@ fn device_info(
         fragment_stores_and_atomics: enabled.fragment_stores_and_atomics,
         compute_splat: enabled.renderer.contains(DeviceFeatures::COMPUTE_SPLAT),
         renderer_features: enabled.renderer,
+        #[cfg(feature = "research")]
+        ray_query: enabled.ray_query,
         // Multisampled depth and ID are sampled too: their sample 0 is fetched.
         sample_counts: props.limits.framebuffer_color_sample_counts
             & props.limits.framebuffer_depth_sample_counts

@@ -156,7 +156,13 @@ impl OffscreenRenderer {
         // SAFETY: the context's handles belong together and have the required features (and
         // the compute splat's where `info` says so).
         let renderer = unsafe { EllipsoidRenderer::new(&host, allocator, options) };
-        self.renderer = Some(renderer?);
+        #[cfg_attr(not(feature = "research"), allow(unused_mut))]
+        let mut renderer = renderer?;
+        #[cfg(feature = "research")]
+        if self.context.info().ray_query {
+            renderer.connect_ray_query(&host);
+        }
+        self.renderer = Some(renderer);
         let info = self.context.info();
         let (statistics, period) = (info.pipeline_statistics, info.timestamp_period);
         self.queries = Some(FrameQueries::new(

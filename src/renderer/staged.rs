@@ -210,6 +210,7 @@ impl EllipsoidRenderer {
                     view.prepared = None;
                 }
                 self.scene.merge_update(&packed);
+                self.research.forget_instances();
             }
             Change::Update(_) => {}
         }

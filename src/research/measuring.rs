@@ -26,6 +26,7 @@ use crate::renderer::{Binding, EllipsoidRenderer, FramePlan};
 
 use super::baseline::{Baseline, DrawConfig, Geometry};
 use super::meshes::Meshes;
+use super::traced::Traced;
 
 /// What a renderer holds for the benchmark.
 #[derive(Default)]
@@ -42,6 +43,8 @@ pub(crate) struct Research {
     floor_pixels_for: Option<u32>,
     /// The offscreen renderer's read-back frames count (`set_count_fragments` there).
     pub count_read_back: bool,
+    /// The traced path (`impostor-traced`).
+    pub traced: Traced,
 }
 
 impl Research {
@@ -63,6 +66,12 @@ impl Research {
     /// A new scene was uploaded: the floor's lists are for the old one.
     pub fn forget_upload(&mut self) {
         self.floor_pixels_for = None;
+        self.traced.forget_upload();
+    }
+
+    /// Instances were replaced: the traced path's boxes are stale.
+    pub fn forget_instances(&mut self) {
+        self.traced.forget_upload();
     }
 
     /// Makes what `plan`'s baseline draws with (an icosphere's buffers).
@@ -118,7 +127,10 @@ impl Research {
     /// No pending work uses them.
     pub unsafe fn destroy(&mut self, device: &ash::Device, allocator: &mut dyn MemoryAllocator) {
         // SAFETY: caller contract.
-        unsafe { self.meshes.destroy(device, allocator) };
+        unsafe {
+            self.meshes.destroy(device, allocator);
+            self.traced.destroy(device, allocator);
+        }
     }
 }
 

@@ -4,6 +4,7 @@
 use crate::path::{PathKind, PlanMode};
 
 use super::baseline::{DrawConfig, Footprint, Geometry, Intersection, Shading};
+use super::traced::TracedBuild;
 
 /// The drawing methods compared by `ellipsoid-splat bench`; their names are the `method`
 /// column of `results.csv`.
@@ -61,6 +62,13 @@ pub enum Method {
     /// glyph shows ray cast, each once (given by the reference's IDs; frames that would
     /// splat; nothing is drawn or kept).
     FloorVisible,
+    /// The traced path (research): the compute splat's frames ray cast per pixel along a
+    /// bounding-volume hierarchy of the glyphs' boxes with ray queries, the hierarchy built
+    /// once per upload (needs `DeviceFeatures::ray_query`).
+    ImpostorTraced,
+    /// The traced path with its hierarchy built again every frame: against
+    /// `impostor-traced`, the build's cost.
+    ImpostorTracedRebuild,
     /// Oriented bounding box, ray-cast inside.
     BoxProxy,
     /// Instanced icosphere of the given level.
@@ -100,6 +108,19 @@ impl Method {
         Method::FlatFill,
     ];
 
+    /// The traced path's methods, not in [`Method::ALL`] (they need ray queries, which the
+    /// tests' first driver lacks): `bench --methods` names them.
+    pub const TRACED: [Method; 2] = [Method::ImpostorTraced, Method::ImpostorTracedRebuild];
+
+    /// When the method builds the traced path's hierarchy (`Off`: it does not trace).
+    pub fn traced(self) -> TracedBuild {
+        match self {
+            Method::ImpostorTraced => TracedBuild::PerUpload,
+            Method::ImpostorTracedRebuild => TracedBuild::EveryFrame,
+            _ => TracedBuild::Off,
+        }
+    }
+
     /// The compute splat's floor the method measures (see `set_splat_floor`; 0: none).
     pub fn splat_floor(self) -> u32 {
         match self {
@@ -132,6 +153,8 @@ impl Method {
             Method::FloorMemory => "floor-memory".into(),
             Method::FloorArithmetic => "floor-arithmetic".into(),
             Method::FloorVisible => "floor-visible".into(),
+            Method::ImpostorTraced => "impostor-traced".into(),
+            Method::ImpostorTracedRebuild => "impostor-traced-rebuild".into(),
             Method::BoxProxy => "box-proxy".into(),
             Method::Mesh(level) => format!("mesh-L{level}"),
             Method::FlatFill => "flat-fill".into(),
@@ -146,7 +169,9 @@ impl Method {
             Method::ImpostorCompute
             | Method::FloorMemory
             | Method::FloorArithmetic
-            | Method::FloorVisible => PlanMode::Fixed(PathKind::Splat),
+            | Method::FloorVisible
+            | Method::ImpostorTraced
+            | Method::ImpostorTracedRebuild => PlanMode::Fixed(PathKind::Splat),
             Method::ImpostorVisibleFirst => PlanMode::Fixed(PathKind::VisibleFirst),
             Method::ImpostorDraw => PlanMode::Fixed(PathKind::Draw),
             _ => PlanMode::Measure,
@@ -167,7 +192,11 @@ impl Method {
     /// plan's regret against).
     pub fn fixed_path(self) -> Option<PathKind> {
         match self.settings().plan {
-            PlanMode::Fixed(kind) if self.splat_floor() == 0 => Some(kind),
+            PlanMode::Fixed(kind)
+                if self.splat_floor() == 0 && self.traced() == TracedBuild::Off =>
+            {
+                Some(kind)
+            }
             _ => None,
         }
     }
@@ -185,7 +214,9 @@ impl Method {
             | Method::ImpostorFirstFrame
             | Method::FloorMemory
             | Method::FloorArithmetic
-            | Method::FloorVisible => base,
+            | Method::FloorVisible
+            | Method::ImpostorTraced
+            | Method::ImpostorTracedRebuild => base,
             Method::ImpostorWorldQuad => DrawConfig {
                 footprint: Footprint::WorldQuad,
                 ..base

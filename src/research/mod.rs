@@ -15,6 +15,7 @@
 //! | `measuring.rs` | `Research` (the renderer's research state) and `set_draw_config`, `set_splat_floor`, `forget_shown`, `set_floor_pixels`, `set_count_fragments`, `fragment_count`, `compute_ray_count`, `record_counter_barrier` |
 //! | `meshes.rs`, `icosphere.rs` | icosphere meshes and their buffers |
 //! | `visibility_draw.rs` | the visibility-buffer draw (`impostor-visbuffer`, design §5.6): its attachment-less pass in the pre-pass |
+//! | `traced.rs` | the traced path (`impostor-traced`, `set_traced`, `TracedBuild`; shaders `research/traced_boxes.comp`, `research/traced.comp`): a hierarchy of the glyphs' padded boxes walked per pixel with ray queries in place of the splat, on devices the offscreen renderer created with ray queries (Mesa 25's lavapipe); 9-117x the splat's time there, not a shipped path (`docs/deep-scenes.md`) |
 //! | `shaders.rs` | the baselines' SPIR-V and every fragment shader's counting builds |
 //! | `offscreen.rs` | the offscreen renderer's research switches and its counting frames |
 
@@ -25,13 +26,16 @@ mod meshes;
 mod method;
 mod offscreen;
 mod shaders;
+mod traced;
 mod visibility_draw;
 
 pub use baseline::{DrawConfig, Footprint, Geometry, Intersection, Shading};
 pub use icosphere::{icosphere, Icosphere};
 pub use method::Method;
+pub use traced::TracedBuild;
 
 pub(crate) use baseline::Baseline;
 pub(crate) use measuring::Research;
 pub(crate) use offscreen::{begin_counting, counts};
 pub(crate) use shaders::counted;
+pub(crate) use traced::ray_query_supported;

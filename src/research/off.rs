@@ -9,8 +9,9 @@ use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::footprint::Footprint;
 use crate::gpu::shaders::FragmentShader;
-use crate::gpu_layout::SpecConstants;
+use crate::gpu_layout::{PushConstants, SpecConstants};
 use crate::renderer::pipelines::raster::Raster;
+use crate::renderer::prepass::TracedDispatch;
 use crate::renderer::{EllipsoidRenderer, FramePlan};
 use crate::target::Target;
 
@@ -64,6 +65,7 @@ impl Research {
         0
     }
     pub fn forget_upload(&mut self) {}
+    pub fn forget_instances(&mut self) {}
     pub fn prepare(
         &mut self,
         _device: &ash::Device,
@@ -88,6 +90,18 @@ impl Research {
     /// # Safety
     /// Nothing to destroy.
     pub unsafe fn destroy(&mut self, _device: &ash::Device, _allocator: &mut dyn MemoryAllocator) {}
+}
+
+/// No traced path without the feature: no device is asked for ray queries.
+///
+/// # Safety
+/// None needed: it calls nothing.
+#[cfg(feature = "offscreen")]
+pub(crate) unsafe fn ray_query_supported(
+    _instance: &ash::Instance,
+    _physical_device: vk::PhysicalDevice,
+) -> bool {
+    false
 }
 
 /// The counting builds exist only with the feature.
@@ -121,6 +135,22 @@ impl EllipsoidRenderer {
     /// No floor, nothing to check.
     pub(crate) fn check_floor_pixels(&self, _plan: &FramePlan) -> Result<()> {
         Ok(())
+    }
+
+    /// No traced path without the feature: every frame splats.
+    ///
+    /// # Safety
+    /// None needed: it records nothing.
+    pub(crate) unsafe fn record_traced_build(
+        &mut self,
+        _device: &ash::Device,
+        _allocator: &mut dyn MemoryAllocator,
+        _cmd: vk::CommandBuffer,
+        _plan: &FramePlan,
+        _set0: vk::DescriptorSet,
+        _push: &PushConstants,
+    ) -> Result<Option<TracedDispatch>> {
+        Ok(None)
     }
 
     /// Never called: only a baseline draws into the visibility buffer.

@@ -19,6 +19,11 @@ impl crate::OffscreenRenderer {
         self.renderer_mut().set_splat_floor(floor);
     }
 
+    /// Traces the splat's frames (see [`EllipsoidRenderer::set_traced`]).
+    pub fn set_traced(&mut self, build: super::TracedBuild) {
+        self.renderer_mut().set_traced(build);
+    }
+
     /// Forgets which glyphs the last frame showed (see
     /// [`EllipsoidRenderer::forget_shown`]).
     pub fn forget_shown(&mut self) {

@@ -31,7 +31,7 @@ use crate::report::{
     bar_chart, fmt_sci, format_table, line_chart, markdown_table, scatter_chart, write_csv, Axis,
     Series,
 };
-use ellipsoid_splat::research::{Geometry, Method};
+use ellipsoid_splat::research::{Geometry, Method, TracedBuild};
 use ellipsoid_splat::FramePlan;
 use ellipsoid_splat::OffscreenRenderer;
 use ellipsoid_splat::PlanMode;
@@ -350,6 +350,7 @@ pub fn run(
 ) -> Result<Vec<BenchResult>> {
     let progress = Progress::new(scene_count as u64, "bench");
     let splat_capable = renderer.context().info().compute_splat;
+    let ray_query = renderer.context().info().ray_query;
     let mut results = Vec::new();
     for bench in scenes {
         progress.inc(&bench.name);
@@ -366,6 +367,10 @@ pub fn run(
                 skipped.push(format!("{} (no 64-bit buffer atomics)", m.name()));
                 continue;
             }
+            if m.traced() != TracedBuild::Off && !ray_query {
+                skipped.push(format!("{} (no ray queries)", m.name()));
+                continue;
+            }
             // One method failing here skips that method on this scene, not the bench.
             let planned = use_method(renderer, m, &mut settings, &bench.scene, None)
                 .and_then(|_| renderer.plan(&bench.camera).map_err(Error::from));
@@ -377,7 +382,9 @@ pub fn run(
                 }
             };
             // A floor replaces only a splatted frame: elsewhere it would time the draw.
-            if m.splat_floor() != 0 && plan.path.splat().is_none() {
+            if (m.splat_floor() != 0 || m.traced() != TracedBuild::Off)
+                && plan.path.splat().is_none()
+            {
                 skipped.push(format!("{} on {} (not splatted)", m.name(), bench.name));
                 continue;
             }
@@ -1063,6 +1070,7 @@ fn use_method(
     *settings = Some(wanted);
     renderer.set_draw_config(method.config());
     renderer.set_splat_floor(method.splat_floor());
+    renderer.set_traced(method.traced());
     Ok(upload)
 }
 

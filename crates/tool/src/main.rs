@@ -271,6 +271,7 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
             .map(|name| {
                 Method::ALL
                     .iter()
+                    .chain(&Method::TRACED)
                     .copied()
                     .find(|m| m.name() == *name)
                     .ok_or_else(|| {
@@ -278,7 +279,12 @@ fn run_bench(args: &BenchArgs) -> Result<bool> {
                             "--methods",
                             format!(
                                 "unknown method '{name}'; known: {}",
-                                Method::ALL.map(|m| m.name()).join(", ")
+                                Method::ALL
+                                    .iter()
+                                    .chain(&Method::TRACED)
+                                    .map(|m| m.name())
+                                    .collect::<Vec<_>>()
+                                    .join(", ")
                             ),
                         )
                     })

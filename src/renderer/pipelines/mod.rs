@@ -78,6 +78,12 @@ impl Pipelines {
         self.set_layout
     }
 
+    /// The host's pipeline cache (borrowed; may be null).
+    #[cfg_attr(not(feature = "research"), allow(dead_code))]
+    pub fn cache(&self) -> vk::PipelineCache {
+        self.cache
+    }
+
     /// The draw pipeline for `key` into `target`, built now if this is its first use.
     pub fn draw(
         &mut self,

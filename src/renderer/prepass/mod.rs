@@ -47,6 +47,10 @@ use super::pipelines::keys::{CullKey, SplatKey};
 use super::plan::FramePlan;
 use super::push::push_constants;
 use super::EllipsoidRenderer;
+// The traced path's boxes shader (research) takes the splat's grid.
+#[cfg(feature = "research")]
+pub(crate) use record::splat_grid;
+pub(crate) use record::TracedDispatch;
 use record::{Dispatch, DispatchSize, Prepass, PrepassBuffers};
 use steps::{CullSelect, CullStep};
 
@@ -159,7 +163,19 @@ impl EllipsoidRenderer {
                 self.record_visibility_draw(device, cmd, view, camera, plan, pipeline)
             };
         }
-        let dispatches = self.prepass_dispatches(device, plan, camera)?;
+        let sets = self.descriptor_sets(device, view)?;
+        let first_push = push_constants(
+            camera,
+            &self.settings.material,
+            self.scene.origin,
+            self.scene.radius_unit,
+            0,
+        );
+        // SAFETY: forwarded caller contract.
+        let traced = unsafe {
+            self.record_traced_build(device, allocator, cmd, plan, sets[0], &first_push)?
+        };
+        let dispatches = self.prepass_dispatches(device, plan, camera, traced)?;
         let own = &self.views[view].buffers;
         let buffers = PrepassBuffers {
             indirect: own.handle(Binding::IndirectDraw)?,
@@ -168,7 +184,6 @@ impl EllipsoidRenderer {
         let visibility = own.handle(Binding::Visibility)?;
         let stamps = own.handle(Binding::GlyphStamps)?;
         let groups = own.handle(Binding::CullGroups)?;
-        let sets = self.descriptor_sets(device, view)?;
         let chunking = self.chunking();
         let groups_slice = chunking.groups_slice();
         // Each chunk culls its own instances into its own indirect command; the occlusion
@@ -201,6 +216,7 @@ impl EllipsoidRenderer {
                     self.scene.radius_unit,
                     first,
                 ),
+                traced_set: traced.map(|t| (t.layout, t.set)),
                 command: IndirectDraw {
                     vertex_count: plan.vertices(),
                     instance_count: 0,
@@ -242,6 +258,7 @@ impl EllipsoidRenderer {
         device: &ash::Device,
         plan: &FramePlan,
         camera: &Camera,
+        traced: Option<TracedDispatch>,
     ) -> Result<Vec<(vk::Pipeline, DispatchSize)>> {
         let splat_path = match plan.path {
             FramePath::Draw(draw) => {
@@ -284,7 +301,11 @@ impl EllipsoidRenderer {
                 dispatches.extend(self.list_steps(device, plan, CullSelect::Drawn, off)?);
             }
             hidden => {
-                dispatches.push((self.pipelines.splat(device, splat)?, DispatchSize::Splat));
+                dispatches.push(match traced {
+                    // One invocation per pixel, in groups of 8 x 8.
+                    Some(t) => (t.pipeline, DispatchSize::Grid(w.div_ceil(8), h.div_ceil(8))),
+                    None => (self.pipelines.splat(device, splat)?, DispatchSize::Splat),
+                });
                 if hidden == HiddenLayers::StampShown {
                     dispatches.push(mark_shown);
                 }

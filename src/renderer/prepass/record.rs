@@ -29,6 +29,21 @@ pub(crate) enum DispatchSize {
     Indirect,
 }
 
+/// The traced path's traversal (research, `impostor-traced`): its pipeline and the layout and
+/// set 1 (the hierarchy) it is bound with; set 0 is the pre-pass's.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TracedDispatch {
+    pub layout: vk::PipelineLayout,
+    pub set: vk::DescriptorSet,
+    pub pipeline: vk::Pipeline,
+}
+
+/// The workgroups of a dispatch with one invocation per glyph of `count`, in the splat's
+/// groups of 64.
+pub(crate) fn splat_grid(count: u32) -> (u32, u32) {
+    dispatch_grid(count.div_ceil(SPLAT_GROUP_SIZE))
+}
+
 /// One dispatch of the pre-pass.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Dispatch {
@@ -53,6 +68,8 @@ pub(crate) struct Prepass {
     /// splat's visibility buffer (first chunk) and keep bits, and the glyph stamps of a new
     /// scene.
     pub fills: Vec<(vk::Buffer, u64, u64, u32)>,
+    /// Set 1 of the traced path's traversal, bound with its layout (research).
+    pub traced_set: Option<(vk::PipelineLayout, vk::DescriptorSet)>,
     pub dispatches: Vec<Dispatch>,
 }
 
@@ -98,6 +115,18 @@ impl Prepass {
                 &[self.descriptor_set],
                 &[],
             );
+            if let Some((layout, set)) = self.traced_set {
+                // Set 0's layout and the push constants' range are the pre-pass's, so the
+                // sets bound with either layout stay bound for the other's pipelines.
+                device.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::COMPUTE,
+                    layout,
+                    1,
+                    &[set],
+                    &[],
+                );
+            }
             device.cmd_push_constants(
                 cmd,
                 self.layout,
@@ -115,7 +144,7 @@ impl Prepass {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, dispatch.pipeline);
                 let (x, y) = match dispatch.size {
                     DispatchSize::Groups => dispatch_grid(group_count(total)),
-                    DispatchSize::Splat => dispatch_grid(total.div_ceil(SPLAT_GROUP_SIZE)),
+                    DispatchSize::Splat => splat_grid(total),
                     DispatchSize::Grid(x, y) => (x, y),
                     DispatchSize::Indirect => {
                         let offset = self.indirect_offset + DISPATCH_OFFSET;
