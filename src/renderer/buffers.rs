@@ -36,11 +36,13 @@ pub(crate) enum Binding {
     /// The visible-first splat's glyph stamps: when each glyph last showed, or was left to
     /// the draw.
     GlyphStamps = 10,
+    /// The benchmark's tiled splat: per screen tile, the glyphs whose box touches it.
+    TileLists = 11,
 }
 
 impl Binding {
     /// Every binding, in binding order.
-    pub const ALL: [Binding; 11] = [
+    pub const ALL: [Binding; 12] = [
         Binding::Instances,
         Binding::FragmentCounter,
         Binding::Visible,
@@ -52,6 +54,7 @@ impl Binding {
         Binding::Visibility,
         Binding::FloorPixels,
         Binding::GlyphStamps,
+        Binding::TileLists,
     ];
 
     /// Whether each view of a frame has a buffer of its own (what its pre-pass computes for
@@ -79,7 +82,8 @@ impl Binding {
             | Binding::CullGroups
             | Binding::OcclusionTiles
             | Binding::FloorPixels
-            | Binding::GlyphStamps => vk::ShaderStageFlags::COMPUTE,
+            | Binding::GlyphStamps
+            | Binding::TileLists => vk::ShaderStageFlags::COMPUTE,
             Binding::ShadingRecords => {
                 vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT
             }
@@ -102,6 +106,7 @@ impl Binding {
             Binding::Visibility => "visibility buffer",
             Binding::FloorPixels => "visible-pixel floor",
             Binding::GlyphStamps => "glyph stamps",
+            Binding::TileLists => "tiled splat lists",
         }
     }
 
@@ -114,7 +119,8 @@ impl Binding {
             | Binding::OcclusionTiles
             | Binding::Visibility
             | Binding::CullGroups
-            | Binding::GlyphStamps => vk::BufferUsageFlags::TRANSFER_DST,
+            | Binding::GlyphStamps
+            | Binding::TileLists => vk::BufferUsageFlags::TRANSFER_DST,
             Binding::IndirectDraw => {
                 vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST
             }
@@ -137,7 +143,7 @@ impl Binding {
 /// One buffer per [`Binding`], each made on first need and grown on demand.
 #[derive(Default)]
 pub(crate) struct SceneBuffers {
-    buffers: [Option<GpuBuffer>; 11],
+    buffers: [Option<GpuBuffer>; 12],
     /// A buffer was replaced since the descriptor sets were written.
     pub replaced: bool,
 }

@@ -442,6 +442,14 @@ impl EllipsoidRenderer {
         };
         let sizes = [
             (Binding::FragmentCounter, 8),
+            (
+                Binding::TileLists,
+                if visibility && self.research.tiled_splat() {
+                    prepass::steps::tiled_lists_bytes(extent.0, extent.1, count)
+                } else {
+                    8
+                },
+            ),
             (Binding::FloorPixels, 8),
             (
                 Binding::GlyphStamps,

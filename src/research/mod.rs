@@ -21,4 +21,4 @@ pub use method::Method;
 pub(crate) use baseline::Baseline;
 pub(crate) use measuring::Research;
 pub(crate) use offscreen::{begin_counting, counts};
-pub(crate) use shaders::counted;
+pub(crate) use shaders::{counted, TILED_BINS_COMP, TILED_SPLAT_COMP};

@@ -63,6 +63,9 @@ impl Research {
     pub fn splat_floor(&self) -> u32 {
         0
     }
+    pub fn tiled_splat(&self) -> bool {
+        false
+    }
     pub fn forget_upload(&mut self) {}
     pub fn prepare(
         &mut self,
@@ -89,6 +92,11 @@ impl Research {
     /// Nothing to destroy.
     pub unsafe fn destroy(&mut self, _device: &ash::Device, _allocator: &mut dyn MemoryAllocator) {}
 }
+
+/// The benchmark's tiled splat exists only with the feature.
+pub(crate) const TILED_SPLAT_COMP: &[u8] = &[];
+/// Likewise its binning steps.
+pub(crate) const TILED_BINS_COMP: &[u8] = &[];
 
 /// The counting builds exist only with the feature.
 pub(crate) fn counted(shader: &FragmentShader, _aux: bool) -> Result<&'static [u8]> {

@@ -377,7 +377,7 @@ pub fn run(
                 }
             };
             // A floor replaces only a splatted frame: elsewhere it would time the draw.
-            if m.splat_floor() != 0 && plan.path.splat().is_none() {
+            if (m.splat_floor() != 0 || m.tiled_splat()) && plan.path.splat().is_none() {
                 skipped.push(format!("{} on {} (not splatted)", m.name(), bench.name));
                 continue;
             }
@@ -1063,6 +1063,7 @@ fn use_method(
     *settings = Some(wanted);
     renderer.set_draw_config(method.config());
     renderer.set_splat_floor(method.splat_floor());
+    renderer.set_tiled_splat(method.tiled_splat());
     Ok(upload)
 }
 
