@@ -422,7 +422,9 @@ fn descriptor_bindings_match_the_binding_table() {
         }
     }
     for binding in Binding::ALL {
-        if !seen.contains(&(binding as u32)) {
+        // The tiled splat's lists have users only among the `research` shaders.
+        let built = cfg!(feature = "research") || binding != Binding::TileLists;
+        if built && !seen.contains(&(binding as u32)) {
             findings.add_overall(format!("no shader uses Binding::{binding:?}"));
         }
     }
