@@ -16,6 +16,7 @@
 #include "ellipsoid_common.glsl"
 #include "silhouette_bounds.glsl"
 #include "instance_setup.glsl"
+#include "splat_box.glsl"
 #include "shading.glsl"
 #include "impostor_state.glsl"
 #include "impostor_hit.glsl"
@@ -108,25 +109,8 @@ void main() {
     }
     use_setup(f);
     ivec2 size = ivec2(image_size());
-    ivec2 lo = ivec2(0);
-    ivec2 hi = size - 1;
-    bool bounds_known = f.bounded;
-    if (f.bounded) {
-        // The silhouette is centre + cos(t) axis1 + sin(t) axis2 (screen-plane units); the
-        // pixel centres within its bounding box, widened by a twentieth of a pixel (more than
-        // float32 moves the bounds of a glyph on screen): the hit decides each of them, and
-        // outside the box no hit can be.
-        vec2 half_extent = vec2(length(vec2(f.axis1.x, f.axis2.x)),
-                                length(vec2(f.axis1.y, f.axis2.y)));
-        vec2 sxy = vec2(cam.ndc_scale_x, cam.ndc_scale_y);
-        vec2 a = image_ndc((f.centre - half_extent) / sxy), b = image_ndc((f.centre + half_extent) / sxy);
-        vec2 px_lo = vec2(a.x + 1.0, 1.0 - b.y) * vec2(size) * 0.5 - 0.05;
-        vec2 px_hi = vec2(b.x + 1.0, 1.0 - a.y) * vec2(size) * 0.5 + 0.05;
-        bounds_known = !any(isnan(px_lo)) && !any(isnan(px_hi));
-        // Pixel x's centre is x + 0.5.
-        lo = max(lo, ivec2(ceil(clamp(px_lo, vec2(-2.0), vec2(size) + 2.0) - 0.5)));
-        hi = min(hi, ivec2(floor(clamp(px_hi, vec2(-2.0), vec2(size) + 2.0) - 0.5)));
-    }
+    ivec2 lo, hi;
+    bool bounds_known = splat_pixel_box(f, lo, hi);
     if (any(greaterThan(lo, hi)) && bounds_known) {
         return; // no pixel centre in the box
     }

@@ -526,14 +526,11 @@ fn chunked_splat_matches_the_draw(
     }
 }
 
-/// The benchmark's visibility-buffer draw (`impostor-visbuffer`: every glyph rasterized into
-/// the visibility buffer, then the splat's resolve) draws what the draw draws (bit for bit
-/// on lavapipe): medium glyphs many layers deep in perspective, orthographic and standard
-/// depth, a near-plane cut, exact depth ties, glyphs reaching the eye plane, and six chunks.
+/// The benchmark's paths' cases: medium glyphs many layers deep in perspective, orthographic
+/// and standard depth, a near-plane cut, exact depth ties, glyphs reaching the eye plane, and
+/// six chunks (name, scene, camera, most instances per chunk).
 #[cfg(feature = "research")]
-#[test]
-fn visibility_buffer_draw_matches_the_draw() {
-    use ellipsoid_splat::research::Method;
+fn research_cases() -> Vec<(&'static str, Scene, Camera, u32)> {
     let camera = Camera::look_at(
         DVec3::new(3.0, -2.0, 24.0),
         DVec3::ZERO,
@@ -577,49 +574,94 @@ fn visibility_buffer_draw_matches_the_draw() {
         .expect("glyph");
     }
     let eye_plane = Scene::new(eye_plane);
-    let cases = [
-        ("perspective", &medium, camera, u32::MAX),
-        ("orthographic", &medium, ortho, u32::MAX),
-        ("standard depth", &medium, standard, u32::MAX),
-        ("near-plane cut", &cut, inside, u32::MAX),
-        ("exact ties", &tied, tiny_camera, u32::MAX),
-        ("through the eye plane", &eye_plane, camera, u32::MAX),
-        ("six chunks", &medium, camera, 1_000),
-    ];
+    vec![
+        ("perspective", medium.clone(), camera, u32::MAX),
+        ("orthographic", medium.clone(), ortho, u32::MAX),
+        ("standard depth", medium.clone(), standard, u32::MAX),
+        ("near-plane cut", cut, inside, u32::MAX),
+        ("exact ties", tied, tiny_camera, u32::MAX),
+        ("through the eye plane", eye_plane, camera, u32::MAX),
+        ("six chunks", medium, camera, 1_000),
+    ]
+}
+
+/// Renders `scene` with `method` (at most `chunk` instances per chunk); checks its plan with
+/// `check`.
+#[cfg(feature = "research")]
+fn render_method(
+    renderer: &mut OffscreenRenderer,
+    method: ellipsoid_splat::research::Method,
+    (scene, camera, chunk): (&Scene, &Camera, u32),
+    check: impl Fn(&ellipsoid_splat::FramePlan),
+) -> ellipsoid_splat::Frame {
+    renderer.set_draw_config(method.config());
+    renderer.set_tiled_splat(method.tiled_splat());
+    renderer.set_settings({
+        let mut settings = method.settings();
+        settings.max_chunk_instances = chunk;
+        settings
+    });
+    renderer.upload(scene).expect("upload");
+    check(&renderer.plan(camera).expect("plan"));
+    renderer
+        .render_uploaded(camera, Outputs::ALL)
+        .expect("render")
+        .0
+}
+
+/// The benchmark's visibility-buffer draw (`impostor-visbuffer`: every glyph rasterized into
+/// the visibility buffer, then the splat's resolve) draws what the draw draws (bit for bit
+/// on lavapipe), in every case of `research_cases`.
+#[cfg(feature = "research")]
+#[test]
+fn visibility_buffer_draw_matches_the_draw() {
+    use ellipsoid_splat::research::Method;
     let mut renderer = validated_renderer();
     let agreement = Agreement::of(&renderer);
-    for (name, scene, camera, chunk) in cases {
-        let render = |renderer: &mut OffscreenRenderer, method: Method| {
-            renderer.set_draw_config(method.config());
-            renderer.set_settings({
-                let mut settings = method.settings();
-                settings.max_chunk_instances = chunk;
-                settings
-            });
-            renderer.upload(scene).expect("upload");
-            let plan = renderer.plan(&camera).expect("plan");
+    for (name, scene, camera, chunk) in research_cases() {
+        let case = (&scene, &camera, chunk);
+        let drawn = render_method(&mut renderer, Method::ImpostorDraw, case, |_| {});
+        let visbuffer = render_method(&mut renderer, Method::ImpostorVisbuffer, case, |plan| {
             // The visibility-buffer draw is a baseline: the draw's path, no culling (a host
             // prints the draw's reason rather than naming it; its `Debug` says which).
-            let visbuffer = matches!(plan.reason, PlanReason::Only(why) if format!("{why:?}") == "Baseline")
-                && plan.culling() == Culling::OFF;
-            assert_eq!(
-                visbuffer,
-                method == Method::ImpostorVisbuffer,
+            assert!(
+                matches!(plan.reason, PlanReason::Only(why) if format!("{why:?}") == "Baseline")
+                    && plan.culling() == Culling::OFF,
                 "{name}: {plan:?}"
             );
-            renderer
-                .render_uploaded(&camera, Outputs::ALL)
-                .expect("render")
-                .0
-        };
-        let drawn = render(&mut renderer, Method::ImpostorDraw);
-        let visbuffer = render(&mut renderer, Method::ImpostorVisbuffer);
+        });
         let seen = Seen {
-            scene,
+            scene: &scene,
             camera: &camera,
             format: InstanceFormat::Full,
         };
         assert_frames_agree(agreement, name, &drawn, &visbuffer, seen);
+    }
+    finish_validated(renderer);
+}
+
+/// The benchmark's tiled splat (`impostor-tiled`: each 8 x 8 tile's glyphs ray cast by one
+/// workgroup keeping the tile's keys, written once) draws what the draw draws (bit for bit on
+/// lavapipe), in every case of `research_cases`: ties to the lower instance, glyphs through
+/// the eye plane left to the draw, later chunks keeping what earlier ones left.
+#[cfg(feature = "research")]
+#[test]
+fn tiled_splat_matches_the_draw() {
+    use ellipsoid_splat::research::Method;
+    let mut renderer = validated_renderer();
+    let agreement = Agreement::of(&renderer);
+    for (name, scene, camera, chunk) in research_cases() {
+        let case = (&scene, &camera, chunk);
+        let drawn = render_method(&mut renderer, Method::ImpostorDraw, case, |_| {});
+        let tiled = render_method(&mut renderer, Method::ImpostorTiled, case, |plan| {
+            assert!(plan.path.splat().is_some(), "{name}: {plan:?}");
+        });
+        let seen = Seen {
+            scene: &scene,
+            camera: &camera,
+            format: InstanceFormat::Full,
+        };
+        assert_frames_agree(agreement, name, &drawn, &tiled, seen);
     }
     finish_validated(renderer);
 }

@@ -265,6 +265,8 @@ struct CaseSettings {
     cap_free_path: bool,
     max_chunk_instances: u32,
     plan: PlanMode,
+    /// The benchmark's tiled splat in splatted frames (`research`).
+    tiled_splat: bool,
 }
 
 impl CaseSettings {
@@ -279,6 +281,7 @@ impl CaseSettings {
             cap_free_path: true,
             max_chunk_instances: u32::MAX,
             plan: PlanMode::Fixed(PathKind::Draw),
+            tiled_splat: false,
         }
     }
 
@@ -286,13 +289,18 @@ impl CaseSettings {
     /// format and the chunk size take effect at the upload).
     fn apply(&self, renderer: &mut OffscreenRenderer) {
         #[cfg(feature = "research")]
-        renderer.set_draw_config(self.config);
+        {
+            renderer.set_draw_config(self.config);
+            renderer.set_tiled_splat(self.tiled_splat);
+        }
         #[cfg(not(feature = "research"))]
         assert_eq!(
             self.config,
             DrawConfig::default(),
             "baselines need `research`"
         );
+        #[cfg(not(feature = "research"))]
+        assert!(!self.tiled_splat, "the tiled splat needs `research`");
         renderer.set_settings({
             let mut settings = Settings::default();
             settings.instance_format = self.format;
@@ -541,6 +549,7 @@ fn cases() -> Vec<Case> {
                 config: method.config(),
                 format: method.settings().instance_format,
                 plan: method.settings().plan,
+                tiled_splat: method.tiled_splat(),
                 ..shipped
             },
             none,

@@ -31,6 +31,7 @@ fn every_method_renders_what_it_promises() {
     for method in Method::ALL {
         renderer.set_draw_config(method.config());
         renderer.set_settings(method.settings());
+        renderer.set_tiled_splat(method.tiled_splat());
         let frame = renderer
             .render(&scene, &camera, Outputs::ALL)
             .expect("render");
@@ -52,6 +53,7 @@ fn every_method_renders_what_it_promises() {
             | Method::ImpostorDraw
             | Method::ImpostorFirstFrame
             | Method::ImpostorVisbuffer
+            | Method::ImpostorTiled
             // The floors replace only frames that splat, which glyphs this large never do.
             | Method::FloorMemory
             | Method::FloorArithmetic

@@ -28,6 +28,7 @@ use crate::gpu::GpuBuffer;
 /// | 8 | `Visibility` | the compute splat's nearest hit per pixel, then its resolve tiles (`uint64_t`, row-major, design §5.6) | compute, vertex, fragment | whole, shared |
 /// | 9 | `FloorPixels` | the visible-pixel floor's lists (host-visible; 8 bytes unless the benchmark sets them, design §5.7) | compute | whole |
 /// | 10 | `GlyphStamps` | per glyph the stamps of the last frame that showed it and that left it to the draw (design §5.7) | compute | whole (frames with stamps have one chunk) |
+/// | 11 | `TileLists` | the benchmark's tiled splat's lists (`research`; 8 bytes otherwise): per 8 x 8 tile and depth bucket a count and a first slot, 112 bytes per glyph (box, nearest depth, the hit's set-up), 64 entries of room per glyph (`glsl/research/tile_lists.glsl`) | compute | whole |
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Binding {
     /// The instance records.
@@ -53,11 +54,13 @@ pub(crate) enum Binding {
     /// The visible-first splat's glyph stamps: when each glyph last showed, or was left to
     /// the draw.
     GlyphStamps = 10,
+    /// The benchmark's tiled splat: per screen tile, the glyphs whose box touches it.
+    TileLists = 11,
 }
 
 impl Binding {
     /// Every binding, in binding order.
-    pub const ALL: [Binding; 11] = [
+    pub const ALL: [Binding; 12] = [
         Binding::Instances,
         Binding::FragmentCounter,
         Binding::Visible,
@@ -69,6 +72,7 @@ impl Binding {
         Binding::Visibility,
         Binding::FloorPixels,
         Binding::GlyphStamps,
+        Binding::TileLists,
     ];
 
     /// Whether each view of a frame has a buffer of its own (what its pre-pass computes for
@@ -96,7 +100,8 @@ impl Binding {
             | Binding::CullGroups
             | Binding::OcclusionTiles
             | Binding::FloorPixels
-            | Binding::GlyphStamps => vk::ShaderStageFlags::COMPUTE,
+            | Binding::GlyphStamps
+            | Binding::TileLists => vk::ShaderStageFlags::COMPUTE,
             Binding::ShadingRecords => {
                 vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT
             }
@@ -119,6 +124,7 @@ impl Binding {
             Binding::Visibility => "visibility buffer",
             Binding::FloorPixels => "visible-pixel floor",
             Binding::GlyphStamps => "glyph stamps",
+            Binding::TileLists => "tiled splat lists",
         }
     }
 
@@ -131,7 +137,8 @@ impl Binding {
             | Binding::OcclusionTiles
             | Binding::Visibility
             | Binding::CullGroups
-            | Binding::GlyphStamps => vk::BufferUsageFlags::TRANSFER_DST,
+            | Binding::GlyphStamps
+            | Binding::TileLists => vk::BufferUsageFlags::TRANSFER_DST,
             Binding::IndirectDraw => {
                 vk::BufferUsageFlags::INDIRECT_BUFFER | vk::BufferUsageFlags::TRANSFER_DST
             }
@@ -154,7 +161,7 @@ impl Binding {
 /// One buffer per [`Binding`], each made on first need and grown on demand.
 #[derive(Default)]
 pub(crate) struct SceneBuffers {
-    buffers: [Option<GpuBuffer>; 11],
+    buffers: [Option<GpuBuffer>; 12],
     /// A buffer was replaced since the descriptor sets were written.
     pub replaced: bool,
 }

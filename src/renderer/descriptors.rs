@@ -91,7 +91,8 @@ pub(crate) fn create_chunk_sets(
             | Binding::OcclusionTiles
             | Binding::Visibility
             | Binding::FloorPixels
-            | Binding::GlyphStamps => whole,
+            | Binding::GlyphStamps
+            | Binding::TileLists => whole,
             Binding::Visible => slice(4),
             Binding::IndirectDraw => (k as u64 * SLICE_ALIGN, size_of::<IndirectDraw>() as u64),
             Binding::CullGroups => (k as u64 * groups, steps::groups_bytes(count as u32)),

@@ -58,7 +58,7 @@
 //! | `staged.rs` | `StagedUpload`: an upload or update whose memory is made and bytes staged before anything of the renderer changes, its copy between barriers, then taken in or dropped (`Error`) |
 //! | `uploaded.rs` | `UploadedScene`: what the CPU keeps of the uploaded scene (count, origin, format, compact unit, all spheres, box, size sample) and the decisions made from it (`projected_sample`, `screen_share`, `beyond_near_plane`) |
 //! | `prepass/mod.rs` | `record_prepass`: one pre-pass per chunk, sharing the occlusion tiles; the dispatches of each path (design §5.3, §5.6, §5.7) |
-//! | `prepass/steps.rs` | `CullStep`, `CullSelect`, the workgroup sizes and the sizes of the buffers the steps fill |
+//! | `prepass/steps.rs` | `CullStep`, `CullSelect`, the workgroup sizes and the sizes of the buffers the steps fill; the benchmark's tiled splat's `TiledStep` and list sizes |
 //! | `prepass/record.rs` | `Prepass`: one chunk's clears, dispatches and barriers, recorded |
 //! | `draw.rs` | `prepare_for` (pipelines ahead of recording) and `record`: one draw per chunk, with the view whose pre-pass had the same camera |
 //! | `viewport.rs` | the viewport and scissor of a camera's image |
@@ -474,6 +474,14 @@ impl EllipsoidRenderer {
         };
         let sizes = [
             (Binding::FragmentCounter, 8),
+            (
+                Binding::TileLists,
+                if visibility && self.research.tiled_splat() {
+                    prepass::steps::tiled_lists_bytes(extent.0, extent.1, count)
+                } else {
+                    8
+                },
+            ),
             (Binding::FloorPixels, 8),
             (
                 Binding::GlyphStamps,

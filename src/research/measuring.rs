@@ -37,6 +37,8 @@ pub(crate) struct Research {
     count_fragments: bool,
     /// The compute splat's floor the frames measure (0: the splat itself).
     splat_floor: u32,
+    /// Splatted frames run the tiled splat instead of the compute splat.
+    tiled_splat: bool,
     /// The icosphere baselines' buffers.
     meshes: Meshes,
     /// The glyph count the visible-pixel floor's lists were made for.
@@ -61,6 +63,11 @@ impl Research {
     /// The compute splat's floor (0: the splat itself).
     pub fn splat_floor(&self) -> u32 {
         self.splat_floor
+    }
+
+    /// Whether splatted frames run the tiled splat.
+    pub fn tiled_splat(&self) -> bool {
+        self.tiled_splat
     }
 
     /// A new scene was uploaded: the floor's lists are for the old one.
@@ -154,6 +161,13 @@ impl EllipsoidRenderer {
     /// itself. Frames that do not splat are unchanged.
     pub fn set_splat_floor(&mut self, floor: u32) {
         self.research.splat_floor = floor.min(3);
+    }
+
+    /// With `true`, frames that splat every glyph run the tiled splat
+    /// (`research/tiled_splat.comp`) instead of the compute splat: the same picture, each
+    /// screen tile's keys kept by one workgroup and written once.
+    pub fn set_tiled_splat(&mut self, on: bool) {
+        self.research.tiled_splat = on;
     }
 
     /// Forgets which glyphs the last frame showed, so that the next frame is drawn as a first

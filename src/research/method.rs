@@ -49,6 +49,10 @@ pub enum Method {
     /// camera: no visible-first splat (the benchmark forgets what the frames before showed),
     /// but the frame stamps what it shows, as the first frame after an upload does.
     ImpostorFirstFrame,
+    /// The tiled splat wherever the splat can run: each screen tile's glyphs walked by one
+    /// workgroup that keeps the tile's keys in registers and writes them once, instead of an
+    /// atomic per covered pixel (`research/tiled_splat.comp`).
+    ImpostorTiled,
     /// Visibility-buffer shading of the draw: every glyph is drawn without shading into the
     /// visibility buffer, and the resolve shades each visible pixel once.
     ImpostorVisbuffer,
@@ -79,7 +83,7 @@ pub enum Method {
 
 impl Method {
     /// Every method, in the order of the tables.
-    pub const ALL: [Method; 26] = [
+    pub const ALL: [Method; 27] = [
         Method::Impostor,
         Method::ImpostorOrientedRect,
         Method::ImpostorWorldQuad,
@@ -95,6 +99,7 @@ impl Method {
         Method::ImpostorVisibleFirst,
         Method::ImpostorDraw,
         Method::ImpostorFirstFrame,
+        Method::ImpostorTiled,
         Method::ImpostorVisbuffer,
         Method::FloorMemory,
         Method::FloorArithmetic,
@@ -131,6 +136,12 @@ impl Method {
         }
     }
 
+    /// Whether the method runs the tiled splat (see `set_tiled_splat`) in place of the
+    /// compute splat.
+    pub fn tiled_splat(self) -> bool {
+        self == Method::ImpostorTiled
+    }
+
     /// The name in `results.csv`.
     pub fn name(self) -> String {
         match self {
@@ -150,6 +161,7 @@ impl Method {
             Method::ImpostorDraw => "impostor-draw".into(),
             Method::ImpostorFirstFrame => "impostor-first-frame".into(),
             Method::ImpostorVisbuffer => "impostor-visbuffer".into(),
+            Method::ImpostorTiled => "impostor-tiled".into(),
             Method::FloorMemory => "floor-memory".into(),
             Method::FloorArithmetic => "floor-arithmetic".into(),
             Method::FloorVisible => "floor-visible".into(),
@@ -167,6 +179,7 @@ impl Method {
         let plan = match self {
             Method::ImpostorEstimate => PlanMode::Estimate,
             Method::ImpostorCompute
+            | Method::ImpostorTiled
             | Method::FloorMemory
             | Method::FloorArithmetic
             | Method::FloorVisible
@@ -193,7 +206,9 @@ impl Method {
     pub fn fixed_path(self) -> Option<PathKind> {
         match self.settings().plan {
             PlanMode::Fixed(kind)
-                if self.splat_floor() == 0 && self.traced() == TracedBuild::Off =>
+                if self.splat_floor() == 0
+                    && self.traced() == TracedBuild::Off
+                    && !self.tiled_splat() =>
             {
                 Some(kind)
             }
@@ -212,6 +227,7 @@ impl Method {
             | Method::ImpostorVisibleFirst
             | Method::ImpostorDraw
             | Method::ImpostorFirstFrame
+            | Method::ImpostorTiled
             | Method::FloorMemory
             | Method::FloorArithmetic
             | Method::FloorVisible

@@ -64,6 +64,9 @@ impl Research {
     pub fn splat_floor(&self) -> u32 {
         0
     }
+    pub fn tiled_splat(&self) -> bool {
+        false
+    }
     pub fn forget_upload(&mut self) {}
     pub fn forget_instances(&mut self) {}
     pub fn prepare(
@@ -103,6 +106,10 @@ pub(crate) unsafe fn ray_query_supported(
 ) -> bool {
     false
 }
+/// The benchmark's tiled splat exists only with the feature.
+pub(crate) const TILED_SPLAT_COMP: &[u8] = &[];
+/// Likewise its binning steps.
+pub(crate) const TILED_BINS_COMP: &[u8] = &[];
 
 /// The counting builds exist only with the feature.
 pub(crate) fn counted(shader: &FragmentShader, _aux: bool) -> Result<&'static [u8]> {

@@ -24,6 +24,12 @@ impl crate::OffscreenRenderer {
         self.renderer_mut().set_traced(build);
     }
 
+    /// Runs the tiled splat in splatted frames (see
+    /// [`EllipsoidRenderer::set_tiled_splat`]).
+    pub fn set_tiled_splat(&mut self, on: bool) {
+        self.renderer_mut().set_tiled_splat(on);
+    }
+
     /// Forgets which glyphs the last frame showed (see
     /// [`EllipsoidRenderer::forget_shown`]).
     pub fn forget_shown(&mut self) {

@@ -15,6 +15,12 @@ pub const ELLIPSOID_VISIBILITY_FRAG: FragmentShader = fragment_shader!("ellipsoi
 pub const MESH_VERT: &[u8] = spirv!("mesh.vert.spv");
 /// Icosphere fragment shader (`mesh-L*`).
 pub const MESH_FRAG: FragmentShader = fragment_shader!("mesh.frag");
+/// The benchmark's tiled splat (`impostor-tiled`), its binning steps: per screen tile, the
+/// glyphs whose box touches it.
+pub const TILED_BINS_COMP: &[u8] = spirv!("tiled_bins.comp.spv");
+/// The benchmark's tiled splat, its tile pass: each screen tile's glyphs walked by one
+/// workgroup, its keys written once.
+pub const TILED_SPLAT_COMP: &[u8] = spirv!("tiled_splat.comp.spv");
 /// Oriented-box proxy vertex shader (`box-proxy`).
 pub const BOX_VERT: &[u8] = spirv!("box.vert.spv");
 

@@ -28,13 +28,15 @@ const GPU_LAYOUT_GLSL: &str = include_str!("../../glsl/include/gpu_layout.glsl")
 
 /// Buffer blocks that read a binding under a name other than its `Binding` variant's: another
 /// view of the same buffer.
-const OTHER_VIEWS: [(Binding, &str); 3] = [
+const OTHER_VIEWS: [(Binding, &str); 4] = [
     // The same records in the compact format.
     (Binding::Instances, "CompactInstances"),
     // The draw's read-only view; the pre-pass writes it as `Visible`.
     (Binding::Visible, "VisibleInstances"),
     // The 64-bit keys as 32-bit words.
     (Binding::Visibility, "VisibilityWords"),
+    // The tiled splat's lists read 16 bytes at a time.
+    (Binding::TileLists, "TileLists4"),
 ];
 
 /// Each compute shader and the workgroup size the Rust side sizes its dispatches by.
@@ -43,6 +45,16 @@ fn dispatch_group_sizes() -> Vec<(&'static str, [u64; 3])> {
         ("cull.comp.spv", [GROUP_SIZE, 1, 1]),
         ("splat.comp.spv", [SPLAT_GROUP_SIZE as u64, 1, 1]),
     ];
+    // The benchmark's tiled splat: its binning steps per glyph as the splat, its tile pass
+    // one lane per column of a tile.
+    #[cfg(feature = "research")]
+    sizes.extend([
+        ("tiled_bins.comp.spv", [SPLAT_GROUP_SIZE as u64, 1, 1]),
+        (
+            "tiled_splat.comp.spv",
+            [crate::renderer::prepass::steps::TILED_TILE as u64, 1, 1],
+        ),
+    ]);
     #[cfg(feature = "offscreen")]
     {
         let edge = crate::offscreen::sample_zero::GROUP_EDGE as u64;
@@ -410,7 +422,9 @@ fn descriptor_bindings_match_the_binding_table() {
         }
     }
     for binding in Binding::ALL {
-        if !seen.contains(&(binding as u32)) {
+        // The tiled splat's lists have users only among the `research` shaders.
+        let built = cfg!(feature = "research") || binding != Binding::TileLists;
+        if built && !seen.contains(&(binding as u32)) {
             findings.add_overall(format!("no shader uses Binding::{binding:?}"));
         }
     }

@@ -382,7 +382,7 @@ pub fn run(
                 }
             };
             // A floor replaces only a splatted frame: elsewhere it would time the draw.
-            if (m.splat_floor() != 0 || m.traced() != TracedBuild::Off)
+            if (m.splat_floor() != 0 || m.traced() != TracedBuild::Off || m.tiled_splat())
                 && plan.path.splat().is_none()
             {
                 skipped.push(format!("{} on {} (not splatted)", m.name(), bench.name));
@@ -1071,6 +1071,7 @@ fn use_method(
     renderer.set_draw_config(method.config());
     renderer.set_splat_floor(method.splat_floor());
     renderer.set_traced(method.traced());
+    renderer.set_tiled_splat(method.tiled_splat());
     Ok(upload)
 }
 

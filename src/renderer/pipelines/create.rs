@@ -9,6 +9,7 @@ use crate::gpu_layout::SpecConstants;
 use crate::research;
 use crate::target::{Pass, Target};
 
+use super::super::prepass::steps::TiledStep;
 use super::keys::{CullKey, PipelineKey, SplatKey};
 use super::raster::Raster;
 
@@ -197,7 +198,8 @@ pub(crate) fn create_cull_pipeline(
     create_compute_pipeline(device, cache, layout, shaders::CULL_COMP, &constants)
 }
 
-/// The compute splat's pipeline for `key` (`glsl/splat.comp`); the caller owns it.
+/// The compute splat's pipeline for `key` (`glsl/splat.comp`, or a step of the benchmark's
+/// tiled splat); the caller owns it.
 pub(crate) fn create_splat_pipeline(
     device: &ash::Device,
     cache: vk::PipelineCache,
@@ -205,7 +207,18 @@ pub(crate) fn create_splat_pipeline(
     key: SplatKey,
 ) -> Result<vk::Pipeline> {
     let constants = key.spec_constants();
-    create_compute_pipeline(device, cache, layout, shaders::SPLAT_COMP, &constants)
+    let code = match key.tiled {
+        Some(_) if research::TILED_SPLAT_COMP.is_empty() => {
+            return Err(Error::invalid(
+                "tiled splat",
+                "the benchmark's tiled splat needs the `research` feature",
+            ));
+        }
+        Some(TiledStep::Tiles) => research::TILED_SPLAT_COMP,
+        Some(_) => research::TILED_BINS_COMP,
+        None => shaders::SPLAT_COMP,
+    };
+    create_compute_pipeline(device, cache, layout, code, &constants)
 }
 
 /// A compute pipeline running `code` with `constants`; the caller owns it.

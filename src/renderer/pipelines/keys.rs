@@ -8,7 +8,7 @@ use crate::gpu_layout::SpecConstants;
 use crate::research::{Baseline, Research};
 
 use super::super::plan::FramePlan;
-use super::super::prepass::steps::{CullSelect, CullStep};
+use super::super::prepass::steps::{CullSelect, CullStep, TiledStep};
 
 /// What a graphics pipeline is specialised for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -109,6 +109,8 @@ pub(crate) struct SplatKey {
     pub count_ray_casts: bool,
     /// `SPLAT_LIST`: a pass of the visible-first splat over the pre-pass's list.
     pub list: bool,
+    /// A step of the benchmark's tiled splat (`research/tiled_splat.comp`) instead.
+    pub tiled: Option<TiledStep>,
 }
 
 impl SplatKey {
@@ -123,6 +125,7 @@ impl SplatKey {
             max_box_pixels: plan.path.splat().map_or(0, |s| s.max_box_pixels),
             count_ray_casts: research.count_fragments(),
             list: false,
+            tiled: None,
         }
     }
 
@@ -137,6 +140,9 @@ impl SplatKey {
             splat_max_box_pixels: self.max_box_pixels,
             count_ray_casts: self.count_ray_casts as u32,
             splat_list: self.list as u32,
+            cull_step: self
+                .tiled
+                .map_or(SpecConstants::default().cull_step, |s| s as u32),
             ..SpecConstants::default()
         }
     }

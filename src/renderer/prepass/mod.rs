@@ -52,7 +52,7 @@ use super::EllipsoidRenderer;
 pub(crate) use record::splat_grid;
 pub(crate) use record::TracedDispatch;
 use record::{Dispatch, DispatchSize, Prepass, PrepassBuffers};
-use steps::{CullSelect, CullStep};
+use steps::{CullSelect, CullStep, TiledStep};
 
 impl EllipsoidRenderer {
     /// Records the pre-pass of a frame with `camera` (when its plan has one) into `cmd`,
@@ -184,6 +184,8 @@ impl EllipsoidRenderer {
         let visibility = own.handle(Binding::Visibility)?;
         let stamps = own.handle(Binding::GlyphStamps)?;
         let groups = own.handle(Binding::CullGroups)?;
+        let tile_lists = own.handle(Binding::TileLists)?;
+        let tiled = self.tiled_splat(plan);
         let chunking = self.chunking();
         let groups_slice = chunking.groups_slice();
         // Each chunk culls its own instances into its own indirect command; the occlusion
@@ -201,6 +203,14 @@ impl EllipsoidRenderer {
                 // The keep bits of the glyphs the splat leaves to the draw.
                 let bytes = steps::groups_bytes(count);
                 fills.push((groups, k as u64 * groups_slice, bytes, 0));
+                if tiled {
+                    // The tiled splat's header (no glyph depth yet: nearest +inf, farthest 0)
+                    // and counts.
+                    let cells = steps::tiled_cells(camera.width, camera.height);
+                    fills.push((tile_lists, 0, 4, f32::INFINITY.to_bits()));
+                    let words = steps::TILED_HEADER_WORDS - 1 + cells;
+                    fills.push((tile_lists, 4, 4 * words, 0));
+                }
                 if marks && shown.is_none() {
                     // A new scene: no glyph shown yet, none left to the draw.
                     fills.push((stamps, 0, glyph_stamps_bytes(count), 0));
@@ -300,6 +310,25 @@ impl EllipsoidRenderer {
                 dispatches.push(mark_shown);
                 dispatches.extend(self.list_steps(device, plan, CullSelect::Drawn, off)?);
             }
+            _ if self.tiled_splat(plan) => {
+                // The benchmark's tiled splat in place of the splat (same keep bits after).
+                let (x, y) = steps::tiled_grid(w, h);
+                for step in TiledStep::ALL {
+                    let size = match step {
+                        TiledStep::Scan => DispatchSize::Grid(1, 1),
+                        TiledStep::Tiles => DispatchSize::Grid(x, y),
+                        _ => DispatchSize::Splat,
+                    };
+                    let key = SplatKey {
+                        tiled: Some(step),
+                        ..splat
+                    };
+                    dispatches.push((self.pipelines.splat(device, key)?, size));
+                }
+                for step in steps::SPLAT_STEPS {
+                    dispatches.push(self.cull_step(device, plan, step, CullSelect::All, off)?);
+                }
+            }
             hidden => {
                 dispatches.push(match traced {
                     // One invocation per pixel, in groups of 8 x 8.
@@ -315,6 +344,13 @@ impl EllipsoidRenderer {
             }
         }
         Ok(dispatches)
+    }
+
+    /// Whether `plan`'s frame runs the benchmark's tiled splat: it splats every glyph and the
+    /// research state asks for it.
+    fn tiled_splat(&self, plan: &FramePlan) -> bool {
+        self.research.tiled_splat()
+            && matches!(plan.path, FramePath::Splat(s) if s.hidden == HiddenLayers::SplatAll)
     }
 
     /// The steps that list the glyphs `select` picks (with `culling`), in instance order.

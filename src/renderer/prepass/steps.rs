@@ -36,6 +36,70 @@ pub(crate) enum CullSelect {
     Drawn = 3,
 }
 
+/// The benchmark's tiled splat's steps (`CULL_STEP` of `glsl/research/tiled_bins.comp`, then
+/// `glsl/research/tiled_splat.comp`), in the order they run in place of the compute splat.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) enum TiledStep {
+    /// Per glyph: set-up, pixel box and nearest depth; the frame's range of depths.
+    Range = 0,
+    /// Per glyph: its depth bucket, and a count per (tile, bucket) its box touches.
+    Count = 1,
+    /// One workgroup: the counts to first slots.
+    Scan = 2,
+    /// Per glyph: its index into each touched tile's list.
+    Scatter = 3,
+    /// One workgroup per tile: its glyphs ray cast, its keys written once.
+    Tiles = 4,
+}
+
+impl TiledStep {
+    /// Every step, in order.
+    pub const ALL: [TiledStep; 5] = [
+        TiledStep::Range,
+        TiledStep::Count,
+        TiledStep::Scan,
+        TiledStep::Scatter,
+        TiledStep::Tiles,
+    ];
+}
+
+/// The tiled splat's tile edge in pixels (`TILE` in `glsl/research/tile_lists.glsl`).
+pub(crate) const TILED_TILE: u32 = 8;
+/// The tiled splat's depth buckets per tile (`BUCKETS`).
+const TILED_BUCKETS: u64 = 8;
+/// Words of the tiled splat's header (`HEADER`).
+pub(crate) const TILED_HEADER_WORDS: u64 = 4;
+/// Words of a glyph's record in the tiled splat's lists (`RECORD`).
+const TILED_RECORD_WORDS: u64 = 28;
+/// Room in the tiled splat's lists, in entries per glyph: the most tiles a glyph's box may
+/// touch for the lists to take it (`MAX_GLYPH_TILES`; larger glyphs are drawn), so no entry is
+/// ever dropped.
+const TILED_ENTRIES_PER_GLYPH: u64 = 64;
+
+/// The tiled splat's tiles across and down a `width` x `height` image.
+pub(crate) fn tiled_grid(width: u32, height: u32) -> (u32, u32) {
+    (width.div_ceil(TILED_TILE), height.div_ceil(TILED_TILE))
+}
+
+/// The tiled splat's (tile, bucket) cells of a `width` x `height` image.
+pub(crate) fn tiled_cells(width: u32, height: u32) -> u64 {
+    let (x, y) = tiled_grid(width, height);
+    x as u64 * y as u64 * TILED_BUCKETS
+}
+
+/// Bytes of the tiled splat's lists for `count` glyphs on a `width` x `height` image: the
+/// header, a count and a first slot per cell (and one past the last), 4 words per glyph and
+/// the entries.
+pub(crate) fn tiled_lists_bytes(width: u32, height: u32, count: u32) -> u64 {
+    let count = count.max(1) as u64;
+    let words = TILED_HEADER_WORDS
+        + 2 * tiled_cells(width, height)
+        + 4
+        + TILED_RECORD_WORDS * count
+        + TILED_ENTRIES_PER_GLYPH * count;
+    4 * words
+}
+
 /// Instances per workgroup (`local_size_x` of `cull.comp`).
 pub(crate) const GROUP_SIZE: u64 = 256;
 /// Instances per workgroup of the compute splat (`local_size_x` of `splat.comp`).
