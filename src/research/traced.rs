@@ -28,6 +28,9 @@ const TRACED_COMP: &[u8] = spirv!("traced.comp.spv");
 /// Bytes before the boxes in the boxes buffer (the glyph count, padded to the 8 bytes a
 /// build input's address needs).
 const BOXES_HEADER: u64 = 8;
+/// The traversal's workgroup edge: one invocation per pixel in squares of this edge
+/// (`local_size_x`, `local_size_y` of `glsl/research/traced.comp`).
+pub(crate) const TRACE_GROUP_EDGE: u32 = 8;
 /// Bytes per box (`VkAabbPositionsKHR`).
 const BOX_BYTES: u64 = 24;
 

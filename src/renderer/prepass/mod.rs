@@ -331,8 +331,14 @@ impl EllipsoidRenderer {
             }
             hidden => {
                 dispatches.push(match traced {
-                    // One invocation per pixel, in groups of 8 x 8.
-                    Some(t) => (t.pipeline, DispatchSize::Grid(w.div_ceil(8), h.div_ceil(8))),
+                    // One invocation per pixel, in squares of the traversal's group edge.
+                    Some(t) => {
+                        let edge = crate::research::TRACE_GROUP_EDGE;
+                        (
+                            t.pipeline,
+                            DispatchSize::Grid(w.div_ceil(edge), h.div_ceil(edge)),
+                        )
+                    }
                     None => (self.pipelines.splat(device, splat)?, DispatchSize::Splat),
                 });
                 if hidden == HiddenLayers::StampShown {
