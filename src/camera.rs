@@ -119,15 +119,11 @@ pub enum Projection {
 /// A validated camera: position, orientation, projection, near plane, image size, jitter and
 /// where the image lies in the host's attachments.
 ///
-/// The pixel-ray contract (`docs/design.md` §3), in float64: `f = normalize(target - eye)`,
-/// `r = normalize(f x up)`, `u = r x f`. Every projection is described by its [`Intrinsics`] `(fx, fy, cx, cy)` in pixels, and every camera may carry a
-/// sub-pixel `jitter` `(dx, dy)`: continuous pixel position `(x, y)` (x right, y down from the
-/// image's top-left corner; pixel `(i, j)`'s centre is `(i + 0.5, j + 0.5)`) lies on the
-/// screen plane at `s = ((x + dx - cx) / fx, (cy - y - dy) / fy)` (x along `r`, y along `u`).
-/// Perspective: the ray leaves `eye` along `f + s.x r + s.y u`. Orthographic: the ray leaves
-/// `eye + s.x r + s.y u` along `f`. View depth of `p` is `dot(p - eye, f)`; nothing nearer than
-/// `near` is visible. The camera's `width x height` image is drawn at `viewport_origin` in the
-/// host's attachments.
+/// The camera keeps the pixel-ray contract of `docs/design.md` §3.1-3.2 in float64: its frame
+/// ([`Camera::basis`]), [`Intrinsics`] in pixels and sub-pixel `jitter` place each pixel
+/// position on the screen plane ([`Camera::pixel_to_screen`]) and give its ray
+/// ([`Camera::ray_at_pixel`]); nothing nearer than `near` is visible. The camera's
+/// `width x height` image is drawn at `viewport_origin` in the host's attachments.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
     /// Eye position (perspective centre, or the point of the orthographic image plane on the

@@ -1,24 +1,26 @@
 //! How view depth becomes a depth-buffer value: the host's convention (reversed or standard Z,
 //! finite or infinite far plane), so ellipsoids depth-test exactly against the host's meshes.
-//!
-//! Every convention is one map `depth(d) = a + b d + c / d` of view depth `d`:
-//!
-//! | convention | perspective (and orthographic without far) | orthographic with far |
-//! |---|---|---|
-//! | reversed, infinite | `n / d` | -- |
-//! | reversed, far `f` | `n (f - d) / (d (f - n))` | `(f - d) / (f - n)` |
-//! | standard, infinite | `1 - n / d` | -- |
-//! | standard, far `f` | `f (d - n) / (d (f - n))` | `(d - n) / (f - n)` |
-//!
-//! Perspective projection matrices give the hyperbolic column, orthographic ones the linear
-//! column; an orthographic camera with no far plane keeps the hyperbolic map (a linear one
-//! needs a far plane).
+//! The map of every convention: [`DepthConvention`].
 
 use ash::vk;
 
 use crate::error::{Error, Result};
 
 /// Where the near and far planes land in the depth buffer.
+///
+/// Every convention is one map `depth(d) = a + b d + c / d` of view depth `d` (a `DepthMap`,
+/// from [`DepthConvention::map`] or [`Camera::depth_map`](crate::Camera::depth_map)):
+///
+/// | convention | perspective (and orthographic without far) | orthographic with far |
+/// |---|---|---|
+/// | reversed, infinite | `n / d` | -- |
+/// | reversed, far `f` | `n (f - d) / (d (f - n))` | `(f - d) / (f - n)` |
+/// | standard, infinite | `1 - n / d` | -- |
+/// | standard, far `f` | `f (d - n) / (d (f - n))` | `(d - n) / (f - n)` |
+///
+/// Perspective projection matrices give the hyperbolic column, orthographic ones the linear
+/// column; an orthographic camera with no far plane keeps the hyperbolic map (a linear one
+/// needs a far plane).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DepthConvention {
     /// Reversed Z: 1 at the near plane, falling towards 0 far away (compare `GREATER`, clear
@@ -35,7 +37,8 @@ impl Default for DepthConvention {
     }
 }
 
-/// The map `depth(d) = a + b d + c / d` of one camera's convention.
+/// The map `depth(d) = a + b d + c / d` of one camera's convention: its terms per convention
+/// are the table on [`DepthConvention`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DepthMap {
     /// Constant term.

@@ -368,7 +368,7 @@ pub fn resolve_tiles(width: u32, height: u32) -> u32 {
 /// | 15 | `COMPACT` | `compact` | bool | false | 32-byte instances | graphics, pre-pass |
 /// | 16 | `REVERSED_Z` | `reversed_z` | bool | true | larger depth is nearer (the splat keeps the largest key; the visible-first steps read keys) | graphics, splat, pre-pass |
 /// | 17 | `SPLAT_FLOOR` | `splat_floor` | int | 0 | the benchmark's roofline: 1 only reads every instance, 2 ray casts without atomics, 3 ray casts only the pixels each glyph shows (`research`) | splat |
-/// | 18 | `SPLAT_MAX_BOX_PIXELS` | `splat_max_box_pixels` | int | 4096 | the most pixel centres a glyph's box may hold for the splat to walk it (`SplatPath::max_box_pixels`) | splat |
+/// | 18 | `SPLAT_MAX_BOX_PIXELS` | `splat_max_box_pixels` | int | 4096 | the most pixel centres a glyph's box may hold for the splat to walk it (the splat path's `max_box_pixels`) | splat |
 /// | 19 | `COVERAGE_SAMPLES` | `coverage_samples` | int | 1 | on a multisampled target shaded once per pixel, its sample count: the fragment stage tests each standard sample position and writes `gl_SampleMask` (`FramePlan::coverage_samples`, `Target`'s documentation) | graphics |
 /// | 20 | `SAMPLE_GRID` | `sample_grid` | int | 1 | where the culling proofs find a pixel's samples: 1 its centre, R the cell centres of a grid R times finer, 0 anywhere (`FramePlan::sample_grid`, design §5.3) | pre-pass |
 /// | 21 | `FAR_PLANE` | `far_plane` | bool | false | the camera has a finite far plane: pixel-rate coverage runs the full hit at every sample (`FramePlan::far_plane`, `Target`'s documentation); set only with `COVERAGE_SAMPLES` above 1 | graphics |

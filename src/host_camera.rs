@@ -1,53 +1,6 @@
 //! A [`Camera`] from a host engine's view and projection matrices and viewport, so ellipsoids
-//! land exactly where the host's meshes do.
-//!
-//! The matrices map world points to Vulkan clip space as the host's own vertex shaders do:
-//! `clip = projection * view * (p, 1)`, NDC `x` to the right, `z` in [0, 1], `w > 0` in front
-//! of the eye, drawn with the host's viewport ([`HostViewport`], depth range [0, 1]): NDC `y`
-//! points down the viewport, or up it when the viewport's height is negative (a y-up
-//! projection drawn with a flipped viewport). Any right-handed rigid view and any perspective
-//! or orthographic projection are accepted -- off-centre, jittered, asymmetric (one eye of a
-//! stereo pair), with non-square pixels -- in reversed or standard Z with a finite or infinite
-//! far plane. Skewed, oblique or mirroring matrices are refused with an error.
-//!
-//! # How the matrices are read
-//!
-//! - **Flipped viewports.** A negative `height` is a y-up projection drawn with a flipped
-//!   viewport (the usual way of porting OpenGL-style matrices): `y` is then the viewport's
-//!   bottom edge, and the matrix is read as `diag(1, -1, 1, 1) projection view`, a y-down one.
-//!   Its image is the rectangle `(x, y - |height|)` .. `(x + width, y)`, which becomes the
-//!   camera's `viewport_origin`.
-//! - With `m` the (y-down) clip matrix and its rows `m0..m3`: perspective when the `xyz` part of
-//!   `m3` is not zero: `w = k d` with `f = normalize(m3.xyz)` and `k = |m3.xyz|`. Orthographic
-//!   otherwise: `w = k = m3.w` (must be > 0), and `f` follows from the screen axes for a
-//!   right-handed frame.
-//! - Each screen axis splits into its part across the view and its part along it: `r =
-//!   normalize(m0.xyz - (m0.xyz . f) f)`, `u = -normalize(m1.xyz - (m1.xyz . f) f)`. The parts
-//!   across give the focal lengths, `fx = (W/2) |m0 across| / k`, `fy = (H/2) |m1 across| / k`,
-//!   the parts along give the principal point, `cx = (W/2)(1 + m0.xyz . f / k)`, `cy = (H/2)(1 +
-//!   m1.xyz . f / k)`. So off-centre, jittered (TAA), asymmetric (stereo, OpenXR) frusta and
-//!   non-square pixels become `PerspectiveIntrinsics` (a jitter in the matrix is a shift of the
-//!   principal point); a centred frustum with square pixels (within float64 rounding, 1e-12
-//!   relative) stays `Perspective { fov_y_deg }`. Orthographic windows are centred by placing the
-//!   eye on the window's axis, so they give `Orthographic { height }` or, with non-square pixels,
-//!   `OrthographicIntrinsics`.
-//! - Refused with an error naming the cause: non-finite or singular matrices, an empty viewport
-//!   or a flipped one whose bottom edge lies above the attachment's top, skewed image axes, a
-//!   mirrored image (a left-handed frame, or a y-up projection drawn with a viewport that is not
-//!   flipped -- the message says to flip one of them), a depth axis tilted away from `f`, an
-//!   oblique orthographic projection, a principal point beyond [`Camera::MAX_PRINCIPAL_SHIFT`] or
-//!   [`Camera::MAX_PRINCIPAL_SHIFT_PX`] (design §3.2).
-//!   Structure is checked to a relative tolerance of 1e-6.
-//! - Perspective: the eye solves `m0.p = m1.p = m3.p = 0` (with their `w` terms). Depth is
-//!   `a + c/d` with `a = alpha/k`, `c = (m2.w + alpha f.eye)/k` and `alpha = m2.xyz . f`; reversed
-//!   when `c > 0`; `near = c/(1 - a)` (reversed) or `-c/a` (standard); the far plane is the other
-//!   end, and is taken as infinite when it is not finite or lies beyond `1e12 near`.
-//! - Orthographic: depth is linear in `t = f.p`; reversed when its slope is negative. The eye is
-//!   placed on the view axis one near-to-far span in front of the host's near plane (any point of
-//!   the axis gives the same rays), so `near = span` and `far = 2 span`.
-//!
-//! A crate `Camera` takes another convention with `Camera::with_depth`, a jitter with
-//! `with_jitter` and a place in the attachments with `with_viewport_origin`.
+//! land exactly where the host's meshes do. What is accepted, how it is read and what is
+//! refused: [`Camera::from_view_projection_viewport`].
 
 use glam::{DMat3, DMat4, DVec3, DVec4};
 
@@ -64,8 +17,13 @@ const TOLERANCE: f64 = 1e-6;
 const CENTRED: f64 = 1e-12;
 
 /// A host's Vulkan viewport, as given to `vkCmdSetViewport` (whole pixels; depth range
-/// [0, 1]). A negative `height` flips the image: `y` is then the viewport's bottom edge and
-/// the projection's NDC `y` points up.
+/// [0, 1]).
+///
+/// A negative `height` is a y-up projection drawn with a flipped viewport (the usual way of
+/// porting OpenGL-style matrices): `y` is then the viewport's bottom edge, NDC `y` points up
+/// the image, and [`Camera::from_view_projection_viewport`] reads the matrix as
+/// `diag(1, -1, 1, 1) projection view`, a y-down one. Its image is the rectangle
+/// `(x, y - |height|)` .. `(x + width, y)`, which becomes the camera's viewport origin.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HostViewport {
     /// Left edge in attachment pixels.
@@ -92,8 +50,9 @@ impl HostViewport {
 
 impl Camera {
     /// The camera that `projection * view` describes for a `width x height` image drawn over
-    /// the whole attachment (see the module documentation for the conventions). Errors say
-    /// which part of the matrices the camera contract cannot express.
+    /// the whole attachment, not flipped: [`Camera::from_view_projection_viewport`] with
+    /// [`HostViewport::full`], whose documentation says what is accepted and refused. Errors
+    /// say which part of the matrices the camera contract cannot express.
     pub fn from_view_projection(
         view: DMat4,
         projection: DMat4,
@@ -105,6 +64,53 @@ impl Camera {
 
     /// The camera that `projection * view` describes when drawn with the host's `viewport`
     /// (its image is the viewport's rectangle, at the viewport's top-left corner).
+    ///
+    /// The matrices map world points to Vulkan clip space as the host's own vertex shaders do:
+    /// `clip = projection * view * (p, 1)`, NDC `x` to the right, `z` in [0, 1], `w > 0` in
+    /// front of the eye, drawn with the host's viewport (depth range [0, 1]): NDC `y` points
+    /// down the viewport, or up it when the viewport is flipped ([`HostViewport`]). Any
+    /// right-handed rigid view and any perspective or orthographic projection are accepted --
+    /// off-centre, jittered, asymmetric (one eye of a stereo pair), with non-square pixels -- in
+    /// reversed or standard Z with a finite or infinite far plane. Skewed, oblique or mirroring
+    /// matrices are refused with an error.
+    ///
+    /// # How the matrices are read
+    ///
+    /// - `m` is the y-down clip matrix: `projection view`, or its y-negated form for a flipped
+    ///   viewport ([`HostViewport`]).
+    /// - With `m`'s rows `m0..m3`: perspective when the `xyz` part of `m3` is not zero: `w = k d`
+    ///   with `f = normalize(m3.xyz)` and `k = |m3.xyz|`. Orthographic otherwise: `w = k = m3.w`
+    ///   (must be > 0), and `f` follows from the screen axes for a right-handed frame.
+    /// - Each screen axis splits into its part across the view and its part along it: `r =
+    ///   normalize(m0.xyz - (m0.xyz . f) f)`, `u = -normalize(m1.xyz - (m1.xyz . f) f)`. The
+    ///   parts across give the focal lengths, `fx = (W/2) |m0 across| / k`, `fy = (H/2) |m1
+    ///   across| / k`, the parts along give the principal point, `cx = (W/2)(1 + m0.xyz . f /
+    ///   k)`, `cy = (H/2)(1 + m1.xyz . f / k)`. So off-centre, jittered (TAA), asymmetric
+    ///   (stereo, OpenXR) frusta and non-square pixels become
+    ///   [`Projection::PerspectiveIntrinsics`] (a jitter in the matrix is a shift of the
+    ///   principal point); a centred frustum with square pixels (within float64 rounding, 1e-12
+    ///   relative) stays [`Projection::Perspective`]. Orthographic windows are centred by
+    ///   placing the eye on the window's axis, so they give [`Projection::Orthographic`] or, with
+    ///   non-square pixels, [`Projection::OrthographicIntrinsics`].
+    /// - Refused with an error naming the cause: non-finite or singular matrices, an empty
+    ///   viewport or a flipped one whose bottom edge lies above the attachment's top, skewed
+    ///   image axes, a mirrored image (a left-handed frame, or a y-up projection drawn with a
+    ///   viewport that is not flipped -- the message says to flip one of them), a depth axis
+    ///   tilted away from `f`, an oblique orthographic projection, a principal point beyond
+    ///   [`Camera::MAX_PRINCIPAL_SHIFT`] or [`Camera::MAX_PRINCIPAL_SHIFT_PX`] (design §3.2).
+    ///   Structure is checked to a relative tolerance of 1e-6.
+    /// - Perspective: the eye solves `m0.p = m1.p = m3.p = 0` (with their `w` terms). Depth is
+    ///   `a + c/d` with `a = alpha/k`, `c = (m2.w + alpha f.eye)/k` and `alpha = m2.xyz . f`;
+    ///   reversed when `c > 0`; `near = c/(1 - a)` (reversed) or `-c/a` (standard); the far
+    ///   plane is the other end, and is taken as infinite when it is not finite or lies beyond
+    ///   `1e12 near`.
+    /// - Orthographic: depth is linear in `t = f.p`; reversed when its slope is negative. The
+    ///   eye is placed on the view axis one near-to-far span in front of the host's near plane
+    ///   (any point of the axis gives the same rays), so `near = span` and `far = 2 span`.
+    ///
+    /// A crate `Camera` takes another convention with [`Camera::with_depth`], a jitter with
+    /// [`Camera::with_jitter`] and a place in the attachments with
+    /// [`Camera::with_viewport_origin`].
     pub fn from_view_projection_viewport(
         view: DMat4,
         projection: DMat4,

@@ -156,7 +156,7 @@
 //! [`Target`], [`DeviceFeatures`], [`HostDevice`], and with `offscreen` `ContextOptions` and
 //! `Outputs`) are `#[non_exhaustive]` with constructors (`new`, `default`, named constants), so a
 //! new field is not a breaking change; so are the enums a later version may grow ([`Projection`],
-//! [`Pass`], [`InstanceFormat`], `DrawReason`, [`Error`]). `MemoryUse` stays exhaustive: every
+//! [`Pass`], [`InstanceFormat`], [`PlanReason`], [`Error`]). `MemoryUse` stays exhaustive: every
 //! allocator must place every use, so a new one would break them anyway.
 //!
 //! # Features

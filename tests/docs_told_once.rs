@@ -1,7 +1,7 @@
 //! The documentation tells each fact once: no paragraph of at least `PARAGRAPH_WORDS` words and
 //! no sentence of at least `SENTENCE_WORDS` words appears twice across `README.md`,
-//! `docs/**/*.md` (the measurements' own files under `docs/results/` aside) and the crate
-//! documentation of `src/lib.rs` (the embedding contract). A repeat is a fact kept in two
+//! `docs/**/*.md` (the measurements' own files under `docs/results/` aside) and the doc
+//! comments (`//!` and `///`) of `src/**/*.rs` and `crates/*/src/**/*.rs`. A repeat is a fact kept in two
 //! places that will drift apart; keep it in the better one and link it from the other. Code
 //! blocks, tables, headings and pictures are not prose and are not compared, nor is what
 //! `scripts/tables.py` writes between its markers (made from one results file, it cannot
@@ -143,22 +143,34 @@ fn repeats(documents: &[(String, String)]) -> Vec<String> {
     report
 }
 
-/// The crate documentation of a Rust file: its leading `//!` lines, as Markdown.
-fn crate_docs(rust: &str) -> String {
+/// The doc comments of a Rust file (`//!` and `///` lines, not `////`) as Markdown, each on its
+/// own line so that a paragraph is named by its file and line; every other line is blank, so
+/// each doc block is a paragraph source of its own.
+fn doc_comments(rust: &str) -> String {
     rust.lines()
-        .take_while(|line| line.starts_with("//!"))
         .map(|line| {
-            let text = line.trim_start_matches("//!");
+            let line = line.trim_start();
+            let text = match line.strip_prefix("//!") {
+                Some(text) => text,
+                None if !line.starts_with("////") => line.strip_prefix("///").unwrap_or(""),
+                None => "",
+            };
             text.strip_prefix(' ').unwrap_or(text)
         })
         .collect::<Vec<_>>()
         .join("\n")
 }
 
-/// README.md, every Markdown file under docs/ but docs/results/, and the crate documentation
-/// of src/lib.rs, by path from the root.
-fn documentation(root: &Path) -> Vec<(String, String)> {
-    fn walk(root: &Path, dir: &Path, out: &mut Vec<(String, String)>) {
+/// The files under `dir` (sorted, at any depth) whose path from `root` ends in `extension`,
+/// skipping the folders `skip`, with their text.
+fn files(root: &Path, dir: &Path, extension: &str, skip: &[&str]) -> Vec<(String, String)> {
+    fn walk(
+        root: &Path,
+        dir: &Path,
+        extension: &str,
+        skip: &[&str],
+        out: &mut Vec<(String, String)>,
+    ) {
         let mut entries: Vec<_> = std::fs::read_dir(dir)
             .unwrap_or_else(|e| panic!("reading {}: {e}", dir.display()))
             .map(|entry| entry.unwrap().path())
@@ -171,19 +183,38 @@ fn documentation(root: &Path) -> Vec<(String, String)> {
                 .to_string_lossy()
                 .into_owned();
             if path.is_dir() {
-                if name != "docs/results" {
-                    walk(root, &path, out);
+                if !skip.contains(&name.as_str()) {
+                    walk(root, &path, extension, skip, out);
                 }
-            } else if name.ends_with(".md") {
+            } else if name.ends_with(extension) {
                 out.push((name, std::fs::read_to_string(&path).unwrap()));
             }
         }
     }
+    let mut found = Vec::new();
+    walk(root, dir, extension, skip, &mut found);
+    found
+}
+
+/// README.md, every Markdown file under docs/ but docs/results/, and the doc comments of
+/// every Rust file under src/ and each crate's src/, by path from the root.
+fn documentation(root: &Path) -> Vec<(String, String)> {
     let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
     let mut documents = vec![("README.md".to_string(), readme)];
-    walk(root, &root.join("docs"), &mut documents);
-    let lib = std::fs::read_to_string(root.join("src/lib.rs")).unwrap();
-    documents.push(("src/lib.rs".to_string(), crate_docs(&lib)));
+    documents.extend(files(root, &root.join("docs"), ".md", &["docs/results"]));
+    let mut sources = vec![root.join("src")];
+    let mut crates: Vec<_> = std::fs::read_dir(root.join("crates"))
+        .unwrap_or_else(|e| panic!("reading crates/: {e}"))
+        .map(|entry| entry.unwrap().path().join("src"))
+        .filter(|src| src.is_dir())
+        .collect();
+    crates.sort();
+    sources.extend(crates);
+    for src in sources {
+        for (file, rust) in files(root, &src, ".rs", &[]) {
+            documents.push((file, doc_comments(&rust)));
+        }
+    }
     documents
 }
 
@@ -195,8 +226,11 @@ fn no_paragraph_or_sentence_of_the_documentation_is_told_twice() {
             && documents.iter().any(|(f, _)| f == "docs/design.md")
             && documents
                 .iter()
-                .any(|(f, text)| f == "src/lib.rs" && text.contains("# Embedding")),
-        "README.md, docs/ and the crate documentation are read"
+                .any(|(f, text)| f == "src/lib.rs" && text.contains("# Embedding"))
+            && documents
+                .iter()
+                .any(|(f, text)| f == "crates/capi/src/lib.rs" && !text.trim().is_empty()),
+        "README.md, docs/ and the doc comments of src/ and crates/*/src/ are read"
     );
     let report = repeats(&documents);
     assert!(
@@ -252,12 +286,29 @@ fn the_readme_and_the_design_stay_short() {
     }
 }
 
-/// The crate documentation is read as Markdown: the `//!` lines that open the file, without
-/// their prefix, and nothing after them.
+/// Doc comments are read as Markdown on their own lines: `//!` and `///` lines (indented or
+/// not) without their prefix, every other line (code, `//` and `////` comments) blank, so a
+/// paragraph is named at its line of the file and two doc blocks never join.
 #[test]
-fn the_crate_documentation_is_its_opening_doc_lines() {
-    let rust = "//! # Title\n//!\n//! Text here.\n\nuse x;\n//! not crate docs\n";
-    assert_eq!(crate_docs(rust), "# Title\n\nText here.");
+fn doc_comments_keep_their_lines_and_nothing_else() {
+    let rust = "//! # Title\n//!\n//! Text here.\n\nuse x;\n    /// An item.\n    // a note\n//// ruled\nfn f() {}\n";
+    assert_eq!(
+        doc_comments(rust),
+        "# Title\n\nText here.\n\n\nAn item.\n\n\n"
+    );
+    let report = repeats(&[(
+        "a.rs".into(),
+        doc_comments(&format!(
+            "/// {fact}\nfn f() {{}}\n    /// {fact}\n",
+            fact = "The renderer never submits and never waits, so the host decides when its \
+                    command buffers go to the queue and which fences it waits for."
+        )),
+    )]);
+    assert_eq!(report.len(), 1, "{report:?}");
+    assert!(
+        report[0].starts_with("paragraph at a.rs:1 and a.rs:3:"),
+        "{report:?}"
+    );
 }
 
 /// A reader goes from the README to every topic in one click: each relative link of the

@@ -9,20 +9,20 @@ use crate::path::PathKind;
 use super::plan_reason::Guess;
 
 /// The largest mean projected glyph area (square pixels) for which the first guess splats.
-/// Measured on lavapipe: at 50,000 glyphs the splat is 1.5x faster than the draw at 236 px,
-/// 1.6x at 532 px, 1.2x at 946 px (docs/design.md §5.6).
+/// Measured on lavapipe at 50,000 glyphs of growing size (the figures: `docs/compute-splat.md`);
+/// beyond it most glyphs overflow to the draw.
 pub const SPLAT_MAX_MEAN_AREA_PX: f64 = 1024.0;
 
 /// The fewest glyphs for which the first guess splats: the splat's fixed cost (clearing the
-/// visibility buffer, resolving the tiles its glyphs touch) met the draw's per-glyph cost
-/// between 10,000 and 100,000 glyphs on lavapipe.
+/// visibility buffer, resolving the tiles its glyphs touch) met the draw's per-glyph cost on
+/// lavapipe (the figures: `docs/compute-splat.md`).
 pub const SPLAT_MIN_GLYPHS: u32 = 50_000;
 
 /// The least area per glyph (square pixels) a scene must be expected to hide
 /// ([`crate::FramePlan::hidden_area_px`]) for the first guess of a still camera to be the
-/// visible-first splat: on lavapipe the tensor field at 1280x720 (31 px^2 hidden per glyph)
-/// was 16 % slower with it, at 1600x900 (49 px^2) 6 % faster. A moving camera's first guess
-/// is the plain splat; the plan that measures times the visible-first splat there too.
+/// visible-first splat: between the tensor-field sizes it lost and won on lavapipe (the
+/// figures: `docs/hidden-layers.md`). A moving camera's first guess is the plain splat; the
+/// plan that measures times the visible-first splat there too.
 pub const VISIBLE_FIRST_MIN_HIDDEN_PX: f64 = 45.0;
 
 /// What the first guess looks at.

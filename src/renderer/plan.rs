@@ -29,9 +29,8 @@ pub const SETUP_ONCE_MAX_AREA_PX: f64 = 12.0;
 
 /// The most pixel centres a glyph's box may hold for the compute splat to walk it; larger
 /// glyphs are drawn in the same frame. One invocation walks each glyph, so a much larger one
-/// would hold up its workgroup. Measured at 50,000 glyphs of 946 px^2 on average: 1,024 takes
-/// 458-461 ms (many glyphs drawn), 4,096 271-284 ms, 16,384 277-278 ms
-/// (`docs/compute-splat.md`).
+/// would hold up its workgroup. Chosen by measuring 1,024, 4,096 and 16,384 at 50,000 glyphs
+/// of 946 px^2 on average: the figures are in `docs/compute-splat.md`.
 pub const SPLAT_MAX_BOX_PIXELS: u32 = 4096;
 
 /// The most chunks a splatted frame may have: each chunk resolves over every marked tile.

@@ -5,8 +5,9 @@ use std::fmt;
 
 use crate::path::PathKind;
 
-/// Why the compute splat cannot serve a frame, which the draw then takes
-/// ([`PlanReason::Only`]).
+/// Why the compute splat cannot serve a frame, which the draw then takes: the payload of
+/// [`PlanReason::Only`], whose documentation lists the cases for hosts (this type is not
+/// exported).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum DrawReason {
@@ -56,7 +57,8 @@ impl fmt::Display for DrawReason {
 }
 
 /// The first guess of the frame plan, from the scene's size on screen (the thresholds of
-/// `src/renderer/estimate.rs`, measured on lavapipe).
+/// `src/renderer/estimate.rs`, measured on lavapipe): the payload of
+/// [`PlanReason::Estimated`], whose documentation lists the cases for hosts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum Guess {
@@ -82,8 +84,7 @@ impl fmt::Display for Guess {
     }
 }
 
-/// What the candidates measured for a scene class: the chosen path's median frame time and
-/// the next fastest's.
+/// What the candidates measured for a scene class: the payload of [`PlanReason::Measured`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Measured {
     /// Median GPU time of the chosen path's frames, milliseconds.
@@ -94,15 +95,28 @@ pub struct Measured {
 }
 
 /// Why a frame takes its path ([`crate::FramePlan::reason`]).
+///
+/// The payloads of `Only` and `Estimated` are not exported: a host reads them through
+/// `Display` (on the payload, or on the whole reason, which prints e.g. "the only path: the
+/// target is multisampled: ...") or `Debug`, and matches on the variant.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum PlanReason {
-    /// The draw is the only path that can serve the frame; the payload prints why.
+    /// The draw is the only path that can serve the frame; the payload prints why, one of:
+    /// a benchmark baseline is drawn (`research`); the device lacks the splat's 64-bit buffer
+    /// atomics or the host did not enable them (enable `shaderInt64` and
+    /// `shaderBufferInt64Atomics`: [`crate::DeviceFeatures::COMPUTE_SPLAT`]); the target is
+    /// multisampled; the depth attachment is not float32; the image's visibility buffer would
+    /// exceed one storage-buffer binding; the scene needs more chunks than the splat resolves;
+    /// no sampled glyph is on screen.
     Only(DrawReason),
     /// The host fixed the path ([`crate::PlanMode::Fixed`]).
     Fixed,
     /// The first guess, from the scene's size on screen (before measuring, or with
-    /// [`crate::PlanMode::Estimate`]); the payload prints which threshold decided.
+    /// [`crate::PlanMode::Estimate`]); the payload prints which threshold decided: too few
+    /// glyphs to pay for the splat's fixed cost or glyphs too large on average (the draw),
+    /// many glyphs small enough (the splat), or many glyphs deep with the camera still (the
+    /// visible-first splat; a moving camera's first guess is the plain splat).
     Estimated(Guess),
     /// The plan is still timing the candidates for this scene class (the frame runs one of
     /// them, or the fastest so far between two trials).

@@ -11,7 +11,7 @@
 //!   `txx,txy,txz,tyy,tyz,tzz`, the upper triangle of the symmetric positive-definite `T` of
 //!   `E = {c + T p : |p| = 1}`;
 //! - optionally `r,g,b`, all three, each in [0, 1]: the display (sRGB) colour; without them
-//!   glyphs are coloured by shape ([`ellipsoid_splat::internals::shape_color`]).
+//!   glyphs are coloured by shape (`ellipsoid_splat::internals::shape_color`).
 //!
 //! Every rejection is an [`Error::Parse`] naming file, physical line, column and reason
 //! (`scene.csv:7:rx: non-positive radius: -0.5 ...`), so a user can go straight to the bad

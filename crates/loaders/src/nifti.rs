@@ -41,7 +41,7 @@
 //! largest eigenvalue of any kept voxel becomes [`LoadOptions::glyph_scale`] times the smallest
 //! voxel edge (the shortest column of `A`): with the default 0.5 the largest glyph is exactly
 //! one voxel across, so glyphs do not overlap. Glyphs are coloured by shape
-//! ([`ellipsoid_splat::internals::shape_color`]). The notes of [`Loaded`] give the factor in
+//! (`ellipsoid_splat::internals::shape_color`). The notes of [`Loaded`] give the factor in
 //! effect and how many voxels were kept, background, below the FA threshold, masked and skipped.
 //!
 //! # Why not the `nifti` crate's reader and affine

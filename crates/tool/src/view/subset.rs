@@ -1,9 +1,6 @@
-//! What a frame draws while the camera moves. The rule: a frame whose camera differs from
-//! the previous frame's draws, if the scene has more than `--moving-glyphs` glyphs, a uniform
-//! sample of about that many; every other frame draws all of them. So the first frame after
-//! the camera stops is the full exact picture. Each glyph is in the sample with the same
-//! probability, decided by a hash of its index: the sample is fixed (no flicker from frame to
-//! frame) and spread over the whole scene, not over one region or one lattice stripe.
+//! What a frame draws while the camera moves: the rule, and why the sample is drawn by a hash
+//! of each glyph's index (fixed, so no flicker, and spread over the whole scene), is
+//! `docs/viewer.md` ("Large scenes"); this is its code.
 
 use ellipsoid_splat::{Ellipsoid, Scene};
 
