@@ -1,7 +1,7 @@
 //! The frame plan as Python sees it: the mode by name, and the last frame's plan as a dict.
 
-use ellipsoid_splat::{FramePath, HiddenLayers, PathKind, PlanMode, PlanReason};
 use ellipsoid_splat::FramePlan;
+use ellipsoid_splat::{FramePath, HiddenLayers, PathKind, PlanMode, PlanReason};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
