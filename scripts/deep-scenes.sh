@@ -23,7 +23,8 @@ tracer=yes
 for scene in lattice md-liquid; do
   "$tool" render --scene "$scene" --save-scene "$out/$scene.csv" --output "$out/$scene.png" > /dev/null 2>&1
 done
-{ echo "date: $(date -u '+%Y-%m-%d %H:%M UTC')"; echo "load: $(cut -d' ' -f1-3 /proc/loadavg)"; "$tool" info | grep -E '^(device|driver):'; } > "$out/machine.txt"
+{ echo "date: $(date -u '+%Y-%m-%d %H:%M UTC')"; echo "load: $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "cpu: $(nproc) cores of $(sed -n 's/^model name[[:space:]]*: *//p' /proc/cpuinfo | head -n 1)"; echo "build: $(git -C "$here" rev-parse --short HEAD)"; "$tool" info | grep -E '^(device|driver):'; } > "$out/machine.txt"
 for run in $(seq "$runs"); do
   for motion in still orbit; do
     flag=(); [ "$motion" = orbit ] && flag=(--orbit 0.5)

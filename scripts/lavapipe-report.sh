@@ -23,6 +23,9 @@ out="docs/results/devices/lavapipe-mesa-$mesa-$(date -u +%Y-%m-%d)"
 [ ! -e "$out" ] || { echo "lavapipe-report: $out exists; move it away first" >&2; exit 1; }
 started="$(date -u '+%Y-%m-%d %H:%M')"
 load_before="$(cut -d' ' -f1-3 /proc/loadavg)"
+# Every lavapipe time depends on the CPU: its model goes beside the figures.
+cpu="$(sed -n 's/^model name[[:space:]]*: *//p' /proc/cpuinfo | head -n 1)"
+cpu="${cpu:-an unnamed CPU}"
 
 bash scripts/device-report.sh --device llvmpipe --out "$out"
 echo "== bench --skip --quick"
@@ -35,6 +38,6 @@ cat > "$out/about.txt" <<EOF
 # When, where and with which build the files here ran; scripts/tables.py sets this line beside
 # every table it makes from them (device and driver it reads from the files themselves).
 # files | date | machine
-* | $started-$(date -u +%H:%M) UTC | $(nproc) CPU cores (load average $load_before before, $(cut -d' ' -f1-3 /proc/loadavg) after), build $(git rev-parse --short HEAD)
+* | $started-$(date -u +%H:%M) UTC | $(nproc) CPU cores of $cpu (load average $load_before before, $(cut -d' ' -f1-3 /proc/loadavg) after), build $(git rev-parse --short HEAD)
 EOF
 echo "lavapipe-report: wrote $out"
