@@ -531,16 +531,27 @@ fn chunked_splat_matches_the_draw(
 /// six chunks (name, scene, camera, most instances per chunk).
 #[cfg(feature = "research")]
 fn research_cases() -> Vec<(&'static str, Scene, Camera, u32)> {
+    research_cases_sized(6_000, (333, 250), 10_000)
+}
+
+/// `research_cases` with `glyphs` medium glyphs, images of `width` x `height` pixels and
+/// `tied_pairs` pairs of tied glyphs.
+#[cfg(feature = "research")]
+fn research_cases_sized(
+    glyphs: usize,
+    (width, height): (u32, u32),
+    tied_pairs: usize,
+) -> Vec<(&'static str, Scene, Camera, u32)> {
     let camera = Camera::look_at(
         DVec3::new(3.0, -2.0, 24.0),
         DVec3::ZERO,
         45.0,
         1.0,
-        333,
-        250,
+        width,
+        height,
     )
     .unwrap();
-    let medium = random_cloud(6_000, 23, 10.0, 0.5);
+    let medium = random_cloud(glyphs, 23, 10.0, 0.5);
     let ortho = Camera {
         projection: Projection::Orthographic { height: 20.0 },
         ..camera
@@ -548,13 +559,20 @@ fn research_cases() -> Vec<(&'static str, Scene, Camera, u32)> {
     let standard = camera
         .with_depth(DepthConvention::STANDARD_INFINITE)
         .expect("depth convention");
-    let inside = Camera::look_at(DVec3::new(0.5, 0.2, 7.0), DVec3::ZERO, 60.0, 5.5, 333, 250)
-        .expect("camera");
-    let cut = random_cloud(6_000, 24, 5.0, 0.25);
+    let inside = Camera::look_at(
+        DVec3::new(0.5, 0.2, 7.0),
+        DVec3::ZERO,
+        60.0,
+        5.5,
+        width,
+        height,
+    )
+    .expect("camera");
+    let cut = random_cloud(glyphs, 24, 5.0, 0.25);
     assert_reaches_near_plane(&cut, &inside);
     let (tiny, tiny_camera) = tiny_glyphs();
     let mut tied = Vec::new();
-    for e in tiny.ellipsoids.iter().take(10_000) {
+    for e in tiny.ellipsoids.iter().take(tied_pairs) {
         tied.push(*e);
         tied.push(Ellipsoid {
             color: [0.1, 0.9, 0.1],
@@ -760,66 +778,23 @@ fn traced_path_matches_the_draw() {
         finish_validated(renderer);
         return;
     }
-    let camera = Camera::look_at(
-        DVec3::new(3.0, -2.0, 24.0),
-        DVec3::ZERO,
-        45.0,
-        1.0,
-        200,
-        150,
-    )
-    .unwrap();
-    // Smaller than the visibility-buffer draw's cases: lavapipe's traversal is slow.
-    let medium = random_cloud(2_000, 23, 10.0, 0.5);
-    let ortho = Camera {
-        projection: Projection::Orthographic { height: 20.0 },
-        ..camera
-    };
-    let standard = camera
-        .with_depth(DepthConvention::STANDARD_INFINITE)
-        .expect("depth convention");
+    // Smaller than the visibility-buffer draw's cases (lavapipe's traversal is slow), in one
+    // chunk (the traced path's hierarchy covers one), and a finite standard depth besides.
+    let mut cases: Vec<_> = research_cases_sized(2_000, (200, 150), 3_000)
+        .into_iter()
+        .filter(|&(_, _, _, chunk)| chunk == u32::MAX)
+        .collect();
+    let (_, medium, camera, _) = cases[0].clone();
     let finite = camera
         .with_depth(DepthConvention {
             reversed: false,
             far: Some(30.0),
         })
         .expect("depth convention");
-    let inside = Camera::look_at(DVec3::new(0.5, 0.2, 7.0), DVec3::ZERO, 60.0, 5.5, 200, 150)
-        .expect("camera");
-    let cut = random_cloud(2_000, 24, 5.0, 0.25);
-    assert_reaches_near_plane(&cut, &inside);
-    let (tiny, tiny_camera) = tiny_glyphs();
-    let mut tied = Vec::new();
-    for e in tiny.ellipsoids.iter().take(3_000) {
-        tied.push(*e);
-        tied.push(Ellipsoid {
-            color: [0.1, 0.9, 0.1],
-            ..*e
-        });
-    }
-    let tied = Scene::new(tied);
-    let mut eye_plane = medium.ellipsoids.clone();
-    for (k, x) in [(10, -1.0), (20, 1.5)] {
-        eye_plane[k] = Ellipsoid::new(
-            DVec3::new(x, 0.3, 24.0),
-            DVec3::new(0.8, 0.5, 1.5),
-            DQuat::from_rotation_y(0.4),
-            Some([0.2, 0.4, 0.9]),
-        )
-        .expect("glyph");
-    }
-    let eye_plane = Scene::new(eye_plane);
-    let cases = [
-        ("perspective", &medium, camera),
-        ("orthographic", &medium, ortho),
-        ("standard depth", &medium, standard),
-        ("standard finite depth", &medium, finite),
-        ("near-plane cut", &cut, inside),
-        ("exact ties", &tied, tiny_camera),
-        ("through the eye plane", &eye_plane, camera),
-    ];
+    cases.push(("standard finite depth", medium, finite, u32::MAX));
     let agreement = Agreement::of(&renderer);
-    for (name, scene, camera) in cases {
+    for (name, scene, camera, _) in &cases {
+        let (scene, camera) = (scene, *camera);
         let render = |renderer: &mut OffscreenRenderer, method: Method| {
             renderer.set_draw_config(method.config());
             renderer.set_settings(method.settings());
