@@ -4,8 +4,13 @@
 # by run with Mitsuba 3 (scripts/cpu-raytracer.py, where `python3 -c 'import mitsuba'` works;
 # set PYTHON to another interpreter). Writes each run's files into OUT and prints the table of
 # the medians over the runs (scripts/deep-table.py OUT makes it again from the files).
+# METHODS names other bench methods (research ones: impostor-tiled, or impostor-traced on Mesa
+# 25's lavapipe, which DRIVERS=mesa-25 selects); then Mitsuba is left out and each run's lines
+# are printed instead of the table.
 #
 #   bash scripts/deep-scenes.sh [RUNS [OUT]]      (RUNS 3, OUT deep-scenes)
+#   METHODS=impostor-compute,impostor-visible-first,floor-visible,impostor-tiled bash scripts/deep-scenes.sh 2 tiled
+#   DRIVERS=mesa-25 METHODS=impostor-compute,impostor-traced,impostor-traced-rebuild,floor-visible bash scripts/deep-scenes.sh 2 traced
 #
 # Uses target/release/ellipsoid-splat (cargo build --release -p ellipsoid-splat-tool).
 set -euo pipefail
@@ -17,9 +22,19 @@ python="${PYTHON:-python3}"
 [[ "$runs" =~ ^[1-9][0-9]*$ ]] || { echo "deep-scenes: RUNS must be a positive whole number, not '$runs'" >&2; exit 2; }
 [ -x "$tool" ] || { echo "deep-scenes: build the tool first ($tool is missing)" >&2; exit 1; }
 mkdir -p "$out"
-methods=impostor,impostor-draw,impostor-compute,impostor-visible-first,floor-visible
+default_methods=impostor,impostor-draw,impostor-compute,impostor-visible-first,floor-visible
+methods="${METHODS:-$default_methods}"
+case "${DRIVERS:-}" in
+  "") ;;
+  mesa-25) eval "$(bash "$here/scripts/test-drivers.sh" --env)" ;;
+  *) echo "deep-scenes: DRIVERS is empty or mesa-25, not '$DRIVERS'" >&2; exit 2 ;;
+esac
 tracer=yes
-"$python" -c 'import mitsuba' 2>/dev/null || { tracer=no; echo "deep-scenes: no Mitsuba for $python (pip install mitsuba): our side alone" >&2; }
+if [ "$methods" != "$default_methods" ]; then
+  tracer=no
+elif ! "$python" -c 'import mitsuba' 2>/dev/null; then
+  tracer=no; echo "deep-scenes: no Mitsuba for $python (pip install mitsuba): our side alone" >&2
+fi
 for scene in lattice md-liquid; do
   "$tool" render --scene "$scene" --save-scene "$out/$scene.csv" --output "$out/$scene.png" > /dev/null 2>&1
 done
@@ -30,6 +45,7 @@ for run in $(seq "$runs"); do
     flag=(); [ "$motion" = orbit ] && flag=(--orbit 0.5)
     "$tool" bench --quick --frames 9 "${flag[@]}" --methods "$methods" --scenes lattice,md-liquid \
       --out "$out/$motion-run$run" > "$out/$motion-run$run.txt" 2>&1 || true
+    echo "load after $motion-run$run: $(cut -d' ' -f1-3 /proc/loadavg)" >> "$out/machine.txt"
   done
   if [ "$tracer" = yes ]; then
     for scene in lattice md-liquid; do
@@ -38,4 +54,8 @@ for run in $(seq "$runs"); do
     done
   fi
 done
-python3 "$here/scripts/deep-table.py" "$out"
+if [ "$methods" = "$default_methods" ]; then
+  python3 "$here/scripts/deep-table.py" "$out"
+else
+  grep -H -E '^(impostor|floor)' "$out"/*-run*.txt
+fi

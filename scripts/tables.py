@@ -31,6 +31,9 @@ from figures.results import RESULTS, ROOT, ResultsError  # noqa: E402
 PLAN = f"{RESULTS}/plan"
 DEEP = f"{RESULTS}/deep/2026-11-27"
 H200 = f"{RESULTS}/devices/nvidia-h200-2026-11-27"
+LAVAPIPE = f"{RESULTS}/devices/lavapipe-mesa-22.3.6-2026-11-27"
+LAVAPIPE_25 = f"{RESULTS}/devices/lavapipe-mesa-25.0.7-2026-11-27"
+VIEWER = f"{RESULTS}/viewer/2026-11-27"
 STRESS = f"{RESULTS}/stress/2026-11-27"
 CONFORMANCE = f"{RESULTS}/conformance/2026-11-27"
 BEGIN = re.compile(r"^<!-- table: (\S+) .*-->$")
@@ -51,23 +54,49 @@ def runs_of(pattern: str, numbers) -> list[str]:
 
 
 H200_BENCH = f"{H200}/bench/results.csv"
+LAVAPIPE_BENCH = f"{LAVAPIPE}/bench/results.csv"
 TABLES = [
     Table("headline", "README.md", f"{DEEP}, {H200_BENCH}", lambda: headline(DEEP, H200)),
     Table("methods-tensor-field-h200", "docs/performance.md", H200_BENCH,
           lambda: bench.methods_side_by_side(H200_BENCH, "tensor-field")),
+    Table("methods-tensor-field-lavapipe", "docs/performance.md", LAVAPIPE_BENCH,
+          lambda: bench.methods_side_by_side(LAVAPIPE_BENCH, "tensor-field")),
+    Table("targets-lavapipe", "docs/performance.md", f"{LAVAPIPE}/bench.txt",
+          lambda: bench.targets(LAVAPIPE)),
+    Table("targets-h200", "docs/performance.md", f"{H200}/bench.txt", lambda: bench.targets(H200)),
     Table("compact-h200", "docs/performance.md", H200_BENCH, lambda: bench.compact(H200_BENCH)),
+    Table("compact-lavapipe", "docs/performance.md", LAVAPIPE_BENCH, lambda: bench.compact(LAVAPIPE_BENCH)),
     Table("splat-h200", "docs/compute-splat.md", H200_BENCH, lambda: bench.splat(H200_BENCH)),
+    Table("splat-lavapipe", "docs/compute-splat.md", LAVAPIPE_BENCH, lambda: bench.splat(LAVAPIPE_BENCH)),
     Table("roofline-h200", "docs/compute-splat.md", H200_BENCH, lambda: bench.roofline(H200_BENCH)),
+    Table("roofline-lavapipe", "docs/compute-splat.md", LAVAPIPE_BENCH,
+          lambda: bench.roofline(LAVAPIPE_BENCH)),
+    Table("hidden-layers", "docs/hidden-layers.md", f"{RESULTS}/devices/*/bench/results.csv",
+          lambda: bench.hidden_layers([LAVAPIPE_BENCH, f"{LAVAPIPE_25}/bench/results.csv", H200_BENCH])),
+    Table("skip-lavapipe", "docs/culling.md", f"{LAVAPIPE}/skip.csv",
+          lambda: bench.skip([f"{LAVAPIPE}/skip.csv"])),
     Table("skip", "docs/culling.md", f"{PLAN}/skip-mesa-*.csv, {H200}/skip.csv",
           lambda: bench.skip([f"{PLAN}/skip-mesa-22.3.6.csv", f"{PLAN}/skip-mesa-25.0.7.csv",
                               f"{H200}/skip.csv"])),
     Table("antialias-h200", "docs/antialiasing.md", f"{H200}/bench/antialias.csv",
           lambda: bench.antialias(H200)),
+    Table("antialias-lavapipe", "docs/antialiasing.md", f"{LAVAPIPE}/bench/antialias.csv",
+          lambda: bench.antialias(LAVAPIPE)),
+    Table("embed-msaa-lavapipe", "docs/antialiasing.md", f"{LAVAPIPE}/embed-bench.txt",
+          lambda: runs.embed_bench(f"{LAVAPIPE}/embed-bench.txt")),
+    Table("viewer-lavapipe", "docs/viewer.md", VIEWER, lambda: runs.viewer(VIEWER)),
     Table("stress", "docs/accuracy.md", STRESS, lambda: accuracy.stress(STRESS)),
     Table("conformance-lavapipe", "docs/conformance.md", CONFORMANCE,
           lambda: accuracy.conformance(CONFORMANCE)),
+    Table("device-lavapipe", "docs/conformance.md", LAVAPIPE, lambda: runs.device_report(LAVAPIPE)),
+    Table("device-lavapipe-25", "docs/conformance.md", LAVAPIPE_25,
+          lambda: runs.device_report(LAVAPIPE_25)),
     Table("device-h200", "docs/conformance.md", H200, lambda: runs.device_report(H200)),
     Table("deep-scenes", "docs/deep-scenes.md", DEEP, lambda: runs.deep(DEEP)),
+    Table("traced-lavapipe", "docs/deep-scenes.md", f"{DEEP}b",
+          lambda: runs.research(f"{DEEP}b", "impostor-traced")),
+    Table("tiled-lavapipe", "docs/deep-scenes.md", f"{DEEP}c",
+          lambda: runs.research(f"{DEEP}c", "impostor-tiled")),
 ] + [
     Table(f"plan-regret-{which}", "docs/plan.md", f"{PLAN}/regret-{which}-run*.csv",
           lambda which=which: runs.regret(f"{PLAN}/regret-{which}-run*.csv"))

@@ -1,5 +1,5 @@
 """Tables of one `bench` run's files: every method on a scene, the compact format, the
-compute splat and its roofline, `--skip` and `--antialias`."""
+compute splat and its roofline, hidden layers, the targets, `--skip` and `--antialias`."""
 
 import re
 from pathlib import Path
@@ -99,6 +99,62 @@ def roofline(path: str) -> list[str]:
             raise ResultsError(f"{csv_path.relative_to(ROOT)}: {scene} ({count}) lacks {missing}")
         lines.append(f"| {scene} ({int(count):,}) | {mix:.2f} | {arith:.2f} | {memory:.2f} | "
                      f"{mix / arith:.2f}x | {mix / memory:.2f}x |")
+    return lines
+
+
+HIDDEN_SCENES = ("tensor-field", "lattice", "md-liquid")
+
+
+def hidden_layers(paths: list[str]) -> list[str]:
+    """The deep scenes' frames -- still (`impostor`), first of a camera, drawn -- beside the
+    floors, with ray casts per visible pixel: a table per run, one row per scene."""
+    lines = []
+    for pattern in paths:
+        csv_path, rows, by = bench_rows(pattern)
+        if lines:
+            lines.append("")
+        lines += [measured(csv_path, *device_of(rows)) + " `bench --quick`, one run; medians of "
+                  "the timed frames in ms, 1920x1080; in brackets ray casts per visible pixel.", "",
+                  "| scene (count) | still | first frame | drawn | arithmetic floor | visible floor "
+                  "| memory floor | still / visible floor |",
+                  "|---|---:|---:|---:|---:|---:|---:|---:|"]
+        for scene, count in dict.fromkeys((r["scene"], r["count"]) for r in rows):
+            if scene not in HIDDEN_SCENES:
+                continue
+            methods = ("impostor", "impostor-first-frame", "impostor-draw", "floor-arithmetic",
+                       "floor-visible", "floor-memory")
+            missing = [m for m in methods if (scene, count, m) not in by]
+            if missing:
+                raise ResultsError(f"{csv_path.relative_to(ROOT)}: {scene} lacks {', '.join(missing)}")
+            cells = []
+            for m in methods:
+                r = by[(scene, count, m)]
+                casts = r["ray_casts_per_visible_pixel"]
+                wall = float(r["wall_ms"])
+                cells.append(f"{wall:.2f} ({float(casts):.2f})" if casts and m != "floor-memory"
+                             else f"{wall:.2f}")
+            still = float(by[(scene, count, "impostor")]["wall_ms"])
+            floor = float(by[(scene, count, "floor-visible")]["wall_ms"])
+            lines.append(f"| {scene} ({int(count):,}) | " + " | ".join(cells) +
+                         f" | {still / floor:.2f}x |")
+    return lines
+
+
+TARGET = re.compile(r"^\[(met|MISSED)\] (.+)$")
+
+
+def targets(report: str) -> list[str]:
+    """The targets `bench` checks, as its log printed them: met or missed, and the figure."""
+    log = files(f"{report}/bench.txt")[0]
+    found = [TARGET.match(line) for line in log.read_text().splitlines()]
+    found = [m for m in found if m]
+    if not found:
+        raise ResultsError(f"{log.relative_to(ROOT)} prints no [met] or [MISSED] line")
+    lines = [measured(log, *report_device(ROOT / report)) + " `bench --quick`, one run.", "",
+             "| verdict | target: figures |", "|---|---|"]
+    for m in found:
+        verdict = "met" if m.group(1) == "met" else "**missed**"
+        lines.append(f"| {verdict} | {m.group(2)} |")
     return lines
 
 

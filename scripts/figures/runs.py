@@ -42,6 +42,89 @@ def deep(folder: str) -> list[str]:
             lines[0][1:] + ".", ""] + lines[2:]
 
 
+def research(folder: str, method: str) -> list[str]:
+    """A research method's runs on the deep scenes (scripts/deep-scenes.sh with METHODS): per
+    motion, run and scene each method's median ms and ray casts per visible pixel, and `method`
+    over the splat and over the visible-first splat of the same run; a table per line of the
+    folder's about.txt (runs of another date or load)."""
+    # Still runs first, then orbiting, each by run number (not the file system's order).
+    paths = sorted(files(f"{folder}/*-run*/results.csv"),
+                   key=lambda p: (p.parent.name.startswith("orbit"), int(p.parent.name.rsplit("run", 1)[1])))
+    methods = list(dict.fromkeys(r["method"] for p in paths for r in read_csv(p)))
+    bases = ("impostor-compute", "impostor-visible-first")
+    lines, said = [], None
+    for path in paths:
+        rows = read_csv(path)
+        line = measured(path, *device_of(rows))
+        if line != said:
+            lines += ([""] if lines else []) + [
+                line + " `bench --quick --frames 9`, 1920x1080; medians in ms, in brackets ray "
+                "casts per visible pixel; orbit: 0.5 degree a frame.", "",
+                "| run | scene | " + " | ".join(methods) + " | " +
+                " | ".join(f"{method} / {base}" for base in bases) + " |",
+                "|---|---|" + "---:|" * (len(methods) + len(bases))]
+            said = line
+        for scene in dict.fromkeys(r["scene"] for r in rows):
+            by = {r["method"]: r for r in rows if r["scene"] == scene}
+            cells = [f"{float(by[m]['wall_ms']):,.1f} ({float(by[m]['ray_casts_per_visible_pixel']):.2f})"
+                     if m in by else "-" for m in methods]
+            cells += [f"{float(by[method]['wall_ms']) / float(by[base]['wall_ms']):.2f}"
+                      if method in by and base in by else "-" for base in bases]
+            lines.append(f"| {path.parent.name} | {scene} | " + " | ".join(cells) + " |")
+    return lines
+
+
+VIEWER = {"summary": re.compile(r"median\): moving ([0-9.]+|-)(?: ms)? \((\d+) frames\), still ([0-9.]+|-)(?: ms)? \((\d+) frames\)"),
+          "pick": re.compile(r"^pick \([^)]*\): .*\(([0-9.]+) ms\)$", re.M),
+          "shown": re.compile(r"presented ([0-9.]+) ms after the click")}
+
+
+def viewer(folder: str) -> list[str]:
+    """scripts/viewer-figures.sh's scenes: GPU time per frame moving and still, the pick's
+    read-back and the time until the highlighted frame was presented."""
+    report = ROOT / folder
+    logs = [p for p in files(f"{folder}/*.txt") if p.name not in ("info.txt", "about.txt")]
+    lines = [measured(logs[0], *report_device(report)) + " 1280x720, `--no-vsync`, no validation; "
+             "GPU time per frame (timestamps), medians.", "",
+             "| scene | moving | still | pick read-back | pick shown after |",
+             "|---|---:|---:|---:|---:|"]
+    for log in logs:
+        text = log.read_text()
+        found = {key: pattern.search(text) for key, pattern in VIEWER.items()}
+        missing = [key for key, match in found.items() if match is None]
+        if missing:
+            raise ResultsError(f"{log.relative_to(ROOT)} prints no {', '.join(missing)} line")
+        moving, moving_frames, still, still_frames = found["summary"].groups()
+        lines.append(f"| {log.stem} | {moving} ms ({moving_frames} frames) | {still} ms "
+                     f"({still_frames} frames) | {found['pick'].group(1)} ms | "
+                     f"{found['shown'].group(1)} ms |")
+    return lines
+
+
+EMBED = re.compile(r"^(.+), (1 sample|4 samples, shaded per pixel|4 samples, shaded per sample): "
+                   r"median ([0-9.]+) ms per frame \((\d+) frames\)$", re.M)
+
+
+def embed_bench(path: str) -> list[str]:
+    """`cargo run --release --example embed -- --bench`: the host's own pass with its mesh,
+    one sample against 4x MSAA shaded per pixel and per sample, per scene."""
+    log = files(path)[0]
+    found = EMBED.findall(log.read_text())
+    if not found:
+        raise ResultsError(f"{log.relative_to(ROOT)} prints no 'SCENE, VARIANT: median' line")
+    variants = ["1 sample", "4 samples, shaded per pixel", "4 samples, shaded per sample"]
+    by = {(scene, variant): float(ms) for scene, variant, ms, _ in found}
+    lines = [measured(log, *report_device(log.parent)) + " `examples/embed --bench`: the host's "
+             "4x render pass with its plane mesh, 1280x720, the variants interleaved frame by "
+             "frame; medians (ratio to one sample).", "",
+             "| scene | " + " | ".join(variants) + " |", "|---|" + "---:|" * len(variants)]
+    for scene in dict.fromkeys(scene for scene, *_ in found):
+        one = by[(scene, variants[0])]
+        lines.append(f"| {scene} | " + " | ".join(f"{by[(scene, v)]:.1f} ms ({by[(scene, v)] / one:.2f}x)"
+                                                 for v in variants) + " |")
+    return lines
+
+
 def device_report(folder: str) -> list[str]:
     """scripts/device-report.sh's rows: conformance, the tests that draw, the plan's regret."""
     report = ROOT / folder

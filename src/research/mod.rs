@@ -38,4 +38,7 @@ pub(crate) use baseline::Baseline;
 pub(crate) use measuring::Research;
 pub(crate) use offscreen::{begin_counting, counts};
 pub(crate) use shaders::{counted, TILED_BINS_COMP, TILED_SPLAT_COMP};
-pub(crate) use traced::{ray_query_supported, TRACE_GROUP_EDGE};
+pub(crate) use traced::ray_query_supported;
+// The traversal's group edge, for the test that reads it back from the compiled shader.
+#[cfg(test)]
+pub(crate) use traced::TRACE_GROUP_EDGE;

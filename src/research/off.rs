@@ -107,9 +107,6 @@ pub(crate) unsafe fn ray_query_supported(
     false
 }
 
-/// The traced path's workgroup edge (no traced dispatch is ever made without the feature).
-pub(crate) const TRACE_GROUP_EDGE: u32 = 8;
-
 /// The benchmark's tiled splat exists only with the feature.
 pub(crate) const TILED_SPLAT_COMP: &[u8] = &[];
 /// Likewise its binning steps.

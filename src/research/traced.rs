@@ -591,6 +591,7 @@ impl EllipsoidRenderer {
             layout: traced.layout,
             set: traced.set,
             pipeline: trace,
+            group_edge: TRACE_GROUP_EDGE,
         };
         if traced.build == TracedBuild::PerUpload && traced.built_for == Some(count) {
             return Ok(Some(dispatch));

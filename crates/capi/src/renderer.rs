@@ -1,9 +1,8 @@
 //! The renderer handle and its calls, in the order a host makes them: create, per frame
 //! begin a slot, upload or update glyphs, per view the pre-pass and the draw, destroy.
 //!
-//! Threads: a renderer is used by one thread at a time (calls on it are not synchronised,
-//! like a Vulkan object the spec calls externally synchronised); different renderers may be
-//! used on different threads at once.
+//! Calls on one renderer are not synchronised: the threading rule is the C ABI's, stated once
+//! in the header's rules (`docs/c-and-cpp.md`, "Threads").
 
 use ash::vk::{CommandBuffer as VkCommandBuffer, PipelineCache as VkPipelineCache};
 use ellipsoid_splat::{EllipsoidRenderer, MemoryAllocator, RendererOptions, Scene};

@@ -1,46 +1,14 @@
-//! Reads LAMMPS `dump custom` text files (plain or gzipped), one or more frames, as written by
-//! the ASPHERE package's ellipsoids (Gay-Berne, RE-squared) and by plain spheres.
+//! Reads LAMMPS `dump custom` text files (plain or gzipped), one or more frames, as the
+//! ASPHERE package's ellipsoids (Gay-Berne, RE-squared) and plain spheres are written.
 //!
-//! A frame is a series of items, each an `ITEM:` line and its values:
+//! What it reads -- the items, the columns and their standard names (`shapex` holds a
+//! DIAMETER), the box, the colours -- and the form of every error are specified once, in the
+//! repository's `docs/formats.md` ("LAMMPS dump"). Here: `scan` cuts a dump into frames at
+//! `ITEM: TIMESTEP` ([`Trajectory`] keeps the cuts), and each frame is parsed on demand into
+//! glyphs sorted by `id`, rejections being [`Error::Parse`](crate::Error::Parse) values
+//! that name the file, the line, the frame and the column.
 //!
-//! - `ITEM: TIMESTEP` and the step (each frame starts here; [`Trajectory`] finds frames by
-//!   it);
-//! - `ITEM: NUMBER OF ATOMS` and the count;
-//! - `ITEM: BOX BOUNDS` and three lines: `lo hi` per axis for an orthogonal box, or, with
-//!   `xy xz yz` after `BOUNDS`, `lo_bound hi_bound tilt` per axis for a triclinic one (see
-//!   [`Cell`]); only needed for scaled coordinates. A general triclinic box (`abc origin`,
-//!   `dump_modify triclinic/general yes`) is an error;
-//! - `ITEM: ATOMS` and the column names, then one line per atom;
-//! - other items (`ITEM: UNITS`, `ITEM: TIME`) are skipped with their values.
-//!
-//! Columns read (our standard names; others are ignored and named once in the notes):
-//!
-//! - the position: `x y z`, else unwrapped `xu yu zu`, else scaled `xs ys zs`, else
-//!   `xsu ysu zsu` (scaled are mapped through the box, triclinic included); required;
-//! - the size: `shapex shapey shapez`, the ellipsoid's three DIAMETERS (the semi-axes drawn
-//!   are half of them; a dump whose shape columns hold radii loads at half size: map the
-//!   columns or scale the data), else
-//!   `radius`, else `diameter`, for spheres. A particle whose shape is `0 0 0` (a point
-//!   particle of the ellipsoid style) is a sphere of its `radius`/`diameter` if the file has
-//!   one. A file with neither is an error: map a column with [`LoadOptions::columns`];
-//! - the orientation: `quatw quati quatj quatk`, the quaternion that rotates the particle's
-//!   body frame into the lab frame, which is what [`Ellipsoid::rotation`] is (normalised on
-//!   load). Without it ellipsoids are drawn unrotated, with a note;
-//! - `id`: frames are sorted by it, so a glyph is the same atom in every frame (LAMMPS writes
-//!   atoms in any order when it runs on several processors); `type`, an integer, picks the
-//!   colour from [`LoadOptions::type_colors`] or [`TYPE_PALETTE`]; `r g b` (each in [0, 1],
-//!   usually reached through a mapping) give colours directly. Without either, glyphs are
-//!   coloured by shape.
-//!
-//! Every rejection is an [`Error::Parse`](crate::Error::Parse) naming the file, the line, and in its column text the
-//! frame (1-based, with its timestep) and the column:
-//! `run.lammpstrj:42:frame 2 (timestep 1000), shapex (field 6): non-finite number: "nan"`. With
-//! [`LoadOptions::skip_invalid`] bad atom lines are dropped and counted; damage to the frame's
-//! structure (a missing item, a truncated atom list) always fails.
-//!
-//! [`Ellipsoid::rotation`]: ellipsoid_splat::Ellipsoid::rotation
 //! [`Trajectory`]: crate::Trajectory
-//! [`TYPE_PALETTE`]: crate::TYPE_PALETTE
 
 use std::path::Path;
 

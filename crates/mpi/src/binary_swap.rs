@@ -1,10 +1,7 @@
-//! Binary-swap compositing: every process ends with an equal slice of the combined image,
-//! having sent at most one whole image, however many processes there are. With P processes
-//! and Q the largest power of two not above P, the P - Q extra processes first hand their
-//! whole image to a partner among the first Q; then in log2(Q) rounds each of the Q swaps half
-//! of its current range with the process whose rank differs in one bit, keeping the half the
-//! bit says and merging what it receives. A pixel keeps the smaller key ([`pixels::merge`]):
-//! the result is exact whatever the order of the merges.
+//! Binary-swap compositing, as design §6.3 of the repository's `docs/design.md` describes it
+//! (the rounds, the partners, what each process sends): every process ends with an equal slice
+//! of the combined image. A pixel keeps the smaller key ([`pixels::merge`]), so the result is
+//! exact whatever the order of the merges.
 
 use std::ops::Range;
 

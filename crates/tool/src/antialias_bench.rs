@@ -1,23 +1,9 @@
-//! `ellipsoid-splat bench --antialias`: what antialiasing costs and what it buys. The tensor
-//! field and a cloud of 16-pixel glyphs at 1920x1080, drawn with one sample, with 4x MSAA
-//! shaded once per pixel and once per sample, and supersampled 2 x 2 and 4 x 4, interleaved
-//! round by round; medians of the submit-to-fence times and their ratio to one sample.
-//!
-//! The error: how far each way's resolved pixels are from the area of the pixel the glyphs
-//! cover, approximated by the float64 reference's 16 samples on a 4 x 4 grid -- the mean over
-//! the pixels the reference covers partly, as a fraction of a pixel (one sample per pixel errs
-//! by about a quarter, 4 x 4 supersampling by the 8-bit output's rounding). It is measured on
-//! the same view at a quarter of the size (480 x 270; the reference draws 16 times the pixels),
-//! with the glyphs unlit and white, and charted against the full-size time
-//! (`antialias_vs_error.png`). There every glyph is 4 times smaller in pixels, so the error is
-//! in that view's pixels, on another scale than the timed full-size frames: it compares the
-//! ways with each other, not with a full-size frame's error.
-//!
-//! The error at its own samples: on the same small view, how many pixels are lit off the
-//! reference's count of covered samples at the way's own positions (the pixel centre, the
-//! standard 4x positions, the supersampling grid), as a ratio to the coverage bound, floored
-//! at 1 -- the axis of `bench`'s time-versus-error chart, which the main `bench` run joins the
-//! antialiased ways to. `stress` checks the same on scenes built to break it.
+//! `ellipsoid-splat bench --antialias`: what antialiasing costs and what it buys -- one
+//! sample, 4x MSAA shaded per pixel and per sample, 2 x 2 and 4 x 4 supersampling, a renderer
+//! each, interleaved round by round. The scenes, the timing and the two errors (against the
+//! area covered, on a quarter-size view; and at each way's own samples, the axis `bench`'s
+//! time-versus-error chart joins them on) are defined once, in the repository's
+//! `docs/antialiasing.md` (time against error through the offscreen renderer).
 
 use std::path::Path;
 

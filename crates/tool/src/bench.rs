@@ -627,6 +627,15 @@ impl ChartPoint {
     }
 }
 
+/// The device as a chart's title names it: lavapipe by its common name, a card by its own.
+fn device_label(device: &str) -> &str {
+    if device.starts_with("llvmpipe") {
+        "lavapipe"
+    } else {
+        device
+    }
+}
+
 /// Indices of the points no other point beats.
 pub fn pareto_front(points: &[ChartPoint]) -> Vec<usize> {
     (0..points.len())
@@ -897,9 +906,14 @@ pub fn write_report(
     };
     let chart: Vec<ChartPoint> = headline.iter().map(|r| ChartPoint::of(r)).collect();
     let points: Vec<(f64, f64)> = chart.iter().map(|p| (p.time, p.error)).collect();
-    let front: Vec<(f64, f64)> = pareto_front(&chart)
+    // The floors draw nothing (their error is a placeholder): plotted, never on the front.
+    let drawing: Vec<usize> = (0..headline.len())
+        .filter(|&i| headline[i].method.splat_floor() == 0)
+        .collect();
+    let drawn: Vec<ChartPoint> = drawing.iter().map(|&i| chart[i]).collect();
+    let front: Vec<(f64, f64)> = pareto_front(&drawn)
         .into_iter()
-        .map(|i| points[i])
+        .map(|i| points[drawing[i]])
         .collect();
     let headline_scene = headline.first().map_or("", |r| r.scene.as_str());
     // The antialiasing variants were timed in a run of their own (six renderers side by
@@ -929,10 +943,11 @@ pub fn write_report(
     scatter_chart(
         &dir.join("time_vs_error.png"),
         &format!(
-            "time versus error, {} ({}x{}, lavapipe)",
+            "time versus error, {} ({}x{}, {})",
             headline.first().map_or("", |r| r.scene.as_str()),
             headline.first().map_or(WIDTH, |r| r.size.0),
-            headline.first().map_or(HEIGHT, |r| r.size.1)
+            headline.first().map_or(HEIGHT, |r| r.size.1),
+            device_label(device)
         ),
         &Axis::log("median frame time, submit to fence (ms)"),
         &Axis::log("worst error / strict bound (1 = within every bound)"),

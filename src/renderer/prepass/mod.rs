@@ -332,13 +332,10 @@ impl EllipsoidRenderer {
             hidden => {
                 dispatches.push(match traced {
                     // One invocation per pixel, in squares of the traversal's group edge.
-                    Some(t) => {
-                        let edge = crate::research::TRACE_GROUP_EDGE;
-                        (
-                            t.pipeline,
-                            DispatchSize::Grid(w.div_ceil(edge), h.div_ceil(edge)),
-                        )
-                    }
+                    Some(t) => (
+                        t.pipeline,
+                        DispatchSize::Grid(w.div_ceil(t.group_edge), h.div_ceil(t.group_edge)),
+                    ),
                     None => (self.pipelines.splat(device, splat)?, DispatchSize::Splat),
                 });
                 if hidden == HiddenLayers::StampShown {

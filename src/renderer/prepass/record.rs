@@ -36,6 +36,8 @@ pub(crate) struct TracedDispatch {
     pub layout: vk::PipelineLayout,
     pub set: vk::DescriptorSet,
     pub pipeline: vk::Pipeline,
+    /// The traversal's workgroups are squares of this many pixels a side.
+    pub group_edge: u32,
 }
 
 /// The workgroups of a dispatch with one invocation per glyph of `count`, in the splat's

@@ -3,20 +3,13 @@
 //! the scene one process loading the whole file gets ([`load()`](crate::load())), glyph for glyph
 //! and bit for bit, each glyph with its index in that scene.
 //!
-//! How a file is divided ([`Split`]):
-//!
-//! - Ellipsoid CSV, LAMMPS dumps and extended XYZ (frame 1): every process reads the head
-//!   (the header row; the items up to `ITEM: ATOMS`; the count and comment lines), then the
-//!   lines that START in its byte range of the rest (`line_ranges`);
-//! - binary 3D Gaussian Splatting PLY: its range of the vertex records;
-//! - everything else (gzip, NIfTI, PDB and mmCIF, ASCII PLY, and heads of unusual shape) is
-//!   read whole by every process, which keeps its range of the glyphs.
-//!
-//! Errors are the whole load's, with the same file, line (or vertex) and reason: a process
-//! whose part holds a bad record reports it, and the others return [`Error::OtherRank`]
-//! naming it, together: every step that can fail on one process is agreed on by all before
-//! any process waits on another ([`Exchange`]). With `skip_invalid`, the first record skipped
-//! is the file's first. The processes must see the same file (checked: its length and head).
+//! How each format is divided ([`Split`]), how indices and species are numbered across the
+//! processes and how a failing share is reported are specified once, in the repository's
+//! `docs/mpi.md` ("The command-line tool under mpirun"). What holds it together here: every
+//! step that can fail on one process is agreed on by all before any process waits on another
+//! ([`Exchange`]); a process whose part holds a bad record reports it and the others return
+//! [`Error::OtherRank`] naming it. The processes must see the same file (checked: its length
+//! and head).
 
 mod collective;
 mod csv;

@@ -572,9 +572,11 @@ fn split_legend<'a>(
 
 /// Draws the legend entries top-down in `side`: a line and/or marker, then the name (cut to fit).
 fn draw_legend(side: &Area<'_>, legend: &[LegendEntry]) -> std::result::Result<(), String> {
-    let (w, _) = side.dim_in_pixel();
-    let row = 28;
+    let (w, h) = side.dim_in_pixel();
     let top = 40;
+    // Rows shrink (to no less than the text's height) so that a long legend stays inside.
+    let fits = (h as i32 - top - 10) / (legend.len() as i32).max(1);
+    let row = fits.clamp(18, 28);
     let text_x = 50;
     let room = w.saturating_sub(text_x as u32 + 10);
     side.draw(&Rectangle::new(
