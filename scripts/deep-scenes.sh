@@ -10,7 +10,7 @@
 #
 #   bash scripts/deep-scenes.sh [RUNS [OUT]]      (RUNS 3, OUT deep-scenes)
 #   METHODS=impostor-compute,impostor-visible-first,floor-visible,impostor-tiled bash scripts/deep-scenes.sh 2 tiled
-#   DRIVERS=mesa-25 METHODS=impostor-compute,impostor-traced,impostor-traced-rebuild,floor-visible bash scripts/deep-scenes.sh 2 traced
+#   DRIVERS=mesa-25 METHODS=impostor-compute,impostor-traced,impostor-visible-first,impostor-traced-rebuild,floor-visible bash scripts/deep-scenes.sh 2 traced
 #
 # Uses target/release/ellipsoid-splat (cargo build --release -p ellipsoid-splat-tool).
 set -euo pipefail
@@ -35,9 +35,13 @@ if [ "$methods" != "$default_methods" ]; then
 elif ! "$python" -c 'import mitsuba' 2>/dev/null; then
   tracer=no; echo "deep-scenes: no Mitsuba for $python (pip install mitsuba): our side alone" >&2
 fi
-for scene in lattice md-liquid; do
-  "$tool" render --scene "$scene" --save-scene "$out/$scene.csv" --output "$out/$scene.png" > /dev/null 2>&1
-done
+started="$(date -u '+%Y-%m-%d %H:%M')"
+load_before="$(cut -d' ' -f1-3 /proc/loadavg)"
+if [ "$tracer" = yes ]; then  # the scene files the ray tracer reads
+  for scene in lattice md-liquid; do
+    "$tool" render --scene "$scene" --save-scene "$out/$scene.csv" --output "$out/$scene.png" > /dev/null 2>&1
+  done
+fi
 { echo "date: $(date -u '+%Y-%m-%d %H:%M UTC')"; echo "load: $(cut -d' ' -f1-3 /proc/loadavg)"
   echo "cpu: $(nproc) cores of $(sed -n 's/^model name[[:space:]]*: *//p' /proc/cpuinfo | head -n 1)"; echo "build: $(git -C "$here" rev-parse --short HEAD)"; "$tool" info | grep -E '^(device|driver):'; } > "$out/machine.txt"
 for run in $(seq "$runs"); do
@@ -54,6 +58,12 @@ for run in $(seq "$runs"); do
     done
   fi
 done
+# When, where and with which build: the line scripts/tables.py sets beside the folder's tables.
+cat > "$out/about.txt" <<ABOUT
+# scripts/deep-scenes.sh with methods $methods; machine.txt has the load after each run.
+# files | date | machine
+* | $started-$(date -u +%H:%M) UTC | $(nproc) CPU cores of $(sed -n 's/^model name[[:space:]]*: *//p' /proc/cpuinfo | head -n 1) (load average $load_before before, $(cut -d' ' -f1-3 /proc/loadavg) after), build $(git -C "$here" rev-parse --short HEAD)
+ABOUT
 if [ "$methods" = "$default_methods" ]; then
   python3 "$here/scripts/deep-table.py" "$out"
 else

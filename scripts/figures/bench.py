@@ -4,8 +4,8 @@ compute splat and its roofline, hidden layers, the targets, `--skip` and `--anti
 import re
 from pathlib import Path
 
-from figures.results import (ROOT, ResultsError, device_of, files, measured, read_csv,
-                             report_device, sci)
+from figures.results import (ROOT, ResultsError, device_of, files, measured, printed,
+                             read_csv, report_device, sci, timed)
 
 
 def methods_side_by_side(path: str, scene: str) -> list[str]:
@@ -126,13 +126,9 @@ def hidden_layers(paths: list[str]) -> list[str]:
             missing = [m for m in methods if (scene, count, m) not in by]
             if missing:
                 raise ResultsError(f"{csv_path.relative_to(ROOT)}: {scene} lacks {', '.join(missing)}")
-            cells = []
-            for m in methods:
-                r = by[(scene, count, m)]
-                casts = r["ray_casts_per_visible_pixel"]
-                wall = float(r["wall_ms"])
-                cells.append(f"{wall:.2f} ({float(casts):.2f})" if casts and m != "floor-memory"
-                             else f"{wall:.2f}")
+            # The memory floor casts no ray (its count is the read-back frame's resolve).
+            cells = [timed(by[(scene, count, m)]) if m != "floor-memory"
+                     else f"{float(by[(scene, count, m)]['wall_ms']):.2f}" for m in methods]
             still = float(by[(scene, count, "impostor")]["wall_ms"])
             floor = float(by[(scene, count, "floor-visible")]["wall_ms"])
             lines.append(f"| {scene} ({int(count):,}) | " + " | ".join(cells) +
@@ -140,16 +136,13 @@ def hidden_layers(paths: list[str]) -> list[str]:
     return lines
 
 
-TARGET = re.compile(r"^\[(met|MISSED)\] (.+)$")
+TARGET = re.compile(r"^\[(met|MISSED)\] (.+)$", re.M)
 
 
 def targets(report: str) -> list[str]:
     """The targets `bench` checks, as its log printed them: met or missed, and the figure."""
     log = files(f"{report}/bench.txt")[0]
-    found = [TARGET.match(line) for line in log.read_text().splitlines()]
-    found = [m for m in found if m]
-    if not found:
-        raise ResultsError(f"{log.relative_to(ROOT)} prints no [met] or [MISSED] line")
+    found = printed(log, TARGET, "[met] or [MISSED]")
     lines = [measured(log, *report_device(ROOT / report)) + " `bench --quick`, one run.", "",
              "| verdict | target: figures |", "|---|---|"]
     for m in found:
@@ -191,8 +184,9 @@ def antialias(report: str) -> list[str]:
     folder = ROOT / report
     csv_path = files(f"{report}/bench/antialias.csv")[0]
     rows = read_csv(csv_path)
-    lines = [measured(csv_path, *report_device(folder)) + " `bench --antialias`, one run; "
-             "times at 1920x1080 (ratio to one sample), errors on the 480 x 270 view."]
+    lines = [measured(csv_path, *report_device(folder)) + " The antialiasing run of `bench` "
+             "(`antialias.csv`), one run; times at 1920x1080 (ratio to one sample), errors on "
+             "the 480 x 270 view."]
     for scene in dict.fromkeys(r["scene"] for r in rows):
         here = {r["variant"]: r for r in rows if r["scene"] == scene}
         missing = [v for v, _ in ANTIALIAS_VARIANTS if v not in here]

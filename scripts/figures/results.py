@@ -25,9 +25,10 @@ def helper(name: str):
 
 
 def files(pattern: str) -> list[Path]:
-    """The committed files a glob names, in run order (run2 before run10)."""
+    """The committed files a glob names, in run order (run2 before run10), by their path from
+    the repository root (not the file system's order)."""
     found = sorted(ROOT.glob(pattern), key=lambda p: [int(t) if t.isdigit() else t
-                                                      for t in re.split(r"(\d+)", p.name)])
+                                                      for t in re.split(r"(\d+)", str(p.relative_to(ROOT)))])
     if not found:
         raise ResultsError(f"no file matches {pattern}")
     return found
@@ -50,6 +51,23 @@ def about(path: Path) -> tuple[str, str]:
     raise ResultsError(f"no about.txt beside {path.relative_to(ROOT)} (its date and machine)")
 
 
+def printed(log: Path, pattern: re.Pattern, what: str) -> list[re.Match]:
+    """Every match of `pattern` (one printed line each) in a committed log; none is an error
+    naming the log and the line it lacks."""
+    found = list(pattern.finditer(log.read_text()))
+    if not found:
+        raise ResultsError(f"{log.relative_to(ROOT)} prints no {what} line")
+    return found
+
+
+def timed(row: dict, digits: int = 2) -> str:
+    """A results.csv row's median time, with its ray casts per visible pixel in brackets where
+    counted (an empty cell: not counted)."""
+    casts = row.get("ray_casts_per_visible_pixel")
+    wall = f"{float(row['wall_ms']):,.{digits}f}"
+    return f"{wall} ({float(casts):.2f})" if casts else wall
+
+
 def read_csv(path: Path) -> list[dict]:
     return list(csv.DictReader(path.open()))
 
@@ -64,6 +82,9 @@ def device_of(rows: list[dict]) -> tuple[str, str]:
 
 def report_device(folder: Path) -> tuple[str, str]:
     """(device, driver) of a device report's `info.txt` (what `ellipsoid-splat info` printed)."""
+    if not (folder / "info.txt").exists():
+        raise ResultsError(f"{folder.relative_to(ROOT)}/info.txt is missing (the device and driver "
+                           "`ellipsoid-splat info` names)")
     info = (folder / "info.txt").read_text()
     found = [re.search(rf"^{key}:\s*(.+)$", info, re.M) for key in ("device", "driver")]
     if None in found:

@@ -3,8 +3,8 @@ deep-table.py, device-table.py), with the line that says when and where they ran
 
 import re
 
-from figures.results import (ROOT, ResultsError, device_of, files, helper, measured, read_csv,
-                             report_device)
+from figures.results import (ROOT, ResultsError, device_of, files, helper, measured, printed,
+                             read_csv, report_device, timed)
 
 
 def regret(pattern: str) -> list[str]:
@@ -66,17 +66,18 @@ def research(folder: str, method: str) -> list[str]:
             said = line
         for scene in dict.fromkeys(r["scene"] for r in rows):
             by = {r["method"]: r for r in rows if r["scene"] == scene}
-            cells = [f"{float(by[m]['wall_ms']):,.1f} ({float(by[m]['ray_casts_per_visible_pixel']):.2f})"
-                     if m in by else "-" for m in methods]
+            cells = [timed(by[m], 1) if m in by else "-" for m in methods]
             cells += [f"{float(by[method]['wall_ms']) / float(by[base]['wall_ms']):.2f}"
                       if method in by and base in by else "-" for base in bases]
             lines.append(f"| {path.parent.name} | {scene} | " + " | ".join(cells) + " |")
     return lines
 
 
-VIEWER = {"summary": re.compile(r"median\): moving ([0-9.]+|-)(?: ms)? \((\d+) frames\), still ([0-9.]+|-)(?: ms)? \((\d+) frames\)"),
-          "pick": re.compile(r"^pick \([^)]*\): .*\(([0-9.]+) ms\)$", re.M),
-          "shown": re.compile(r"presented ([0-9.]+) ms after the click")}
+VIEWER = {"the frame summary": re.compile(r"median\): moving ([0-9.]+|-)(?: ms)? \((\d+) frames\), "
+                                         r"still ([0-9.]+|-)(?: ms)? \((\d+) frames\)"),
+          "'pick (X, Y): ... (T ms)'": re.compile(r"^pick \([^)]*\): .*\(([0-9.]+) ms\)$", re.M),
+          "'pick shown'": re.compile(r"presented ([0-9.]+) ms after the click"),
+          "'swapchain: WxH'": re.compile(r"^swapchain: (\d+x\d+)", re.M)}
 
 
 def viewer(folder: str) -> list[str]:
@@ -84,21 +85,19 @@ def viewer(folder: str) -> list[str]:
     read-back and the time until the highlighted frame was presented."""
     report = ROOT / folder
     logs = [p for p in files(f"{folder}/*.txt") if p.name not in ("info.txt", "about.txt")]
-    lines = [measured(logs[0], *report_device(report)) + " 1280x720, `--no-vsync`, no validation; "
-             "GPU time per frame (timestamps), medians.", "",
-             "| scene | moving | still | pick read-back | pick shown after |",
-             "|---|---:|---:|---:|---:|"]
+    if not logs:
+        raise ResultsError(f"{folder} holds no scene's log (scripts/viewer-figures.sh writes them)")
+    rows, sizes = [], set()
     for log in logs:
-        text = log.read_text()
-        found = {key: pattern.search(text) for key, pattern in VIEWER.items()}
-        missing = [key for key, match in found.items() if match is None]
-        if missing:
-            raise ResultsError(f"{log.relative_to(ROOT)} prints no {', '.join(missing)} line")
-        moving, moving_frames, still, still_frames = found["summary"].groups()
-        lines.append(f"| {log.stem} | {moving} ms ({moving_frames} frames) | {still} ms "
-                     f"({still_frames} frames) | {found['pick'].group(1)} ms | "
-                     f"{found['shown'].group(1)} ms |")
-    return lines
+        summary, pick, shown, size = (printed(log, pattern, what)[0] for what, pattern in VIEWER.items())
+        sizes.add(size.group(1))
+        moving, moving_frames, still, still_frames = summary.groups()
+        rows.append(f"| {log.stem} | {moving} ms ({moving_frames} frames) | {still} ms "
+                    f"({still_frames} frames) | {pick.group(1)} ms | {shown.group(1)} ms |")
+    return [measured(logs[0], *report_device(report)) + f" {', '.join(sorted(sizes))} (the "
+            "swapchain), scripts/view-pick.script; GPU time per frame (timestamps), medians.", "",
+            "| scene | moving | still | pick read-back | pick shown after |",
+            "|---|---:|---:|---:|---:|"] + rows
 
 
 EMBED = re.compile(r"^(.+), (1 sample|4 samples, shaded per pixel|4 samples, shaded per sample): "
@@ -109,11 +108,13 @@ def embed_bench(path: str) -> list[str]:
     """`cargo run --release --example embed -- --bench`: the host's own pass with its mesh,
     one sample against 4x MSAA shaded per pixel and per sample, per scene."""
     log = files(path)[0]
-    found = EMBED.findall(log.read_text())
-    if not found:
-        raise ResultsError(f"{log.relative_to(ROOT)} prints no 'SCENE, VARIANT: median' line")
+    found = [m.groups() for m in printed(log, EMBED, "'SCENE, VARIANT: median'")]
     variants = ["1 sample", "4 samples, shaded per pixel", "4 samples, shaded per sample"]
     by = {(scene, variant): float(ms) for scene, variant, ms, _ in found}
+    for scene in dict.fromkeys(scene for scene, *_ in found):
+        missing = [v for v in variants if (scene, v) not in by]
+        if missing:
+            raise ResultsError(f"{log.relative_to(ROOT)}: {scene} lacks {', '.join(missing)}")
     lines = [measured(log, *report_device(log.parent)) + " `examples/embed --bench`: the host's "
              "4x render pass with its plane mesh, 1280x720, the variants interleaved frame by "
              "frame; medians (ratio to one sample).", "",
