@@ -99,6 +99,14 @@ TABLES = [
     Table("tiled-lavapipe", "docs/deep-scenes.md", f"{DEEP}c",
           lambda: runs.research(f"{DEEP}c", "impostor-tiled")),
 ] + [
+    Table(f"resolve-records-{motion}", "docs/deep-scenes.md",
+          f"{DEEP}d/{{before,after}}-{motion}-pair1-5.csv",
+          lambda motion=motion: runs.before_after(
+              runs_of(f"{DEEP}d/before-{motion}-pair{{run}}.csv", range(1, 6)),
+              runs_of(f"{DEEP}d/after-{motion}-pair{{run}}.csv", range(1, 6))))
+    for motion in ("still", "orbit")
+] + [
+] + [
     Table(f"plan-regret-{which}", "docs/plan.md", f"{PLAN}/regret-{which}-run*.csv",
           lambda which=which: runs.regret(f"{PLAN}/regret-{which}-run*.csv"))
     for which in ("mesa-22.3.6", "mesa-25.0.7", "final-mesa-22.3.6", "final-mesa-25.0.7")
