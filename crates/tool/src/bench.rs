@@ -907,13 +907,15 @@ pub fn write_report(
     let chart: Vec<ChartPoint> = headline.iter().map(|r| ChartPoint::of(r)).collect();
     let points: Vec<(f64, f64)> = chart.iter().map(|p| (p.time, p.error)).collect();
     // The floors draw nothing (their error is a placeholder): plotted, never on the front.
-    let drawing: Vec<usize> = (0..headline.len())
-        .filter(|&i| headline[i].method.splat_floor() == 0)
+    let drawn: Vec<ChartPoint> = headline
+        .iter()
+        .zip(&chart)
+        .filter(|(r, _)| r.method.splat_floor() == 0)
+        .map(|(_, &p)| p)
         .collect();
-    let drawn: Vec<ChartPoint> = drawing.iter().map(|&i| chart[i]).collect();
     let front: Vec<(f64, f64)> = pareto_front(&drawn)
         .into_iter()
-        .map(|i| points[drawing[i]])
+        .map(|i| (drawn[i].time, drawn[i].error))
         .collect();
     let headline_scene = headline.first().map_or("", |r| r.scene.as_str());
     // The antialiasing variants were timed in a run of their own (six renderers side by
