@@ -30,7 +30,9 @@ from figures.results import RESULTS, ROOT, ResultsError  # noqa: E402
 
 PLAN = f"{RESULTS}/plan"
 DEEP = f"{RESULTS}/deep/2026-11-27"
-H200 = f"{RESULTS}/devices/nvidia-h200-2026-11-27"
+H200 = f"{RESULTS}/devices/nvidia-h200-2026-11-27b"
+# The first report of the day: the plan's regret over three runs and `bench --skip`.
+H200_FIRST = f"{RESULTS}/devices/nvidia-h200-2026-11-27"
 LAVAPIPE = f"{RESULTS}/devices/lavapipe-mesa-22.3.6-2026-11-27"
 LAVAPIPE_25 = f"{RESULTS}/devices/lavapipe-mesa-25.0.7-2026-11-27"
 VIEWER = f"{RESULTS}/viewer/2026-11-27"
@@ -76,9 +78,9 @@ TABLES = [
           lambda: bench.hidden_layers([LAVAPIPE_BENCH, f"{LAVAPIPE_25}/bench/results.csv", H200_BENCH])),
     Table("skip-lavapipe", "docs/culling.md", f"{LAVAPIPE}/skip.csv",
           lambda: bench.skip([f"{LAVAPIPE}/skip.csv"])),
-    Table("skip", "docs/culling.md", f"{PLAN}/skip-mesa-*.csv, {H200}/skip.csv",
+    Table("skip", "docs/culling.md", f"{PLAN}/skip-mesa-*.csv, {H200_FIRST}/skip.csv",
           lambda: bench.skip([f"{PLAN}/skip-mesa-22.3.6.csv", f"{PLAN}/skip-mesa-25.0.7.csv",
-                              f"{H200}/skip.csv"])),
+                              f"{H200_FIRST}/skip.csv"])),
     Table("antialias-h200", "docs/antialiasing.md", f"{H200}/bench/antialias.csv",
           lambda: bench.antialias(H200)),
     Table("antialias-lavapipe", "docs/antialiasing.md", f"{LAVAPIPE}/bench/antialias.csv",
@@ -94,6 +96,8 @@ TABLES = [
           lambda: runs.device_report(LAVAPIPE_25)),
     Table("device-h200", "docs/conformance.md", H200, lambda: runs.device_report(H200)),
     Table("deep-scenes", "docs/deep-scenes.md", DEEP, lambda: runs.deep(DEEP)),
+    Table("deep-h200", "docs/deep-scenes.md", f"{H200}/deep",
+          lambda: runs.deep_device(f"{H200}/deep")),
     Table("traced-lavapipe", "docs/deep-scenes.md", f"{DEEP}b",
           lambda: runs.research(f"{DEEP}b", "impostor-traced")),
     Table("tiled-lavapipe", "docs/deep-scenes.md", f"{DEEP}c",
@@ -111,8 +115,8 @@ TABLES = [
           lambda which=which: runs.regret(f"{PLAN}/regret-{which}-run*.csv"))
     for which in ("mesa-22.3.6", "mesa-25.0.7", "final-mesa-22.3.6", "final-mesa-25.0.7")
 ] + [
-    Table("plan-regret-h200", "docs/plan.md", f"{H200}/regret-run*.csv",
-          lambda: runs.regret(f"{H200}/regret-run*.csv")),
+    Table("plan-regret-h200", "docs/plan.md", f"{H200_FIRST}/regret-run*.csv",
+          lambda: runs.regret(f"{H200_FIRST}/regret-run*.csv")),
     Table("plan-orbit", "docs/plan.md", f"{PLAN}/orbit-mesa-22.3.6.txt",
           lambda: runs.orbit(f"{PLAN}/orbit-mesa-22.3.6.txt")),
     # Of the three pairs the first shared the cores with a build (docs/plan.md).

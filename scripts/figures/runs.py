@@ -73,6 +73,32 @@ def research(folder: str, method: str) -> list[str]:
     return lines
 
 
+def deep_device(folder: str) -> list[str]:
+    """A device's deep scenes still and orbiting (`bench --scenes ...` into `still-runN/` and
+    `orbit-runN/`): per run and scene the path the plan took, each path's median ms with its ray
+    casts per visible pixel, and the plan's frame over the visible-pixel floor."""
+    paths = sorted(files(f"{folder}/*-run*/results.csv"),
+                   key=lambda p: (int(p.parent.name.rsplit("run", 1)[1]), p.parent.name.startswith("orbit")))
+    methods = ["impostor", "impostor-compute", "impostor-visible-first", "impostor-draw", "floor-visible"]
+    rows = [r for p in paths for r in read_csv(p)]
+    lines = [measured(paths[0], *device_of(rows)) + " `bench --quick --frames 31`, 1920x1080; "
+             "medians in ms, in brackets ray casts per visible pixel; orbit: 0.5 degree a frame; "
+             "`impostor` is the plan's frame.", "",
+             "| run | scene | plan's path | " + " | ".join(methods) + " | impostor / floor-visible |",
+             "|---|---|---|" + "---:|" * (len(methods) + 1)]
+    for path in paths:
+        found = read_csv(path)
+        for scene in dict.fromkeys(r["scene"] for r in found):
+            by = {r["method"]: r for r in found if r["scene"] == scene}
+            missing = [m for m in methods if m not in by]
+            if missing:
+                raise ResultsError(f"{path.relative_to(ROOT)} has no {', '.join(missing)} row for {scene}")
+            ratio = float(by["impostor"]["wall_ms"]) / float(by["floor-visible"]["wall_ms"])
+            cells = [by["impostor"]["plan_path"]] + [timed(by[m]) for m in methods] + [f"{ratio:.2f}"]
+            lines.append(f"| {path.parent.name} | {scene} | " + " | ".join(cells) + " |")
+    return lines
+
+
 VIEWER = {"the frame summary": re.compile(r"median\): moving ([0-9.]+|-)(?: ms)? \((\d+) frames\), "
                                          r"still ([0-9.]+|-)(?: ms)? \((\d+) frames\)"),
           "'pick (X, Y): ... (T ms)'": re.compile(r"^pick \([^)]*\): .*\(([0-9.]+) ms\)$", re.M),
