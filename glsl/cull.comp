@@ -230,6 +230,10 @@ bool occluded(uint index, vec4 sampled) {
 // KEY_TILES: the tile's word takes the farthest depth-buffer value (bits: positive floats
 // order like their bits) the visibility buffer holds at its on-screen pixels, or the empty
 // key's when a pixel shows nothing: every pixel of the tile holds a hit at or nearer than it.
+// A tile inside a resolve tile no glyph of the pass marked shows nothing (a glyph with a hit
+// marks every resolve tile its box touches) and reads no pixel: a loop of no trips, taken
+// alike by a subgroup of 8 lanes where its tiles share a resolve tile (on images whose width
+// is a multiple of 32 pixels, always).
 void key_tile(uint t) {
     ivec2 grid = tile_grid();
     if (t >= uint(grid.x * grid.y)) {
@@ -238,8 +242,11 @@ void key_tile(uint t) {
     uvec2 origin = uvec2(t % uint(grid.x), t / uint(grid.x)) * uint(TILE);
     uvec2 size = image_size();
     uvec2 last = min(origin + uint(TILE) - 1u, size - 1u);
-    uint farthest = ~empty_key_word();
-    for (uint y = origin.y; y <= last.y; y++) {
+    uvec2 resolve = origin / RESOLVE_TILE;
+    bool marked = visibility_words[2u * resolve_tile_word(resolve.y * resolve_tiles_x() + resolve.x)]
+        != empty_key_word();
+    uint farthest = marked ? ~empty_key_word() : empty_key_word();
+    for (uint y = origin.y; marked && y <= last.y; y++) {
         for (uint x = origin.x; x <= last.x; x++) {
             uint z = visibility_words[2u * (y * size.x + x) + 1u];
             farthest = REVERSED_Z ? min(farthest, z) : max(farthest, z);

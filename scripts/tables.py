@@ -98,18 +98,20 @@ TABLES = [
     Table("deep-scenes", "docs/deep-scenes.md", DEEP, lambda: runs.deep(DEEP)),
     Table("deep-h200", "docs/deep-scenes.md", f"{H200}/deep",
           lambda: runs.deep_device(f"{H200}/deep")),
+    Table("stages-lavapipe", "docs/deep-scenes.md", f"{DEEP}e", lambda: runs.stages(f"{DEEP}e")),
     Table("traced-lavapipe", "docs/deep-scenes.md", f"{DEEP}b",
           lambda: runs.research(f"{DEEP}b", "impostor-traced")),
     Table("tiled-lavapipe", "docs/deep-scenes.md", f"{DEEP}c",
           lambda: runs.research(f"{DEEP}c", "impostor-tiled")),
 ] + [
-    Table(f"resolve-records-{motion}", "docs/deep-scenes.md",
-          f"{DEEP}d/{{before,after}}-{motion}-pair1-5.csv",
-          lambda motion=motion: runs.before_after(
-              runs_of(f"{DEEP}d/before-{motion}-pair{{run}}.csv", range(1, 6)),
-              runs_of(f"{DEEP}d/after-{motion}-pair{{run}}.csv", range(1, 6))))
+    # Five interleaved pairs of the build before and after a change, still and orbiting.
+    Table(f"{change}-{motion}", "docs/deep-scenes.md",
+          f"{folder}/{{before,after}}-{motion}-pair1-5.csv",
+          lambda folder=folder, motion=motion: runs.before_after(
+              runs_of(f"{folder}/before-{motion}-pair{{run}}.csv", range(1, 6)),
+              runs_of(f"{folder}/after-{motion}-pair{{run}}.csv", range(1, 6))))
+    for change, folder in (("resolve-records", f"{DEEP}d"), ("key-tiles", f"{DEEP}f"))
     for motion in ("still", "orbit")
-] + [
 ] + [
     Table(f"plan-regret-{which}", "docs/plan.md", f"{PLAN}/regret-{which}-run*.csv",
           lambda which=which: runs.regret(f"{PLAN}/regret-{which}-run*.csv"))
