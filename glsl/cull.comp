@@ -230,10 +230,10 @@ bool occluded(uint index, vec4 sampled) {
 // KEY_TILES: the tile's word takes the farthest depth-buffer value (bits: positive floats
 // order like their bits) the visibility buffer holds at its on-screen pixels, or the empty
 // key's when a pixel shows nothing: every pixel of the tile holds a hit at or nearer than it.
-// A tile inside a resolve tile no glyph of the pass marked shows nothing (a glyph with a hit
-// marks every resolve tile its box touches) and reads no pixel: a loop of no trips, taken
-// alike by a subgroup of 8 lanes where its tiles share a resolve tile (on images whose width
-// is a multiple of 32 pixels, always).
+// A tile inside a resolve tile no glyph marked so far this frame shows nothing (a glyph with
+// a hit marks every resolve tile its box touches) and reads no pixel: a loop of no trips,
+// taken alike by a subgroup of 8 lanes where its tiles share a resolve tile (on images whose
+// width is a multiple of 32 pixels, always).
 void key_tile(uint t) {
     ivec2 grid = tile_grid();
     if (t >= uint(grid.x * grid.y)) {

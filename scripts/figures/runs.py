@@ -3,6 +3,7 @@ deep-table.py, device-table.py), with the line that says when and where they ran
 
 import re
 import statistics
+from pathlib import Path
 
 from figures.results import (ROOT, ResultsError, device_of, files, helper, measured, printed,
                              read_csv, report_device, timed)
@@ -104,40 +105,63 @@ def deep_device(folder: str) -> list[str]:
 # src/renderer/prepass/mod.rs), grouped as the stage profile's columns.
 STAGES = {"list shown": [0, 1, 2], "splat shown": [3], "key tiles": [4], "list rest": [5, 6, 7],
           "splat rest": [8], "mark shown": [9], "list drawn": [10, 11, 12]}
+STAGE_ORDER = [k for ks in STAGES.values() for k in ks]
 
 
-def stages(folder: str) -> list[str]:
+def stamped_frames(log: Path) -> list[list[float]]:
+    """The visible-first frames of a stage-profile log's bench run: its first unbroken block of
+    `stamps:` lines with every dispatch (a tensor field's log goes on with the antialiasing
+    study's frames, first frames and others, which are not the run's)."""
+    block = []
+    for line in log.read_text().splitlines():
+        if not line.startswith("stamps:"):
+            continue
+        values = line.split()[1:]
+        if len(values) == len(STAGE_ORDER):
+            block.append([float(x) for x in values])
+        elif block:
+            break
+    if not block:
+        raise ResultsError(f"{log.relative_to(ROOT)} holds no visible-first frame's stamps")
+    return block
+
+
+
+def stages(folders: list[str]) -> list[str]:
     """Where the visible-first splat's frame goes (a temporary build's timestamps before each
-    pre-pass dispatch, the `stamps:` lines of each run's log): per motion and scene the median
-    over every stamped frame of the runs of each group of dispatches, the pre-pass, and the
-    frame's GPU time (median of the runs' medians); the pass (resolve, clears) is the rest."""
-    logs = files(f"{folder}/*-run*.txt")
-    groups = {}
-    for log in logs:
-        motion, scene = log.stem.split("-", 1)
-        scene = scene.rsplit("-run", 1)[0]
-        frames = [[float(x) for x in line.split()[1:]] for line in log.read_text().splitlines()
-                  if line.startswith("stamps:") and len(line.split()) == 14]
-        if not frames:
-            raise ResultsError(f"{log.relative_to(ROOT)} holds no visible-first frame's stamps")
-        rows = read_csv(log.parent / log.stem / "results.csv")
-        entry = groups.setdefault((motion, scene), {"frames": [], "gpu": [], "rows": []})
-        entry["frames"] += frames
-        entry["gpu"].append(float(rows[0]["gpu_ms"]))
-        entry["rows"] += rows
-    device = device_of([r for e in groups.values() for r in e["rows"]])
-    lines = [measured(logs[0], *device) + " `bench --quick --frames 15`, impostor-visible-first, "
-             "1920x1080; medians in ms over every frame of three runs (frame: median of the runs' "
-             "medians); orbit: 0.5 degree a frame.", "",
-             "| motion | scene | frame | pre-pass | " + " | ".join(STAGES) + " | the pass (frame - pre-pass) |",
-             "|---|---|---:|---:|" + "---:|" * (len(STAGES) + 1)]
-    for (motion, scene), entry in sorted(groups.items(), key=lambda kv: (kv[0][0] != "still", kv[0][1])):
-        frame = statistics.median(entry["gpu"])
-        prepass = statistics.median(sum(f) for f in entry["frames"])
-        cells = [statistics.median(sum(f[k] for k in ks) for f in entry["frames"])
-                 for ks in STAGES.values()]
-        lines.append(f"| {motion} | {scene} | {frame:.1f} | {prepass:.1f} | "
-                     + " | ".join(f"{c:.1f}" for c in cells) + f" | {frame - prepass:.1f} |")
+    pre-pass dispatch, the `stamps:` lines of each run's log), one table per folder: per motion
+    and scene the median over the runs' frames of each group of dispatches and of the
+    pre-pass, and the frame's GPU time (median of the runs' medians); the pass (resolve,
+    clears) is the rest."""
+    lines = []
+    for folder in folders:
+        logs = files(f"{folder}/*-run*.txt")
+        groups = {}
+        for log in logs:
+            motion, scene = log.stem.split("-", 1)
+            scene = scene.rsplit("-run", 1)[0]
+            results = log.parent / log.stem / "results.csv"
+            rows = read_csv(results) if results.exists() else []
+            if not rows:
+                raise ResultsError(f"{results.relative_to(ROOT)} is missing or empty (the run's bench failed)")
+            entry = groups.setdefault((motion, scene), {"frames": [], "gpu": [], "rows": []})
+            entry["frames"] += stamped_frames(log)
+            entry["gpu"].append(float(rows[0]["gpu_ms"]))
+            entry["rows"] += rows
+        device = device_of([r for e in groups.values() for r in e["rows"]])
+        lines += ([""] if lines else []) + [
+            measured(logs[0], *device) + " `bench --quick --frames 15`, impostor-visible-first, "
+            "1920x1080; each part the median over the runs' frames (their warm-up included), "
+            "the frame the median of the runs' medians; orbit: 0.5 degree a frame.", "",
+            "| motion | scene | frame | pre-pass | " + " | ".join(STAGES) + " | the pass (frame - pre-pass) |",
+            "|---|---|---:|---:|" + "---:|" * (len(STAGES) + 1)]
+        for (motion, scene), entry in sorted(groups.items(), key=lambda kv: (kv[0][0] != "still", kv[0][1])):
+            frame = statistics.median(entry["gpu"])
+            prepass = statistics.median(sum(f) for f in entry["frames"])
+            cells = [statistics.median(sum(f[k] for k in ks) for f in entry["frames"])
+                     for ks in STAGES.values()]
+            lines.append(f"| {motion} | {scene} | {frame:.1f} | {prepass:.1f} | "
+                         + " | ".join(f"{c:.1f}" for c in cells) + f" | {frame - prepass:.1f} |")
     return lines
 
 
