@@ -105,7 +105,8 @@ def deep_device(folder: str) -> list[str]:
 # src/renderer/prepass/mod.rs), grouped as the stage profile's columns.
 STAGES = {"list shown": [0, 1, 2], "splat shown": [3], "key tiles": [4], "list rest": [5, 6, 7],
           "splat rest": [8], "mark shown": [9], "list drawn": [10, 11, 12]}
-STAGE_ORDER = [k for ks in STAGES.values() for k in ks]
+# Dispatches a visible-first frame's stamps line holds.
+DISPATCHES = sum(len(ks) for ks in STAGES.values())
 
 
 def stamped_frames(log: Path) -> list[list[float]]:
@@ -117,14 +118,13 @@ def stamped_frames(log: Path) -> list[list[float]]:
         if not line.startswith("stamps:"):
             continue
         values = line.split()[1:]
-        if len(values) == len(STAGE_ORDER):
+        if len(values) == DISPATCHES:
             block.append([float(x) for x in values])
         elif block:
             break
     if not block:
         raise ResultsError(f"{log.relative_to(ROOT)} holds no visible-first frame's stamps")
     return block
-
 
 
 def stages(folders: list[str]) -> list[str]:

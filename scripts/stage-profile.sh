@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Where the visible-first splat's frame goes: three rounds of each deep scene still and
+# orbiting 0.5 degree a frame, one `bench --quick --frames 15` run each, with a tool built
+# with a timestamp before each pre-pass dispatch (the temporary patch
+# docs/results/deep/2026-11-27e/stamps.diff, against commit c663104; not part of the code).
+# Each run's log holds the bench's table and one `stamps:` line per frame (the pre-pass's
+# dispatches in ms, in the order of `prepass_dispatches` in src/renderer/prepass/mod.rs);
+# scripts/tables.py makes the stage profile's table from them.
+#
+#   bash scripts/stage-profile.sh OUT_DIR PATCHED_TOOL
+set -euo pipefail
+out="${1:?stage-profile: give the results folder}"
+tool="$(realpath "${2:?stage-profile: give the patched tool}")"
+mkdir -p "$out"
+cd "$out"
+uptime > load.txt
+for round in 1 2 3; do
+  for scene in lattice md-liquid tensor-field; do
+    for motion in still orbit; do
+      extra=(); [ "$motion" = orbit ] && extra=(--orbit 0.5)
+      ES_STAMPS=1 "$tool" bench --quick --frames 15 "${extra[@]}" --scenes "$scene" \
+        --methods impostor-visible-first --out "$motion-$scene-run$round" \
+        > "$motion-$scene-run$round.txt" 2>&1 \
+        || echo "stage-profile: $motion $scene run $round: bench exited $? (its log says why)" >&2
+    done
+  done
+done
+uptime >> load.txt
