@@ -36,12 +36,6 @@
 
 #include "cull_groups.glsl"
 
-// The visibility buffer's 32-bit words: a key's depth-buffer value is the odd word (KEY_TILES
-// reads only those).
-layout(std430, set = 0, binding = 8) readonly buffer VisibilityWords {
-    uint visibility_words[];
-};
-
 // The workgroup size, named here rather than read from gl_WorkGroupSize (a built-in SPIR-V
 // 1.6 deprecates): one group of instances.
 layout(local_size_x = 256) in;
@@ -243,12 +237,12 @@ void key_tile(uint t) {
     uvec2 size = image_size();
     uvec2 last = min(origin + uint(TILE) - 1u, size - 1u);
     uvec2 resolve = origin / RESOLVE_TILE;
-    bool marked = visibility_words[2u * resolve_tile_word(resolve.y * resolve_tiles_x() + resolve.x)]
+    bool marked = key_words(resolve_tile_word(resolve.y * resolve_tiles_x() + resolve.x)).x
         != empty_key_word();
     uint farthest = marked ? ~empty_key_word() : empty_key_word();
     for (uint y = origin.y; marked && y <= last.y; y++) {
         for (uint x = origin.x; x <= last.x; x++) {
-            uint z = visibility_words[2u * (y * size.x + x) + 1u];
+            uint z = key_words(y * size.x + x).y;
             farthest = REVERSED_Z ? min(farthest, z) : max(farthest, z);
         }
     }
@@ -264,14 +258,14 @@ void mark_shown(uint t) {
     if (t >= tiles_x * ((size.y + RESOLVE_TILE - 1u) / RESOLVE_TILE)) {
         return;
     }
-    bool marked = visibility_words[2u * resolve_tile_word(t)] != empty_key_word();
+    bool marked = key_words(resolve_tile_word(t)).x != empty_key_word();
     uvec2 origin = uvec2(t % tiles_x, t / tiles_x) * RESOLVE_TILE;
     // The workgroup's GROUP lanes take the tile's rows GROUP / RESOLVE_TILE at a time.
     uint lane = gl_LocalInvocationIndex, rows = GROUP / RESOLVE_TILE;
     for (uint k = 0u; k < (marked ? RESOLVE_TILE / rows : 0u); k++) {
         uvec2 p = origin + uvec2(lane % RESOLVE_TILE, lane / RESOLVE_TILE + rows * k);
         if (p.x < size.x && p.y < size.y) {
-            uint low = visibility_words[2u * (p.y * size.x + p.x)];
+            uint low = key_words(p.y * size.x + p.x).x;
             uint glyph = key_instance(low) - cam.first_instance;
             if (low != empty_key_word() && glyph < total) {
                 glyph_stamps[2u * glyph] = frame;

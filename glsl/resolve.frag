@@ -26,11 +26,9 @@ layout(location = 2) out uint out_id;
 void main() {
     vec2 pixel = camera_pixel(gl_FragCoord.xy);
     uvec2 p = uvec2(pixel);
-    uint64_t key = visibility[p.y * image_size().x + p.x];
-    // This chunk's instances are the bound slice of the instance buffer.
-    uint chunk = COMPACT ? compact_instances.length() : instances.length();
+    uint64_t key = packUint2x32(key_words(p.y * image_size().x + p.x));
     uint id = visibility_id(key) - cam.first_instance;
-    if (key == visibility_empty() || id >= chunk) {
+    if (key == visibility_empty() || id >= chunk_instances()) {
         discard;
     }
     count_fragment();

@@ -9,7 +9,7 @@
 
 void main() {
     uint tile = uint(gl_InstanceIndex);
-    if (visibility[resolve_tile_word(tile)] == visibility_empty()) {
+    if (key_words(resolve_tile_word(tile)).x == empty_key_word()) {
         gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
         return;
     }

@@ -100,6 +100,8 @@ TABLES = [
           lambda: runs.deep_device(f"{H200}/deep")),
     Table("stages-lavapipe", "docs/deep-scenes.md", f"{DEEP}e, {DEEP}g",
           lambda: runs.stages([f"{DEEP}e", f"{DEEP}g"])),
+    Table("resolve-variants", "docs/deep-scenes.md", f"{DEEP}h/resolve-variants",
+          lambda: runs.stages([f"{DEEP}h/resolve-variants/{v}" for v in ("base2", "nosetup2", "loadonly")])),
     Table("traced-lavapipe", "docs/deep-scenes.md", f"{DEEP}b",
           lambda: runs.research(f"{DEEP}b", "impostor-traced")),
     Table("tiled-lavapipe", "docs/deep-scenes.md", f"{DEEP}c",
@@ -114,7 +116,8 @@ TABLES = [
     # The key tiles' pairs: the visible-first splat alone (the plan's frame took the splat,
     # which has no key tiles, in some runs).
     for change, folder, methods in (("resolve-records", f"{DEEP}d", None),
-                                    ("key-tiles", f"{DEEP}f", ["impostor-visible-first"]))
+                                    ("key-tiles", f"{DEEP}f", ["impostor-visible-first"]),
+                                    ("texel-reads", f"{DEEP}h", None))
     for motion in ("still", "orbit")
 ] + [
     Table(f"plan-regret-{which}", "docs/plan.md", f"{PLAN}/regret-{which}-run*.csv",

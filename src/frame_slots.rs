@@ -19,6 +19,8 @@ pub(crate) enum Retired {
     Buffer(GpuBuffer),
     /// A descriptor pool with the sets (one per chunk) the renderer allocated from it.
     DescriptorPool(vk::DescriptorPool),
+    /// A texel view the sets of a retired pool pointed at.
+    BufferView(vk::BufferView),
 }
 
 impl Retired {
@@ -33,6 +35,8 @@ impl Retired {
             Retired::Buffer(buffer) => unsafe { buffer.destroy(device, allocator) },
             // SAFETY: created by the renderer from `device`; caller contract.
             Retired::DescriptorPool(pool) => unsafe { device.destroy_descriptor_pool(pool, None) },
+            // SAFETY: created by the renderer from `device`; caller contract.
+            Retired::BufferView(view) => unsafe { device.destroy_buffer_view(view, None) },
         }
     }
 }

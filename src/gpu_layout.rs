@@ -11,9 +11,11 @@
 //! size equal to `size_of`; each specialization constant the same `constant_id` in
 //! [`SpecConstants::map_entries`] as the field of its name (`CORNERS` and `corners`), the same
 //! width and the same default as `SpecConstants::default()`; each storage buffer a binding of
-//! set 0 that `Binding` (`src/renderer/buffers.rs`, which holds the table of bindings) has, a
-//! block named as the variant (or one of the few other views listed in the test), and, where
-//! the stage uses it, that stage in `Binding::stages`; and each compute shader the workgroup size
+//! set 0 that `Binding` (`src/renderer/buffers.rs`, which holds the table of bindings) has as a
+//! storage buffer, a block named as the variant (or one of the few other views listed in the
+//! test), and, where the stage uses it, that stage in `Binding::stages`; each uniform texel
+//! buffer one of the set's two texel views by binding and name; the instance records, read as
+//! texels, at the byte offsets `load_instance` takes them from; and each compute shader the workgroup size
 //! its dispatches are counted in. A drift on either side fails `cargo test`, whatever the GPU.
 //!
 //! `GlyphStamps` (binding 10), 8 bytes per glyph of the chunk: the stamp of the last frame that

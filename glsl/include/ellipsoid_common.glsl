@@ -6,6 +6,10 @@
 // subtracts two large nearly-equal positions and a centre's view coordinates are exact to
 // float32 rounding of small numbers.
 
+// texelFetch and textureSize on the uniform texel buffers (utextureBuffer: a SPIR-V image of
+// dimension Buffer with no sampler, as Vulkan's texel buffers are).
+#extension GL_EXT_samplerless_texture_functions : require
+
 #include "gpu_layout.glsl"
 
 // How far a footprint reaches beyond the exact silhouette bounds, in pixels: a sliver, so
@@ -46,27 +50,40 @@ float depth_clip_z(float d) {
     return cam.depth_a * d + cam.depth_c;
 }
 
-layout(std430, set = 0, binding = 0) readonly buffer Instances {
-    Instance instances[];
-};
-// The same binding read as compact records.
-layout(std430, set = 0, binding = 0) readonly buffer CompactInstances {
-    CompactInstance compact_instances[];
-};
+// The draw's chunk of the instance buffer, read as 16-byte texels (R32G32B32A32_UINT): a
+// uniform texel buffer, because lavapipe gathers a texel fetch's lanes in one vector step but
+// reads a storage buffer lane by lane, with a branch per lane and component (design §5.4).
+layout(set = 0, binding = 0) uniform utextureBuffer instance_texels;
+
+// Texels per instance: `Instance` is 48 bytes, `CompactInstance` 32.
+uint instance_texel_count() {
+    return COMPACT ? 2u : 3u;
+}
+
+// Instances in the draw's chunk.
+uint chunk_instances() {
+    return uint(textureSize(instance_texels)) / instance_texel_count();
+}
 
 // Instance `i` of the draw's chunk, in either layout.
 Instance load_instance(uint i) {
-    if (!COMPACT) {
-        return instances[i];
-    }
-    CompactInstance packed = compact_instances[i];
+    uint at = i * instance_texel_count();
+    uvec4 head = texelFetch(instance_texels, int(at));
+    uvec4 second = texelFetch(instance_texels, int(at + 1u));
     Instance inst;
-    inst.center = packed.center;
-    inst.color = packed.color;
+    inst.center = uintBitsToFloat(head.xyz);
+    inst.color = head.w;
+    if (!COMPACT) {
+        inst.rotation = uintBitsToFloat(second);
+        uvec4 third = texelFetch(instance_texels, int(at + 2u));
+        inst.radii = uintBitsToFloat(third.xyz);
+        inst.unused = uintBitsToFloat(third.w);
+        return inst;
+    }
+    // CompactInstance: the quaternion as 4 snorm16, the radii as 3 halves.
     // Quantised: renormalise, so the rotation stays orthonormal.
-    inst.rotation = normalize(vec4(unpackSnorm2x16(packed.rotation.x),
-                                   unpackSnorm2x16(packed.rotation.y)));
-    vec3 radii = vec3(unpackHalf2x16(packed.radii.x), unpackHalf2x16(packed.radii.y).x);
+    inst.rotation = normalize(vec4(unpackSnorm2x16(second.x), unpackSnorm2x16(second.y)));
+    vec3 radii = vec3(unpackHalf2x16(second.z), unpackHalf2x16(second.w).x);
     inst.radii = radii * cam.radius_unit;
     inst.unused = 0.0;
     return inst;

@@ -3,6 +3,18 @@
 // visible-first steps) and for the 64-bit accessors in visibility.glsl: a key's low word holds
 // the instance (inverted under reversed Z), its high word the depth-buffer value's bits.
 
+// The same buffer as its readers that never write it see it (binding 12, `VISIBILITY_KEYS` in
+// src/renderer/descriptors.rs): a key per texel (R32G32_UINT), low word then high, through a
+// uniform texel buffer, which lavapipe reads in one vector step where it reads a storage
+// buffer lane by lane (design §5.4). Only after a barrier: no pass both writes and reads it
+// here.
+layout(set = 0, binding = 12) uniform utextureBuffer visibility_keys;
+
+// The words (low, high) of the key at `index` (64-bit keys from the buffer's start).
+uvec2 key_words(uint index) {
+    return texelFetch(visibility_keys, int(index)).xy;
+}
+
 // Side of a resolve tile in pixels (`RESOLVE_TILE` in src/gpu_layout.rs).
 const uint RESOLVE_TILE = 32u;
 

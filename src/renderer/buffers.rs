@@ -12,12 +12,14 @@ use crate::gpu::GpuBuffer;
 
 /// The bindings of the renderer's descriptor set, each backed by one buffer.
 ///
-/// Descriptor set 0, all storage buffers, one per `Binding` (`src/renderer/buffers.rs`), each
-/// chunk's set pointing at its slices (design §5.4):
+/// Descriptor set 0, one buffer per `Binding` (`src/renderer/buffers.rs`), each chunk's set
+/// pointing at its slices (design §5.4): storage buffers, but the instances, which every
+/// shader only reads, are a uniform texel buffer, and binding 12 views the visibility buffer
+/// as one for the passes that only read it:
 ///
 /// | binding | `Binding` | contents | stages | per chunk |
 /// |---:|---|---|---|---|
-/// | 0 | `Instances` | instances (`Instance`, `CompactInstance`) | vertex, fragment (the splat's resolve), compute | slice |
+/// | 0 | `Instances` | instances (`Instance`, `CompactInstance`), a uniform texel buffer of `R32G32B32A32_UINT` texels | vertex, fragment (the splat's resolve), compute | slice |
 /// | 1 | `FragmentCounter` | shaded fragments (`COUNT_FRAGMENTS`) and the compute splat's ray casts (`COUNT_RAY_CASTS`); host-visible | fragment, compute | whole |
 /// | 2 | `Visible` | visible instance indices (`uint` each) | vertex, compute | slice |
 /// | 3 | `IndirectDraw` | `IndirectDraw` | compute | the chunk's 40 bytes at `256 k` |
@@ -29,6 +31,7 @@ use crate::gpu::GpuBuffer;
 /// | 9 | `FloorPixels` | the visible-pixel floor's lists (host-visible; 8 bytes unless the benchmark sets them, design §5.7) | compute | whole |
 /// | 10 | `GlyphStamps` | per glyph the stamps of the last frame that showed it and that left it to the draw (design §5.7) | compute | whole (frames with stamps have one chunk) |
 /// | 11 | `TileLists` | the benchmark's tiled splat's lists (`research`; 8 bytes otherwise): per 8 x 8 tile and depth bucket a count and a first slot, 112 bytes per glyph (box, nearest depth, the hit's set-up), 64 entries of room per glyph (`glsl/research/tile_lists.glsl`) | compute | whole |
+/// | 12 | (`VISIBILITY_KEYS` in `src/renderer/descriptors.rs`) | binding 8's buffer as a uniform texel buffer of `R32G32_UINT` texels, a key each, for the passes that only read it (the resolve, `KEY_TILES`, `MARK_SHOWN`) | vertex, fragment, compute | whole, shared |
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Binding {
     /// The instance records.
@@ -110,6 +113,16 @@ impl Binding {
         }
     }
 
+    /// How the shaders see the binding: the instances as a uniform texel buffer (lavapipe
+    /// gathers a texel fetch's lanes, and reads a storage buffer lane by lane), the rest as
+    /// storage buffers.
+    pub fn descriptor_type(self) -> vk::DescriptorType {
+        match self {
+            Binding::Instances => vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
+            _ => vk::DescriptorType::STORAGE_BUFFER,
+        }
+    }
+
     /// Name of the buffer (allocation names and errors).
     pub fn name(self) -> &'static str {
         match self {
@@ -128,7 +141,8 @@ impl Binding {
         }
     }
 
-    /// How the buffer is used besides as a storage buffer.
+    /// How the buffer is used: as its binding says, and filled or read indirectly where
+    /// marked.
     pub fn usage(self) -> vk::BufferUsageFlags {
         let extra = match self {
             // Filled with vkCmdFillBuffer (the compute splat zeroes the keep bits, and the
@@ -144,7 +158,17 @@ impl Binding {
             }
             _ => vk::BufferUsageFlags::empty(),
         };
-        vk::BufferUsageFlags::STORAGE_BUFFER | extra
+        match self {
+            // Only ever read through texel views (binding 0).
+            Binding::Instances => vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER | extra,
+            // Also read through binding 12's texel view.
+            Binding::Visibility => {
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
+                    | extra
+            }
+            _ => vk::BufferUsageFlags::STORAGE_BUFFER | extra,
+        }
     }
 
     /// Where the buffer lives: the counter is read by the host and the floor's pixel lists

@@ -3,7 +3,9 @@
 //! order so depth ties resolve as in one draw.
 //!
 //! The renderer splits the scene into chunks of `min(maxStorageBufferRange / stride,
-//! Settings::max_chunk_instances)` instances, rounded down to a multiple of 256 and at least 256
+//! 16 maxTexelBufferElements / stride, Settings::max_chunk_instances)` instances (the instances
+//! are read as 16-byte texels, the other slices as storage buffers), rounded down to a
+//! multiple of 256 and at least 256
 //! (so every slice stays aligned). The scene's buffers stay whole; each chunk gets its own
 //! descriptor set pointing at its slices (instances, visible list, indirect command at `256 k`,
 //! groups and, for scenes that have them, set-up records), its own pre-pass and its own draw. The
@@ -27,8 +29,8 @@ pub(crate) struct Chunking {
 impl Chunking {
     /// Chunks of as many instances of `stride` bytes as one binding of `max_range` bytes
     /// holds, and at most `max_instances`.
-    pub fn new(count: u32, stride: usize, max_range: u32, max_instances: u32) -> Self {
-        let by_device = max_range as u64 / stride as u64;
+    pub fn new(count: u32, stride: usize, max_range: u64, max_instances: u32) -> Self {
+        let by_device = max_range / stride as u64;
         let capacity = by_device.min(max_instances as u64) / 256 * 256;
         Self {
             capacity: capacity.max(256) as u32,
@@ -42,6 +44,12 @@ impl Chunking {
             let first = k * self.capacity;
             (first, self.capacity.min(self.count - first))
         })
+    }
+
+    /// The bytes one chunk's binding may hold on a device of `limits`: a storage-buffer
+    /// binding's and the instances' texel view's (16-byte texels) limits.
+    pub fn max_binding_bytes(limits: &ash::vk::PhysicalDeviceLimits) -> u64 {
+        (limits.max_storage_buffer_range as u64).min(limits.max_texel_buffer_elements as u64 * 16)
     }
 
     /// Number of chunks (at least one, so an empty scene still has a descriptor set).

@@ -46,9 +46,9 @@
 //! | `learning.rs` | `PlanLearning`, `SceneClass`: the candidates' times per scene class, the exploring schedule, the settled choices (design §5.8) |
 //! | `frame_timer.rs` | `FrameTimer`: timestamps around each view's pre-pass and draw in the host's command buffers, read when the slot begins again (design §5.8) |
 //! | `wisdom.rs` | what the plan learned as bytes, keyed by the device and driver build (design §5.8) |
-//! | `buffers.rs` | `SceneBuffers` and `Binding`: one storage buffer per descriptor binding as one table (name, stages, usage, memory), each grown by the same rule (a buffer too small is replaced and the old one retired, `src/frame_slots.rs`) |
+//! | `buffers.rs` | `SceneBuffers` and `Binding`: one buffer per descriptor binding as one table (name, descriptor type, stages, usage, memory), each grown by the same rule (a buffer too small is replaced and the old one retired, `src/frame_slots.rs`) |
 //! | `chunks.rs` | `Chunking`, `SLICE_ALIGN`: how a scene is split across bindings (design §5.4) |
-//! | `descriptors.rs` | the descriptor-set layout and one set per chunk, in a pool of its own |
+//! | `descriptors.rs` | the descriptor-set layout and one set per chunk, in a pool of its own, with the texel views they point at (`VISIBILITY_KEYS`) |
 //! | `pipelines/mod.rs` | `Pipelines`: the two pipeline layouts (graphics push range `DRAW_PUSH_STAGES`, compute-only for the pre-pass) and every pipeline, built on first use and kept per key |
 //! | `pipelines/keys.rs` | `PipelineKey`, `SplatKey`, `CullKey`: each derived from the frame plan in one place, with its specialization constants (`SpecConstants`) |
 //! | `pipelines/create.rs` | creating the graphics and compute pipelines the keys describe |
@@ -99,6 +99,8 @@ use crate::target::{HostDevice, RendererOptions, Target};
 pub(crate) use buffers::Binding;
 use buffers::SceneBuffers;
 use chunks::Chunking;
+#[cfg(test)]
+pub(crate) use descriptors::VISIBILITY_KEYS;
 use frame_timer::FrameTimer;
 use learning::PlanLearning;
 use pipelines::Pipelines;
@@ -292,7 +294,8 @@ impl EllipsoidRenderer {
             .map_or((None, None), |v| (v.last_camera, v.shown_stamped));
         FramePlan::new(PlanInputs {
             compute_splat_features: self.compute_splat_features,
-            max_storage_buffer_range: self.caps.limits.max_storage_buffer_range,
+            max_visibility_bytes: (self.caps.limits.max_storage_buffer_range as u64)
+                .min(self.caps.limits.max_texel_buffer_elements as u64 * 8),
             standard_sample_locations: self.caps.limits.standard_sample_locations == vk::TRUE,
             sample_rate_shading: self.caps.enabled.sample_rate_shading,
             timed: self.timer.available(),
@@ -446,7 +449,7 @@ impl EllipsoidRenderer {
         Chunking::new(
             self.scene.count,
             self.scene.format.bytes(),
-            self.caps.limits.max_storage_buffer_range,
+            Chunking::max_binding_bytes(&self.caps.limits),
             self.scene.chunk_limit,
         )
     }
@@ -578,24 +581,28 @@ impl EllipsoidRenderer {
         }
         let chunking = self.chunking();
         let v = &mut self.views[view];
-        if !v.buffers.replaced && !v.descriptor_sets.is_empty() {
-            return Ok(v.descriptor_sets.clone());
+        if !v.buffers.replaced && !v.descriptors.sets.is_empty() {
+            return Ok(v.descriptors.sets.clone());
         }
         let sets = descriptors::create_chunk_sets(
             device,
             self.pipelines.set_layout(),
             (&self.buffers, &v.buffers),
             &chunking,
-            self.scene.format.bytes() as u64,
+            (
+                self.scene.format.bytes() as u64,
+                self.caps.limits.max_texel_buffer_elements,
+            ),
         )?;
-        if v.descriptor_pool != vk::DescriptorPool::null() {
-            self.slots
-                .retire(Retired::DescriptorPool(v.descriptor_pool));
+        let old = std::mem::replace(&mut v.descriptors, sets);
+        if old.pool != vk::DescriptorPool::null() {
+            self.slots.retire(Retired::DescriptorPool(old.pool));
         }
-        v.descriptor_pool = sets.pool;
-        v.descriptor_sets = sets.sets;
+        for view in old.views {
+            self.slots.retire(Retired::BufferView(view));
+        }
         v.buffers.replaced = false;
-        Ok(v.descriptor_sets.clone())
+        Ok(v.descriptors.sets.clone())
     }
 
     /// Destroys everything the renderer created (nothing of the host's).

@@ -193,8 +193,9 @@ impl FramePlan {
 pub(crate) struct PlanInputs<'a> {
     /// The device has the compute splat's features enabled.
     pub compute_splat_features: bool,
-    /// The device's `maxStorageBufferRange` (the visibility buffer is one binding).
-    pub max_storage_buffer_range: u32,
+    /// The largest visibility buffer in bytes: one storage-buffer binding
+    /// (`maxStorageBufferRange`) and one texel view of 8-byte keys (`maxTexelBufferElements`).
+    pub max_visibility_bytes: u64,
     /// The device uses the standard sample locations (`standardSampleLocations`).
     pub standard_sample_locations: bool,
     /// The host enabled `sampleRateShading` (shading every sample needs it).
@@ -320,7 +321,7 @@ fn splat_possible(inputs: &PlanInputs, seen: &OnScreen) -> std::result::Result<(
         vk::Format::D32_SFLOAT | vk::Format::D32_SFLOAT_S8_UINT
     );
     let visibility_fits =
-        visibility_bytes(camera.width, camera.height) <= inputs.max_storage_buffer_range as u64;
+        visibility_bytes(camera.width, camera.height) <= inputs.max_visibility_bytes;
     let visibility_draw = inputs.baseline.is_some_and(|b| b.visibility_draw());
     [
         (
@@ -570,7 +571,7 @@ mod tests {
         let target = target(samples);
         FramePlan::new(PlanInputs {
             compute_splat_features: features,
-            max_storage_buffer_range: 1 << 27,
+            max_visibility_bytes: 1 << 27,
             standard_sample_locations: true,
             sample_rate_shading: true,
             timed: true,

@@ -57,7 +57,7 @@ impl EllipsoidRenderer {
         let chunking = Chunking::new(
             uploaded.count,
             packed.format().bytes(),
-            self.caps.limits.max_storage_buffer_range,
+            Chunking::max_binding_bytes(&self.caps.limits),
             chunk_limit,
         );
         // A pre-pass recorded before this call may have planned with buffers replaced below.
@@ -68,7 +68,8 @@ impl EllipsoidRenderer {
             self.size_buffers(device, allocator, view, chunking, (1, 1), false, false)?;
         }
         let bytes = packed.records.bytes();
-        let needed = bytes.len().max(1) as u64;
+        // At least one record: each chunk's texel view of the buffer holds one at least.
+        let needed = bytes.len().max(packed.format().bytes()) as u64;
         let fits = self
             .buffers
             .get(Binding::Instances)

@@ -4,11 +4,11 @@
 //! history -- the camera of its last pre-pass, the glyphs it last showed -- where it left it.
 
 use crate::allocator::MemoryAllocator;
-use ash::vk;
 
 use crate::camera::Camera;
 
 use super::buffers::SceneBuffers;
+use super::descriptors::ChunkSets;
 use super::plan::FramePlan;
 
 /// The most views one frame may have: each holds its own pre-pass buffers.
@@ -21,9 +21,8 @@ pub(crate) struct View {
     /// The bindings each view has for itself (`Binding::per_view`); the others are the
     /// renderer's.
     pub buffers: SceneBuffers,
-    /// The per-chunk descriptor sets, and the pool holding them alone.
-    pub descriptor_pool: vk::DescriptorPool,
-    pub descriptor_sets: Vec<vk::DescriptorSet>,
+    /// The per-chunk descriptor sets, the pool holding them alone and their texel views.
+    pub descriptors: ChunkSets,
     /// The plan and camera of the pre-pass recorded for this view's next `record`.
     pub prepared: Option<(Camera, FramePlan)>,
     /// The stamp of the view's last pre-pass that stamped the glyphs its frame showed, since
@@ -34,7 +33,7 @@ pub(crate) struct View {
 }
 
 impl View {
-    /// Destroys the view's buffers and descriptor pool.
+    /// Destroys the view's buffers, descriptor pool and texel views.
     ///
     /// # Safety
     /// No pending work uses them.
@@ -42,9 +41,7 @@ impl View {
         // SAFETY: caller contract; a null pool is ignored.
         unsafe {
             self.buffers.destroy(device, allocator);
-            device.destroy_descriptor_pool(self.descriptor_pool, None);
+            self.descriptors.destroy(device);
         }
-        self.descriptor_pool = vk::DescriptorPool::null();
-        self.descriptor_sets.clear();
     }
 }

@@ -16,7 +16,7 @@ use ash::vk;
 
 use crate::gpu_layout::SpecConstants;
 use crate::renderer::prepass::steps::{GROUP_SIZE, SPLAT_GROUP_SIZE};
-use crate::renderer::Binding;
+use crate::renderer::{Binding, VISIBILITY_KEYS};
 use reader::{Constant, Module, Type};
 use rust_layouts::{shared_layouts, spec_constant_fields, Layout};
 
@@ -28,15 +28,53 @@ const GPU_LAYOUT_GLSL: &str = include_str!("../../glsl/include/gpu_layout.glsl")
 
 /// Buffer blocks that read a binding under a name other than its `Binding` variant's: another
 /// view of the same buffer.
-const OTHER_VIEWS: [(Binding, &str); 4] = [
-    // The same records in the compact format.
-    (Binding::Instances, "CompactInstances"),
+const OTHER_VIEWS: [(Binding, &str); 2] = [
     // The draw's read-only view; the pre-pass writes it as `Visible`.
     (Binding::Visible, "VisibleInstances"),
-    // The 64-bit keys as 32-bit words.
-    (Binding::Visibility, "VisibilityWords"),
     // The tiled splat's lists read 16 bytes at a time.
     (Binding::TileLists, "TileLists4"),
+];
+
+/// The uniform texel buffers of set 0: binding, variable name, and the stages that may read
+/// it (those of the buffer it views).
+const TEXEL_VIEWS: [(u32, &str, Binding); 2] = [
+    (
+        Binding::Instances as u32,
+        "instance_texels",
+        Binding::Instances,
+    ),
+    (VISIBILITY_KEYS, "visibility_keys", Binding::Visibility),
+];
+
+/// A record read as texels: its name, its texels and each field's name and byte offset.
+type TexelRecord = (&'static str, usize, &'static [(&'static str, usize)]);
+
+/// The records the shaders read as 16-byte texels (binding 0's uniform texel buffer), which no
+/// SPIR-V block lays out: each field at the byte `load_instance` (glsl/include/
+/// ellipsoid_common.glsl) takes it from, texel * 16 + component * 4, and the texels a record
+/// spans (`instance_texel_count`).
+const TEXEL_RECORDS: [TexelRecord; 2] = [
+    (
+        "Instance",
+        3,
+        &[
+            ("center", 0),
+            ("color", 12),
+            ("rotation", 16),
+            ("radii", 32),
+            ("unused", 44),
+        ],
+    ),
+    (
+        "CompactInstance",
+        2,
+        &[
+            ("center", 0),
+            ("color", 12),
+            ("rotation", 16),
+            ("radii", 24),
+        ],
+    ),
 ];
 
 /// Each compute shader and the workgroup size the Rust side sizes its dispatches by.
@@ -242,6 +280,21 @@ fn shared_structs_match_their_rust_types_member_by_member() {
             }
         }
     }
+    for (name, texels, fields) in TEXEL_RECORDS {
+        let Some(rust) = layouts.iter().find(|l| l.name == name) else {
+            findings.add_overall(format!("{name} is read as texels but has no Rust layout"));
+            continue;
+        };
+        seen.insert(rust.name);
+        let read: Vec<(&str, usize)> = rust.fields.iter().map(|f| (f.name, f.offset)).collect();
+        if read != fields || rust.size != texels * 16 {
+            findings.add_overall(format!(
+                "{name}: Rust has {read:?} in {} bytes, load_instance reads {fields:?} from \
+                 {texels} texels",
+                rust.size
+            ));
+        }
+    }
     for layout in &layouts {
         if !seen.contains(layout.name) {
             findings.add_overall(format!("no shader declares {} with a layout", layout.name));
@@ -404,6 +457,27 @@ fn descriptor_bindings_match_the_binding_table() {
                     format!("{block} (binding {number}) is in set {set:?}"),
                 );
             }
+            if variable.storage == reader::UNIFORM_CONSTANT {
+                // A texel view: the binding and name of the set layout's.
+                let name = module.name(variable.id);
+                let Some(&(_, _, viewed)) = TEXEL_VIEWS
+                    .iter()
+                    .find(|(n, v, _)| *n == number && *v == name)
+                else {
+                    findings.add(
+                        file,
+                        format!("{name} (binding {number}) is not a texel view of the set layout"),
+                    );
+                    continue;
+                };
+                if module.accessed.contains(&variable.id) {
+                    seen.insert(number);
+                    if !viewed.stages().contains(stage) {
+                        findings.add(file, format!("{name} is read by {stage:?}"));
+                    }
+                }
+                continue;
+            }
             if variable.storage != reader::STORAGE_BUFFER {
                 let class = variable.storage;
                 findings.add(
@@ -418,6 +492,12 @@ fn descriptor_bindings_match_the_binding_table() {
                 );
                 continue;
             };
+            if binding.descriptor_type() != vk::DescriptorType::STORAGE_BUFFER {
+                findings.add(
+                    file,
+                    format!("{block} reads Binding::{binding:?} as a storage buffer"),
+                );
+            }
             let named = format!("{binding:?}") == block || OTHER_VIEWS.contains(&(binding, block));
             if !named {
                 findings.add(
@@ -444,6 +524,9 @@ fn descriptor_bindings_match_the_binding_table() {
         if built && !seen.contains(&(binding as u32)) {
             findings.add_overall(format!("no shader uses Binding::{binding:?}"));
         }
+    }
+    if !seen.contains(&VISIBILITY_KEYS) {
+        findings.add_overall("no shader reads the visibility keys' texel view".into());
     }
     findings.assert_none("descriptor bindings");
 }
