@@ -20,8 +20,10 @@ for round in 1 2 3; do
       extra=(); [ "$motion" = orbit ] && extra=(--orbit 0.5)
       ES_STAMPS=1 "$tool" bench --quick --frames 15 "${extra[@]}" --scenes "$scene" \
         --methods impostor-visible-first --out "$motion-$scene-run$round" \
-        > "$motion-$scene-run$round.txt" 2>&1 \
-        || echo "stage-profile: $motion $scene run $round: bench exited $? (its log says why)" >&2
+        > "$motion-$scene-run$round.txt" 2>&1 || true
+      # bench exits 1 where a target of its own is missed: only a missing result is a failure.
+      [ -s "$motion-$scene-run$round/results.csv" ] \
+        || echo "stage-profile: $motion $scene run $round: no results.csv (its log says why)" >&2
     done
   done
 done

@@ -30,6 +30,8 @@ from figures.results import RESULTS, ROOT, ResultsError  # noqa: E402
 
 PLAN = f"{RESULTS}/plan"
 DEEP = f"{RESULTS}/deep/2026-11-27"
+# The latest deep-scenes run beside Mitsuba (the build with the texel reads).
+DEEP_LATEST = f"{DEEP}i"
 H200 = f"{RESULTS}/devices/nvidia-h200-2026-11-27b"
 # The first report of the day: the plan's regret over three runs and `bench --skip`.
 H200_FIRST = f"{RESULTS}/devices/nvidia-h200-2026-11-27"
@@ -58,7 +60,8 @@ def runs_of(pattern: str, numbers) -> list[str]:
 H200_BENCH = f"{H200}/bench/results.csv"
 LAVAPIPE_BENCH = f"{LAVAPIPE}/bench/results.csv"
 TABLES = [
-    Table("headline", "README.md", f"{DEEP}, {H200_BENCH}", lambda: headline(DEEP, H200)),
+    Table("headline", "README.md", f"{DEEP_LATEST}, {H200_BENCH}",
+          lambda: headline(DEEP_LATEST, H200)),
     Table("methods-tensor-field-h200", "docs/performance.md", H200_BENCH,
           lambda: bench.methods_side_by_side(H200_BENCH, "tensor-field")),
     Table("methods-tensor-field-lavapipe", "docs/performance.md", LAVAPIPE_BENCH,
@@ -96,10 +99,11 @@ TABLES = [
           lambda: runs.device_report(LAVAPIPE_25)),
     Table("device-h200", "docs/conformance.md", H200, lambda: runs.device_report(H200)),
     Table("deep-scenes", "docs/deep-scenes.md", DEEP, lambda: runs.deep(DEEP)),
+    Table("deep-scenes-latest", "docs/deep-scenes.md", DEEP_LATEST, lambda: runs.deep(DEEP_LATEST)),
     Table("deep-h200", "docs/deep-scenes.md", f"{H200}/deep",
           lambda: runs.deep_device(f"{H200}/deep")),
-    Table("stages-lavapipe", "docs/deep-scenes.md", f"{DEEP}e, {DEEP}g",
-          lambda: runs.stages([f"{DEEP}e", f"{DEEP}g"])),
+    Table("stages-lavapipe", "docs/deep-scenes.md", f"{DEEP}e, {DEEP}g, {DEEP}j",
+          lambda: runs.stages([f"{DEEP}e", f"{DEEP}g", f"{DEEP}j"])),
     Table("resolve-variants", "docs/deep-scenes.md", f"{DEEP}h/resolve-variants",
           lambda: runs.stages([f"{DEEP}h/resolve-variants/{v}" for v in ("base2", "nosetup2", "loadonly")])),
     Table("traced-lavapipe", "docs/deep-scenes.md", f"{DEEP}b",
