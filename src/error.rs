@@ -155,6 +155,7 @@ fn allocated_by(call: &str) -> &'static str {
         "vkCreateBuffer" => "a buffer",
         "vkCreateImage" => "an image",
         "vkCreateImageView" => "an image view",
+        "vkCreateBufferView" => "a texel view of a buffer",
         "vkCreateSampler" => "a sampler",
         "vkCreateShaderModule" => "a shader module",
         "vkCreatePipelineLayout" => "a pipeline layout",

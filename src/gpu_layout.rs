@@ -14,8 +14,10 @@
 //! set 0 that `Binding` (`src/renderer/buffers.rs`, which holds the table of bindings) has as a
 //! storage buffer, a block named as the variant (or one of the few other views listed in the
 //! test), and, where the stage uses it, that stage in `Binding::stages`; each uniform texel
-//! buffer one of the set's two texel views by binding and name; the instance records, read as
-//! texels, at the byte offsets `load_instance` takes them from; and each compute shader the workgroup size
+//! buffer one of the set's two texel views by binding and name; the instance records, which
+//! no shader lays out (they are read as texels), at the byte offsets of a table copied by hand
+//! from `load_instance` (a drift on the shader's side shows in the drawing tests instead); and
+//! each compute shader the workgroup size
 //! its dispatches are counted in. A drift on either side fails `cargo test`, whatever the GPU.
 //!
 //! `GlyphStamps` (binding 10), 8 bytes per glyph of the chunk: the stamp of the last frame that

@@ -133,7 +133,7 @@ pub struct Settings {
     /// reference's bounds on any driver), so the choice costs time, never a pixel.
     pub plan: PlanMode,
     /// The most instances drawn with one descriptor set; the device's
-    /// `maxStorageBufferRange` caps it anyway. Larger scenes are drawn in chunks, each with
+    /// `maxStorageBufferRange` and `maxTexelBufferElements` cap it anyway. Larger scenes are drawn in chunks, each with
     /// its own pre-pass and draw. Rounded down to a multiple of 256 (at least 256). Takes
     /// effect at the next `upload`.
     pub max_chunk_instances: u32,

@@ -39,7 +39,8 @@ struct Instance {
     float unused;
 };
 
-// The compact instance record (`CompactInstance`, 32 bytes).
+// The compact instance record (`CompactInstance`, 32 bytes). Both records are read as 16-byte
+// texels (`load_instance` in ellipsoid_common.glsl unpacks them field by field).
 struct CompactInstance {
     vec3 center;            // as in Instance
     uint color;

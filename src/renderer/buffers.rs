@@ -1,4 +1,4 @@
-//! The renderer's storage buffers, one per descriptor binding, as one table: each grows
+//! The renderer's buffers, one per descriptor binding, as one table: each grows
 //! through the same rule (a buffer too small is replaced, and the old one retired until no
 //! recorded frame can use it).
 
@@ -27,11 +27,11 @@ use crate::gpu::GpuBuffer;
 /// | 5 | `OcclusionTiles` | occlusion tiles (`uint` float bits per 4 x 4 tile, row-major from the top left) | compute | whole, shared |
 /// | 6 | `ShadingRecords` | `ShadingRecord`s | compute, fragment | slice (whole beyond `MAX_SETUP_ONCE_INSTANCES`) |
 /// | 7 | `FootprintRecords` | `FootprintRecord`s | vertex, compute | slice (likewise) |
-/// | 8 | `Visibility` | the compute splat's nearest hit per pixel, then its resolve tiles (`uint64_t`, row-major, design §5.6) | compute, vertex, fragment | whole, shared |
+/// | 8 | `Visibility` | the compute splat's nearest hit per pixel, then its resolve tiles (`uint64_t`, row-major, design §5.6); its readers read it through binding 12 | compute, fragment (the benchmark's visibility draw) | whole, shared |
 /// | 9 | `FloorPixels` | the visible-pixel floor's lists (host-visible; 8 bytes unless the benchmark sets them, design §5.7) | compute | whole |
 /// | 10 | `GlyphStamps` | per glyph the stamps of the last frame that showed it and that left it to the draw (design §5.7) | compute | whole (frames with stamps have one chunk) |
 /// | 11 | `TileLists` | the benchmark's tiled splat's lists (`research`; 8 bytes otherwise): per 8 x 8 tile and depth bucket a count and a first slot, 112 bytes per glyph (box, nearest depth, the hit's set-up), 64 entries of room per glyph (`glsl/research/tile_lists.glsl`) | compute | whole |
-/// | 12 | (`VISIBILITY_KEYS` in `src/renderer/descriptors.rs`) | binding 8's buffer as a uniform texel buffer of `R32G32_UINT` texels, a key each, for the passes that only read it (the resolve, `KEY_TILES`, `MARK_SHOWN`) | vertex, fragment, compute | whole, shared |
+/// | 12 | (`VISIBILITY_KEYS` in `src/renderer/descriptors.rs`) | binding 8's buffer as a uniform texel buffer of `R32G32_UINT` texels, a key each, for the passes that only read it (the resolve, `KEY_TILES`, `MARK_SHOWN`) | vertex, fragment, compute (`VISIBILITY_KEYS_STAGES`) | whole, shared |
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Binding {
     /// The instance records.
@@ -108,8 +108,9 @@ impl Binding {
             Binding::ShadingRecords => {
                 vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT
             }
-            // The resolve's vertex stage reads the tile words, its fragment stage the keys.
-            Binding::Visibility => vertex_and_compute | vk::ShaderStageFlags::FRAGMENT,
+            // Written by the splat, and by the benchmark's visibility draw (fragment); its
+            // readers see it through binding 12 (`VISIBILITY_KEYS_STAGES`).
+            Binding::Visibility => vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT,
         }
     }
 

@@ -17,6 +17,14 @@ use super::plan::MAX_SETUP_ONCE_INSTANCES;
 /// passes that only read them.
 pub(crate) const VISIBILITY_KEYS: u32 = 12;
 
+/// The stages that read the keys: the resolve's vertex stage (the tile words) and fragment
+/// stage (the pixels' keys), and `KEY_TILES` and `MARK_SHOWN`.
+pub(crate) const VISIBILITY_KEYS_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
+    vk::ShaderStageFlags::VERTEX.as_raw()
+        | vk::ShaderStageFlags::FRAGMENT.as_raw()
+        | vk::ShaderStageFlags::COMPUTE.as_raw(),
+);
+
 /// Creates the layout of the renderer's one descriptor set: a buffer per [`Binding`], of its
 /// descriptor type, and the visibility buffer's texel view.
 pub(crate) fn create_set_layout(device: &ash::Device) -> Result<vk::DescriptorSetLayout> {
@@ -34,7 +42,7 @@ pub(crate) fn create_set_layout(device: &ash::Device) -> Result<vk::DescriptorSe
             .binding(VISIBILITY_KEYS)
             .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
             .descriptor_count(1)
-            .stage_flags(Binding::Visibility.stages()),
+            .stage_flags(VISIBILITY_KEYS_STAGES),
     );
     let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
     // SAFETY: valid create info; the caller owns the layout.
@@ -199,8 +207,9 @@ fn write_chunk_sets(
             Binding::ShadingRecords => record(size_of::<ShadingRecord>()),
             Binding::FootprintRecords => record(size_of::<FootprintRecord>()),
         });
-        // The chunk's instances as 16-byte texels (the slice is 16-byte aligned: chunks start
-        // at multiples of 256 instances).
+        // The chunk's instances as 16-byte texels. Chunks start at multiples of 256
+        // instances, so the offset is a multiple of 256 bytes: of any device's
+        // `minTexelBufferOffsetAlignment` (at most 256).
         let (offset, bytes) = ranges[Binding::Instances as usize];
         let instances = texel_view(
             device,

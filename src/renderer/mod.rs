@@ -100,7 +100,7 @@ pub(crate) use buffers::Binding;
 use buffers::SceneBuffers;
 use chunks::Chunking;
 #[cfg(test)]
-pub(crate) use descriptors::VISIBILITY_KEYS;
+pub(crate) use descriptors::{VISIBILITY_KEYS, VISIBILITY_KEYS_STAGES};
 use frame_timer::FrameTimer;
 use learning::PlanLearning;
 use pipelines::Pipelines;

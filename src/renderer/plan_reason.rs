@@ -48,7 +48,8 @@ impl fmt::Display for DrawReason {
                 "the depth attachment is not float32 (the splat's keys order float32 depths)"
             }
             DrawReason::ImageTooLarge => {
-                "the image's visibility buffer would exceed one storage-buffer binding"
+                "the image's visibility buffer would exceed one storage-buffer binding or \
+                 texel view"
             }
             DrawReason::TooManyChunks => "the scene needs more chunks than the splat resolves",
             DrawReason::NothingOnScreen => "no sampled glyph is on screen",

@@ -16,7 +16,7 @@ use ash::vk;
 
 use crate::gpu_layout::SpecConstants;
 use crate::renderer::prepass::steps::{GROUP_SIZE, SPLAT_GROUP_SIZE};
-use crate::renderer::{Binding, VISIBILITY_KEYS};
+use crate::renderer::{Binding, VISIBILITY_KEYS, VISIBILITY_KEYS_STAGES};
 use reader::{Constant, Module, Type};
 use rust_layouts::{shared_layouts, spec_constant_fields, Layout};
 
@@ -35,16 +35,18 @@ const OTHER_VIEWS: [(Binding, &str); 2] = [
     (Binding::TileLists, "TileLists4"),
 ];
 
-/// The uniform texel buffers of set 0: binding, variable name, and the stages that may read
-/// it (those of the buffer it views).
-const TEXEL_VIEWS: [(u32, &str, Binding); 2] = [
-    (
-        Binding::Instances as u32,
-        "instance_texels",
-        Binding::Instances,
-    ),
-    (VISIBILITY_KEYS, "visibility_keys", Binding::Visibility),
-];
+/// The uniform texel buffers of set 0: binding, variable name, and the stages the set layout
+/// gives it.
+fn texel_views() -> [(u32, &'static str, vk::ShaderStageFlags); 2] {
+    [
+        (
+            Binding::Instances as u32,
+            "instance_texels",
+            Binding::Instances.stages(),
+        ),
+        (VISIBILITY_KEYS, "visibility_keys", VISIBILITY_KEYS_STAGES),
+    ]
+}
 
 /// A record read as texels: its name, its texels and each field's name and byte offset.
 type TexelRecord = (&'static str, usize, &'static [(&'static str, usize)]);
@@ -460,8 +462,8 @@ fn descriptor_bindings_match_the_binding_table() {
             if variable.storage == reader::UNIFORM_CONSTANT {
                 // A texel view: the binding and name of the set layout's.
                 let name = module.name(variable.id);
-                let Some(&(_, _, viewed)) = TEXEL_VIEWS
-                    .iter()
+                let Some((_, _, stages)) = texel_views()
+                    .into_iter()
                     .find(|(n, v, _)| *n == number && *v == name)
                 else {
                     findings.add(
@@ -472,7 +474,7 @@ fn descriptor_bindings_match_the_binding_table() {
                 };
                 if module.accessed.contains(&variable.id) {
                     seen.insert(number);
-                    if !viewed.stages().contains(stage) {
+                    if !stages.contains(stage) {
                         findings.add(file, format!("{name} is read by {stage:?}"));
                     }
                 }

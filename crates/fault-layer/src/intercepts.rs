@@ -44,6 +44,9 @@ creates!(create_image, c"vkCreateImage", vk::PFN_vkCreateImage,
 creates!(create_image_view, c"vkCreateImageView", vk::PFN_vkCreateImageView,
     device: vk::Device, info: *const vk::ImageViewCreateInfo<'_>,
     allocator: *const vk::AllocationCallbacks<'_>, out: *mut vk::ImageView);
+creates!(create_buffer_view, c"vkCreateBufferView", vk::PFN_vkCreateBufferView,
+    device: vk::Device, info: *const vk::BufferViewCreateInfo<'_>,
+    allocator: *const vk::AllocationCallbacks<'_>, out: *mut vk::BufferView);
 creates!(create_sampler, c"vkCreateSampler", vk::PFN_vkCreateSampler,
     device: vk::Device, info: *const vk::SamplerCreateInfo<'_>,
     allocator: *const vk::AllocationCallbacks<'_>, out: *mut vk::Sampler);
@@ -314,6 +317,7 @@ pub(crate) fn entry(name: &CStr) -> vk::PFN_vkVoidFunction {
         b"vkCreateBuffer" => create_buffer as *const (),
         b"vkCreateImage" => create_image as *const (),
         b"vkCreateImageView" => create_image_view as *const (),
+        b"vkCreateBufferView" => create_buffer_view as *const (),
         b"vkCreateSampler" => create_sampler as *const (),
         b"vkCreateShaderModule" => create_shader_module as *const (),
         b"vkCreatePipelineLayout" => create_pipeline_layout as *const (),
