@@ -50,9 +50,8 @@ float depth_clip_z(float d) {
     return cam.depth_a * d + cam.depth_c;
 }
 
-// The draw's chunk of the instance buffer, read as 16-byte texels (R32G32B32A32_UINT): a
-// uniform texel buffer, because lavapipe gathers a texel fetch's lanes in one vector step but
-// reads a storage buffer lane by lane, with a branch per lane and component (design §5.4).
+// The draw's chunk of the instance buffer, read as 16-byte texels (R32G32B32A32_UINT) through
+// a uniform texel buffer (why: design §7).
 layout(set = 0, binding = 0) uniform utextureBuffer instance_texels;
 
 // Texels per instance: `Instance` is 48 bytes, `CompactInstance` 32.

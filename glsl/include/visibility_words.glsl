@@ -5,9 +5,8 @@
 
 // The same buffer as its readers that never write it see it (binding 12, `VISIBILITY_KEYS` in
 // src/renderer/descriptors.rs): a key per texel (R32G32_UINT), low word then high, through a
-// uniform texel buffer, which lavapipe reads in one vector step where it reads a storage
-// buffer lane by lane (design §5.4). Only after a barrier: no pass both writes and reads it
-// here.
+// uniform texel buffer (why: design §7). Only after a barrier: no pass both writes and reads
+// it here.
 layout(set = 0, binding = 12) uniform utextureBuffer visibility_keys;
 
 // The words (low, high) of the key at `index` (64-bit keys from the buffer's start).

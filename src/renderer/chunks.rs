@@ -46,10 +46,12 @@ impl Chunking {
         })
     }
 
-    /// The bytes one chunk's binding may hold on a device of `limits`: a storage-buffer
-    /// binding's and the instances' texel view's (16-byte texels) limits.
-    pub fn max_binding_bytes(limits: &ash::vk::PhysicalDeviceLimits) -> u64 {
-        (limits.max_storage_buffer_range as u64).min(limits.max_texel_buffer_elements as u64 * 16)
+    /// The bytes one binding read both as a storage buffer and through a texel view of
+    /// `texel` bytes a texel may hold on a device of `limits` (the instances: 16; the
+    /// visibility buffer's keys: 8).
+    pub fn max_binding_bytes(limits: &ash::vk::PhysicalDeviceLimits, texel: u64) -> u64 {
+        (limits.max_storage_buffer_range as u64)
+            .min(limits.max_texel_buffer_elements as u64 * texel)
     }
 
     /// Number of chunks (at least one, so an empty scene still has a descriptor set).

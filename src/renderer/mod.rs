@@ -294,8 +294,7 @@ impl EllipsoidRenderer {
             .map_or((None, None), |v| (v.last_camera, v.shown_stamped));
         FramePlan::new(PlanInputs {
             compute_splat_features: self.compute_splat_features,
-            max_visibility_bytes: (self.caps.limits.max_storage_buffer_range as u64)
-                .min(self.caps.limits.max_texel_buffer_elements as u64 * 8),
+            max_visibility_bytes: Chunking::max_binding_bytes(&self.caps.limits, 8),
             standard_sample_locations: self.caps.limits.standard_sample_locations == vk::TRUE,
             sample_rate_shading: self.caps.enabled.sample_rate_shading,
             timed: self.timer.available(),
@@ -449,7 +448,7 @@ impl EllipsoidRenderer {
         Chunking::new(
             self.scene.count,
             self.scene.format.bytes(),
-            Chunking::max_binding_bytes(&self.caps.limits),
+            Chunking::max_binding_bytes(&self.caps.limits, 16),
             self.scene.chunk_limit,
         )
     }

@@ -57,7 +57,7 @@ impl EllipsoidRenderer {
         let chunking = Chunking::new(
             uploaded.count,
             packed.format().bytes(),
-            Chunking::max_binding_bytes(&self.caps.limits),
+            Chunking::max_binding_bytes(&self.caps.limits, 16),
             chunk_limit,
         );
         // A pre-pass recorded before this call may have planned with buffers replaced below.
