@@ -221,51 +221,67 @@ bool occluded(uint index, vec4 sampled) {
     return true;
 }
 
-// KEY_TILES: the tile's word takes the farthest depth-buffer value (bits: positive floats
-// order like their bits) the visibility buffer holds at its on-screen pixels, or the empty
-// key's when a pixel shows nothing: every pixel of the tile holds a hit at or nearer than it.
-// A tile inside a resolve tile no glyph marked so far this frame shows nothing (a glyph with
-// a hit marks every resolve tile its box touches) and reads no pixel: a loop of no trips,
-// taken alike by a subgroup of 8 lanes where its tiles share a resolve tile (on images whose
-// width is a multiple of 32 pixels, always).
-void key_tile(uint t) {
-    ivec2 grid = tile_grid();
-    if (t >= uint(grid.x * grid.y)) {
-        return;
+// KEY_TILES and MARK_SHOWN go by strips: a strip is a row of occlusion tiles across a resolve
+// tile (32 x 4 pixels), invocation `i` takes strip `i % STRIPS` of resolve tile `i / STRIPS`,
+// and the 8 lanes of a subgroup share a resolve tile. On lavapipe an invocation costs about as
+// much as a few reads, so what a resolve tile no glyph marked costs is its strips' invocations;
+// such a tile shows nothing so far this frame (a glyph with a hit marks every resolve tile its
+// box touches), and its strips read no pixel, in loops of no trips (lavapipe runs a branch's
+// body whatever the condition, but not a loop's).
+const uint STRIPS = RESOLVE_TILE / uint(TILE);
+
+// The strip of invocation `i`: its first pixel, and whether its resolve tile was marked; none
+// (false) below the image.
+bool strip_of(uint i, out uvec2 origin, out bool marked) {
+    uint tiles_x = resolve_tiles_x();
+    uint r = i / STRIPS;
+    origin = uvec2(r % tiles_x * RESOLVE_TILE, r / tiles_x * RESOLVE_TILE + i % STRIPS * TILE);
+    marked = false;
+    if (origin.y >= image_size().y) {
+        return false; // below the image (and beyond the last resolve tile)
     }
-    uvec2 origin = uvec2(t % uint(grid.x), t / uint(grid.x)) * uint(TILE);
-    uvec2 size = image_size();
-    uvec2 last = min(origin + uint(TILE) - 1u, size - 1u);
-    uvec2 resolve = origin / RESOLVE_TILE;
-    bool marked = key_words(resolve_tile_word(resolve.y * resolve_tiles_x() + resolve.x)).x
-        != empty_key_word();
-    uint farthest = marked ? ~empty_key_word() : empty_key_word();
-    for (uint y = origin.y; marked && y <= last.y; y++) {
-        for (uint x = origin.x; x <= last.x; x++) {
-            uint z = key_words(y * size.x + x).y;
-            farthest = REVERSED_Z ? min(farthest, z) : max(farthest, z);
-        }
-    }
-    tiles[t] = farthest;
+    marked = key_words(resolve_tile_word(r)).x != empty_key_word();
+    return true;
 }
 
-// MARK_SHOWN: workgroup `t` stamps the glyphs its resolve tile's pixels show, if a glyph
-// marked the tile (a loop of no trips otherwise: lavapipe runs a branch's body whatever the
-// condition, but not a loop's).
-void mark_shown(uint t) {
-    uint tiles_x = resolve_tiles_x();
-    uvec2 size = image_size();
-    if (t >= tiles_x * ((size.y + RESOLVE_TILE - 1u) / RESOLVE_TILE)) {
+// KEY_TILES: each occlusion tile of a marked strip takes the farthest depth-buffer value (bits:
+// positive floats order like their bits) the visibility buffer holds at its on-screen pixels,
+// or the empty key's when a pixel shows nothing: every pixel of the tile holds a hit at or
+// nearer than it. The other tiles keep the empty key's word the pre-pass cleared them to.
+void key_tiles(uint i) {
+    uvec2 origin;
+    bool marked;
+    if (!strip_of(i, origin, marked)) {
         return;
     }
-    bool marked = key_words(resolve_tile_word(t)).x != empty_key_word();
-    uvec2 origin = uvec2(t % tiles_x, t / tiles_x) * RESOLVE_TILE;
-    // The workgroup's GROUP lanes take the tile's rows GROUP / RESOLVE_TILE at a time.
-    uint lane = gl_LocalInvocationIndex, rows = GROUP / RESOLVE_TILE;
-    for (uint k = 0u; k < (marked ? RESOLVE_TILE / rows : 0u); k++) {
-        uvec2 p = origin + uvec2(lane % RESOLVE_TILE, lane / RESOLVE_TILE + rows * k);
-        if (p.x < size.x && p.y < size.y) {
-            uint low = key_words(p.y * size.x + p.x).x;
+    uvec2 size = image_size();
+    uint row = origin.y / uint(TILE) * uint(tile_grid().x);
+    uint end_x = marked ? min(origin.x + RESOLVE_TILE, size.x) : origin.x;
+    for (uint x0 = origin.x; x0 < end_x; x0 += uint(TILE)) {
+        uvec2 last = min(uvec2(x0, origin.y) + uint(TILE) - 1u, size - 1u);
+        uint farthest = ~empty_key_word();
+        for (uint y = origin.y; y <= last.y; y++) {
+            for (uint x = x0; x <= last.x; x++) {
+                uint z = key_words(y * size.x + x).y;
+                farthest = REVERSED_Z ? min(farthest, z) : max(farthest, z);
+            }
+        }
+        tiles[row + x0 / uint(TILE)] = farthest;
+    }
+}
+
+// MARK_SHOWN: the glyph each on-screen pixel of the strip shows is stamped with the frame.
+void mark_shown(uint i) {
+    uvec2 origin;
+    bool marked;
+    if (!strip_of(i, origin, marked)) {
+        return;
+    }
+    uvec2 size = image_size();
+    uvec2 end = marked ? min(origin + uvec2(RESOLVE_TILE, TILE), size) : origin;
+    for (uint y = origin.y; y < end.y; y++) {
+        for (uint x = origin.x; x < end.x; x++) {
+            uint low = key_words(y * size.x + x).x;
             uint glyph = key_instance(low) - cam.first_instance;
             if (low != empty_key_word() && glyph < total) {
                 glyph_stamps[2u * glyph] = frame;
@@ -289,7 +305,7 @@ bool hidden_by_first_pass(uint index, vec4 sampled) {
     }
     for (int ty = t0.y; ty <= t1.y; ty++) {
         for (int tx = t0.x; tx <= t1.x; tx++) {
-            if (!hides_every_hit(tiles[ty * grid.x + tx], nearest)) {
+            if (!hides_every_hit(tile_word(ty * grid.x + tx), nearest)) {
                 return false;
             }
         }
@@ -444,11 +460,11 @@ void main() {
         return;
     }
     if (CULL_STEP == STEP_KEY_TILES) {
-        key_tile(group_index() * GROUP + gl_LocalInvocationIndex);
+        key_tiles(group_index() * GROUP + gl_LocalInvocationIndex);
         return;
     }
     if (CULL_STEP == STEP_MARK_SHOWN) {
-        mark_shown(group_index());
+        mark_shown(group_index() * GROUP + gl_LocalInvocationIndex);
         return;
     }
     uint group = group_index();

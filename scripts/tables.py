@@ -104,6 +104,9 @@ TABLES = [
           lambda: runs.deep_device(f"{H200}/deep")),
     Table("stages-lavapipe", "docs/deep-scenes.md", f"{DEEP}e, {DEEP}g, {DEEP}j",
           lambda: runs.stages([f"{DEEP}e", f"{DEEP}g", f"{DEEP}j"])),
+    Table("stages-strips", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28/stages",
+          lambda: runs.stages([f"{RESULTS}/deep/2026-11-28/stages/{b}"
+                               for b in ("before", "strips", "tile-texels")])),
     Table("resolve-variants", "docs/deep-scenes.md", f"{DEEP}h/resolve-variants",
           lambda: runs.stages([f"{DEEP}h/resolve-variants/{v}" for v in ("base2", "nosetup2", "loadonly")])),
     Table("traced-lavapipe", "docs/deep-scenes.md", f"{DEEP}b",
@@ -121,7 +124,8 @@ TABLES = [
     # which has no key tiles, in some runs).
     for change, folder, methods in (("resolve-records", f"{DEEP}d", None),
                                     ("key-tiles", f"{DEEP}f", ["impostor-visible-first"]),
-                                    ("texel-reads", f"{DEEP}h", None))
+                                    ("texel-reads", f"{DEEP}h", None),
+                                    ("strips", f"{RESULTS}/deep/2026-11-28", None))
     for motion in ("still", "orbit")
 ] + [
     Table(f"plan-regret-{which}", "docs/plan.md", f"{PLAN}/regret-{which}-run*.csv",

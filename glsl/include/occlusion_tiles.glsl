@@ -9,6 +9,17 @@ layout(std430, set = 0, binding = 5) buffer OcclusionTiles {
     uint tiles[];
 };
 
+// The same words as the visible-first splat's second CLASSIFY reads them (binding 13,
+// `OCCLUSION_TILE_WORDS` in src/renderer/descriptors.rs, which says why only there): a texel
+// each (why texel reads: design §7). Only after a barrier: no pass both writes and reads them
+// here.
+layout(set = 0, binding = 13) uniform utextureBuffer occlusion_tile_words;
+
+// The word of tile `t` (row-major), through the texel view.
+uint tile_word(int t) {
+    return texelFetch(occlusion_tile_words, t).x;
+}
+
 const int TILE = 4;
 
 ivec2 tile_grid() {

@@ -24,14 +24,15 @@ use crate::gpu::GpuBuffer;
 /// | 2 | `Visible` | visible instance indices (`uint` each) | vertex, compute | slice |
 /// | 3 | `IndirectDraw` | `IndirectDraw` | compute | the chunk's 40 bytes at `256 k` |
 /// | 4 | `CullGroups` | per group of 256: 8 words of keep bits; after all groups, one count per group (SCAN turns it into the first output slot) (written by CLASSIFY, or by the compute splat for the glyphs it leaves to the draw) | compute | the chunk's slice, 256-aligned |
-/// | 5 | `OcclusionTiles` | occlusion tiles (`uint` float bits per 4 x 4 tile, row-major from the top left) | compute | whole, shared |
+/// | 5 | `OcclusionTiles` | occlusion tiles (`uint` float bits per 4 x 4 tile, row-major from the top left; the visible-first splat's second `CLASSIFY` reads them through binding 13) | compute | whole, shared |
 /// | 6 | `ShadingRecords` | `ShadingRecord`s | compute, fragment | slice (whole beyond `MAX_SETUP_ONCE_INSTANCES`) |
 /// | 7 | `FootprintRecords` | `FootprintRecord`s | vertex, compute | slice (likewise) |
 /// | 8 | `Visibility` | the compute splat's nearest hit per pixel, then its resolve tiles (`uint64_t`, row-major, design §5.6); its readers read it through binding 12 | compute, fragment (the benchmark's visibility draw) | whole, shared |
 /// | 9 | `FloorPixels` | the visible-pixel floor's lists (host-visible; 8 bytes unless the benchmark sets them, design §5.7) | compute | whole |
 /// | 10 | `GlyphStamps` | per glyph the stamps of the last frame that showed it and that left it to the draw (design §5.7) | compute | whole (frames with stamps have one chunk) |
 /// | 11 | `TileLists` | the benchmark's tiled splat's lists (`research`; 8 bytes otherwise): per 8 x 8 tile and depth bucket a count and a first slot, 112 bytes per glyph (box, nearest depth, the hit's set-up), 64 entries of room per glyph (`glsl/research/tile_lists.glsl`) | compute | whole |
-/// | 12 | (`VISIBILITY_KEYS` in `src/renderer/descriptors.rs`) | binding 8's buffer as a uniform texel buffer of `R32G32_UINT` texels, a key each, for the passes that only read it (the resolve, `KEY_TILES`, `MARK_SHOWN`) | vertex, fragment, compute (`VISIBILITY_KEYS_STAGES`) | whole, shared |
+/// | 12 | (`VISIBILITY_KEYS` in `src/renderer/descriptors.rs`) | binding 8's buffer as a uniform texel buffer of `R32G32_UINT` texels, a key each, for the passes that only read it (the resolve, `KEY_TILES`, `MARK_SHOWN`) | vertex, fragment, compute | whole, shared |
+/// | 13 | (`OCCLUSION_TILE_WORDS` there) | binding 5's buffer as a uniform texel buffer of `R32_UINT` texels, a tile's word each, for the visible-first splat's second `CLASSIFY` | compute | whole, shared |
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Binding {
     /// The instance records.
@@ -109,7 +110,7 @@ impl Binding {
                 vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT
             }
             // Written by the splat, and by the benchmark's visibility draw (fragment); its
-            // readers see it through binding 12 (`VISIBILITY_KEYS_STAGES`).
+            // readers see it through binding 12 (`VISIBILITY_KEYS`).
             Binding::Visibility => vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT,
         }
     }
@@ -162,8 +163,8 @@ impl Binding {
         match self {
             // Only ever read through texel views (binding 0).
             Binding::Instances => vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER | extra,
-            // Also read through binding 12's texel view.
-            Binding::Visibility => {
+            // Also read through binding 12's and 13's texel views.
+            Binding::Visibility | Binding::OcclusionTiles => {
                 vk::BufferUsageFlags::STORAGE_BUFFER
                     | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
                     | extra

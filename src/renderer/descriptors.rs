@@ -12,21 +12,50 @@ use super::buffers::{Binding, SceneBuffers};
 use super::chunks::{Chunking, SLICE_ALIGN};
 use super::plan::MAX_SETUP_ONCE_INSTANCES;
 
-/// Binding of the visibility buffer's texel view (`visibility_keys` in
-/// glsl/include/visibility_words.glsl): the keys, one `R32G32_UINT` texel each, for the
-/// passes that only read them.
-pub(crate) const VISIBILITY_KEYS: u32 = 12;
+/// A texel view of a storage binding's buffer, for the passes that only read it (why texel
+/// reads: design §7): its binding, the buffer it views, its texels' format and bytes, and the
+/// stages that read it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ReadView {
+    pub binding: u32,
+    pub of: Binding,
+    pub format: vk::Format,
+    pub texel: u64,
+    pub stages: vk::ShaderStageFlags,
+}
 
-/// The stages that read the keys: the resolve's vertex stage (the tile words) and fragment
-/// stage (the pixels' keys), and `KEY_TILES` and `MARK_SHOWN`.
-pub(crate) const VISIBILITY_KEYS_STAGES: vk::ShaderStageFlags = vk::ShaderStageFlags::from_raw(
-    vk::ShaderStageFlags::VERTEX.as_raw()
-        | vk::ShaderStageFlags::FRAGMENT.as_raw()
-        | vk::ShaderStageFlags::COMPUTE.as_raw(),
-);
+/// The visibility buffer's keys (`visibility_keys` in glsl/include/visibility_words.glsl), one
+/// `R32G32_UINT` texel each, read by the resolve's vertex stage (the tile words) and fragment
+/// stage (the pixels' keys), and by `KEY_TILES` and `MARK_SHOWN`.
+pub(crate) const VISIBILITY_KEYS: ReadView = ReadView {
+    binding: 12,
+    of: Binding::Visibility,
+    format: vk::Format::R32G32_UINT,
+    texel: 8,
+    stages: vk::ShaderStageFlags::from_raw(
+        vk::ShaderStageFlags::VERTEX.as_raw()
+            | vk::ShaderStageFlags::FRAGMENT.as_raw()
+            | vk::ShaderStageFlags::COMPUTE.as_raw(),
+    ),
+};
+
+/// The occlusion tiles' words (`occlusion_tile_words` in glsl/include/occlusion_tiles.glsl),
+/// one `R32_UINT` texel each, read by the visible-first splat's second CLASSIFY. Only there:
+/// a frame that splats has a visibility buffer within the device's texel limit, and so tiles
+/// within it (16 pixels a tile), where a culled draw may not.
+pub(crate) const OCCLUSION_TILE_WORDS: ReadView = ReadView {
+    binding: 13,
+    of: Binding::OcclusionTiles,
+    format: vk::Format::R32_UINT,
+    texel: 4,
+    stages: vk::ShaderStageFlags::COMPUTE,
+};
+
+/// Every texel view of a storage binding, in binding order.
+pub(crate) const READ_VIEWS: [ReadView; 2] = [VISIBILITY_KEYS, OCCLUSION_TILE_WORDS];
 
 /// Creates the layout of the renderer's one descriptor set: a buffer per [`Binding`], of its
-/// descriptor type, and the visibility buffer's texel view.
+/// descriptor type, and the texel views of [`READ_VIEWS`].
 pub(crate) fn create_set_layout(device: &ash::Device) -> Result<vk::DescriptorSetLayout> {
     let mut bindings = Binding::ALL
         .map(|binding| {
@@ -37,20 +66,20 @@ pub(crate) fn create_set_layout(device: &ash::Device) -> Result<vk::DescriptorSe
                 .stage_flags(binding.stages())
         })
         .to_vec();
-    bindings.push(
+    bindings.extend(READ_VIEWS.map(|view| {
         vk::DescriptorSetLayoutBinding::default()
-            .binding(VISIBILITY_KEYS)
+            .binding(view.binding)
             .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
             .descriptor_count(1)
-            .stage_flags(VISIBILITY_KEYS_STAGES),
-    );
+            .stage_flags(view.stages)
+    }));
     let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
     // SAFETY: valid create info; the caller owns the layout.
     unsafe { device.create_descriptor_set_layout(&info, None) }.call("vkCreateDescriptorSetLayout")
 }
 
 /// Descriptor sets, one per chunk, the pool they came from and the texel views they point at
-/// (one view of the visibility buffer, then each chunk's view of its instances).
+/// (those of [`READ_VIEWS`], then each chunk's view of its instances).
 #[derive(Default)]
 pub(crate) struct ChunkSets {
     pub pool: vk::DescriptorPool,
@@ -145,7 +174,7 @@ fn write_chunk_sets(
         .iter()
         .filter(|b| b.descriptor_type() == vk::DescriptorType::STORAGE_BUFFER)
         .count() as u32;
-    let texel = Binding::ALL.len() as u32 + 1 - storage;
+    let texel = Binding::ALL.len() as u32 + READ_VIEWS.len() as u32 - storage;
     let sizes = [
         vk::DescriptorPoolSize::default()
             .ty(vk::DescriptorType::STORAGE_BUFFER)
@@ -167,15 +196,19 @@ fn write_chunk_sets(
     // SAFETY: the pool has room for exactly these sets; they are freed with the pool.
     made.sets =
         unsafe { device.allocate_descriptor_sets(&info) }.call("vkAllocateDescriptorSets")?;
-    // The keys, read where nothing writes them: one view for every chunk.
-    let visibility = view.get(Binding::Visibility).map_or(0, |b| b.size());
-    let keys = texel_view(
-        device,
-        &mut made.views,
-        (handles[Binding::Visibility as usize], 0, visibility),
-        (vk::Format::R32G32_UINT, 8),
-        max_texels,
-    )?;
+    // The views read where nothing writes them: one of each for every chunk.
+    let mut read_views = Vec::with_capacity(READ_VIEWS.len());
+    for read in READ_VIEWS {
+        let owner = if read.of.per_view() { view } else { shared };
+        let bytes = owner.get(read.of).map_or(0, |b| b.size());
+        read_views.push(texel_view(
+            device,
+            &mut made.views,
+            (handles[read.of as usize], 0, bytes),
+            (read.format, read.texel),
+            max_texels,
+        )?);
+    }
     // Set-up records exist per instance only for scenes that can use them.
     let records = chunking.count <= MAX_SETUP_ONCE_INSTANCES;
     let groups = chunking.groups_slice();
@@ -228,7 +261,6 @@ fn write_chunk_sets(
                     .range(range)]
             })
             .collect();
-        let texel_views = [[instances], [keys]];
         let mut writes: Vec<vk::WriteDescriptorSet> = Binding::ALL
             .iter()
             .zip(&infos)
@@ -241,14 +273,20 @@ fn write_chunk_sets(
                     .buffer_info(info)
             })
             .collect();
-        for (binding, view) in [Binding::Instances as u32, VISIBILITY_KEYS]
-            .into_iter()
-            .zip(&texel_views)
-        {
+        let texel_views: Vec<(u32, [vk::BufferView; 1])> =
+            std::iter::once((Binding::Instances as u32, [instances]))
+                .chain(
+                    READ_VIEWS
+                        .iter()
+                        .zip(&read_views)
+                        .map(|(r, &v)| (r.binding, [v])),
+                )
+                .collect();
+        for (binding, view) in &texel_views {
             writes.push(
                 vk::WriteDescriptorSet::default()
                     .dst_set(set)
-                    .dst_binding(binding)
+                    .dst_binding(*binding)
                     .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
                     .texel_buffer_view(view),
             );

@@ -48,7 +48,7 @@
 //! | `wisdom.rs` | what the plan learned as bytes, keyed by the device and driver build (design §5.8) |
 //! | `buffers.rs` | `SceneBuffers` and `Binding`: one buffer per descriptor binding as one table (name, descriptor type, stages, usage, memory), each grown by the same rule (a buffer too small is replaced and the old one retired, `src/frame_slots.rs`) |
 //! | `chunks.rs` | `Chunking`, `SLICE_ALIGN`: how a scene is split across bindings (design §5.4) |
-//! | `descriptors.rs` | the descriptor-set layout and one set per chunk, in a pool of its own, with the texel views they point at (`VISIBILITY_KEYS`) |
+//! | `descriptors.rs` | the descriptor-set layout and one set per chunk, in a pool of its own, with the texel views they point at (`READ_VIEWS`) |
 //! | `pipelines/mod.rs` | `Pipelines`: the two pipeline layouts (graphics push range `DRAW_PUSH_STAGES`, compute-only for the pre-pass) and every pipeline, built on first use and kept per key |
 //! | `pipelines/keys.rs` | `PipelineKey`, `SplatKey`, `CullKey`: each derived from the frame plan in one place, with its specialization constants (`SpecConstants`) |
 //! | `pipelines/create.rs` | creating the graphics and compute pipelines the keys describe |
@@ -100,7 +100,7 @@ pub(crate) use buffers::Binding;
 use buffers::SceneBuffers;
 use chunks::Chunking;
 #[cfg(test)]
-pub(crate) use descriptors::{VISIBILITY_KEYS, VISIBILITY_KEYS_STAGES};
+pub(crate) use descriptors::{ReadView, OCCLUSION_TILE_WORDS, READ_VIEWS, VISIBILITY_KEYS};
 use frame_timer::FrameTimer;
 use learning::PlanLearning;
 use pipelines::Pipelines;

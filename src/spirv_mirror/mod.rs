@@ -16,7 +16,7 @@ use ash::vk;
 
 use crate::gpu_layout::SpecConstants;
 use crate::renderer::prepass::steps::{GROUP_SIZE, SPLAT_GROUP_SIZE};
-use crate::renderer::{Binding, VISIBILITY_KEYS, VISIBILITY_KEYS_STAGES};
+use crate::renderer::{Binding, OCCLUSION_TILE_WORDS, READ_VIEWS, VISIBILITY_KEYS};
 use reader::{Constant, Module, Type};
 use rust_layouts::{shared_layouts, spec_constant_fields, Layout};
 
@@ -37,14 +37,16 @@ const OTHER_VIEWS: [(Binding, &str); 2] = [
 
 /// The uniform texel buffers of set 0: binding, variable name, and the stages the set layout
 /// gives it.
-fn texel_views() -> [(u32, &'static str, vk::ShaderStageFlags); 2] {
+fn texel_views() -> [(u32, &'static str, vk::ShaderStageFlags); 3] {
+    let read = |view: crate::renderer::ReadView, name| (view.binding, name, view.stages);
     [
         (
             Binding::Instances as u32,
             "instance_texels",
             Binding::Instances.stages(),
         ),
-        (VISIBILITY_KEYS, "visibility_keys", VISIBILITY_KEYS_STAGES),
+        read(VISIBILITY_KEYS, "visibility_keys"),
+        read(OCCLUSION_TILE_WORDS, "occlusion_tile_words"),
     ]
 }
 
@@ -527,8 +529,13 @@ fn descriptor_bindings_match_the_binding_table() {
             findings.add_overall(format!("no shader uses Binding::{binding:?}"));
         }
     }
-    if !seen.contains(&VISIBILITY_KEYS) {
-        findings.add_overall("no shader reads the visibility keys' texel view".into());
+    for view in READ_VIEWS {
+        if !seen.contains(&view.binding) {
+            findings.add_overall(format!(
+                "no shader reads binding {}'s texel view",
+                view.binding
+            ));
+        }
     }
     findings.assert_none("descriptor bindings");
 }

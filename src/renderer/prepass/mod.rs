@@ -14,7 +14,9 @@
 //!    are busy with the lists).
 //! 3. KEY_TILES: each 4 x 4 occlusion tile takes the farthest depth-buffer value the visibility
 //!    buffer holds at its on-screen pixels (as bits: positive floats order like their bits; an
-//!    empty pixel gives the empty key's, which hides nothing).
+//!    empty pixel gives the empty key's, which hides nothing). One invocation per strip (a
+//!    row of occlusion tiles across a resolve tile), which reads nothing where no glyph marked
+//!    the resolve tile.
 //! 4. CLASSIFY `REST`, SCAN, SCATTER: the glyphs not stamped, with frustum and pixel-centre
 //!    culling, kept unless every tile under the pixels with a sample in their rectangle (the
 //!    rectangle the culling trusts, design §5.3) hides them: their nearest point, moved nearer by
@@ -23,9 +25,9 @@
 //!    two float steps beyond the tile's; a glyph that may reach the near plane is kept. Every
 //!    hit of the glyph then lies beyond what each of its pixels holds, so it can neither win nor
 //!    tie one, and the splat's atomics would change nothing. The second pass splats the list.
-//! 5. MARK_SHOWN: one workgroup per resolve tile a glyph marked (a loop of no trips elsewhere:
-//!    lavapipe runs a branch's body whatever the condition, but not a loop's) stamps the glyph
-//!    each pixel shows with the frame's stamp.
+//! 5. MARK_SHOWN: one invocation per strip of a resolve tile a glyph marked (a loop of no
+//!    trips elsewhere: lavapipe runs a branch's body whatever the condition, but not a loop's)
+//!    stamps the glyph each pixel shows with the frame's stamp.
 //! 6. CLASSIFY `DRAWN`, SCAN, SCATTER: the glyphs a pass left to the draw, in instance order, for
 //!    the indirect draw after the resolve.
 
@@ -191,14 +193,27 @@ impl EllipsoidRenderer {
         // Each chunk culls its own instances into its own indirect command; the occlusion
         // tiles are cleared once and shared, so later chunks also see earlier occluders.
         let chunks: Vec<(u32, u32)> = chunking.chunks().collect();
+        // The occlusion tiles' clear word: the culling's +inf bits (no surface known in front
+        // of any tile yet), or under the visible-first splat the empty key's word (hides
+        // nothing, glsl/include/nearest_depth.glsl), which KEY_TILES leaves in the tiles no
+        // glyph marked.
+        let empty_key_word = if plan.reversed_z { 0 } else { u32::MAX };
+        let visible_first = matches!(
+            plan.path.splat().map(|s| s.hidden),
+            Some(HiddenLayers::VisibleFirst { .. })
+        );
+        let tiles_word = if visible_first {
+            empty_key_word
+        } else {
+            f32::INFINITY.to_bits()
+        };
         for (k, ((first, count), set)) in chunks.into_iter().zip(sets).enumerate() {
             let mut fills = Vec::new();
             if plan.path.splat().is_some() {
                 if k == 0 {
                     // Nothing hit yet: every 64-bit key of the image holds the empty value.
-                    let empty = if plan.reversed_z { 0 } else { u32::MAX };
                     let bytes = visibility_bytes(camera.width, camera.height);
-                    fills.push((visibility, 0, bytes, empty));
+                    fills.push((visibility, 0, bytes, empty_key_word));
                 }
                 // The keep bits of the glyphs the splat leaves to the draw.
                 let bytes = steps::groups_bytes(count);
@@ -240,7 +255,7 @@ impl EllipsoidRenderer {
                     dispatch_z: 1,
                 },
                 indirect_offset: k as u64 * SLICE_ALIGN,
-                clear_tiles: plan.culling().occlusion && k == 0,
+                clear_tiles: (plan.culling().occlusion && k == 0).then_some(tiles_word),
                 buffers: PrepassBuffers { ..buffers },
                 fills,
                 dispatches: dispatches
@@ -287,7 +302,7 @@ impl EllipsoidRenderer {
         let off = Culling::OFF;
         let mark_shown = (
             self.cull_pipeline(device, plan, CullStep::MarkShown, CullSelect::All, off)?,
-            grid(resolve_tiles(w, h)),
+            grid(steps::strip_groups(resolve_tiles(w, h))),
         );
         let splat = SplatKey::of(plan, &self.research);
         let mut dispatches = Vec::new();
@@ -300,7 +315,7 @@ impl EllipsoidRenderer {
                 let pass = (self.pipelines.splat(device, list)?, DispatchSize::Indirect);
                 let key_tiles = (
                     self.cull_pipeline(device, plan, CullStep::KeyTiles, CullSelect::All, off)?,
-                    grid(steps::tiles_count(w, h).div_ceil(steps::GROUP_SIZE as u32)),
+                    grid(steps::strip_groups(resolve_tiles(w, h))),
                 );
                 dispatches.extend(self.list_steps(device, plan, CullSelect::Shown, off)?);
                 dispatches.push(pass);

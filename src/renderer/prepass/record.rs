@@ -63,8 +63,10 @@ pub(crate) struct Prepass {
     pub command: IndirectDraw,
     /// Where in the indirect buffer this chunk's command lies.
     pub indirect_offset: u64,
-    /// Occlusion runs: reset the tiles first.
-    pub clear_tiles: bool,
+    /// Occlusion runs: reset the tiles first, every word to this one (the culling's +inf
+    /// bits: no surface known yet; the visible-first splat's empty key word: hides nothing,
+    /// so KEY_TILES writes only the tiles a glyph may have covered).
+    pub clear_tiles: Option<u32>,
     pub buffers: PrepassBuffers,
     /// Buffer ranges filled before the dispatches (buffer, offset, bytes, word): the compute
     /// splat's visibility buffer (first chunk) and keep bits, and the glyph stamps of a new
@@ -101,9 +103,8 @@ impl Prepass {
                 self.indirect_offset,
                 bytemuck::bytes_of(&self.command),
             );
-            if self.clear_tiles {
-                // +inf: no surface known in front of any tile yet.
-                device.cmd_fill_buffer(cmd, b.tiles, 0, vk::WHOLE_SIZE, f32::INFINITY.to_bits());
+            if let Some(word) = self.clear_tiles {
+                device.cmd_fill_buffer(cmd, b.tiles, 0, vk::WHOLE_SIZE, word);
             }
             for &(buffer, offset, bytes, word) in &self.fills {
                 device.cmd_fill_buffer(cmd, buffer, offset, bytes, word);

@@ -2,6 +2,7 @@
 //! workgroup counts and the sizes of the buffers they fill.
 
 use crate::culling::Culling;
+use crate::gpu_layout::RESOLVE_TILE;
 
 /// One dispatch of the pre-pass (`CULL_STEP` in the shader).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -129,6 +130,16 @@ pub(crate) fn tiles_bytes(width: u32, height: u32) -> u64 {
     4 * tiles_count(width, height) as u64
 }
 
+/// Strips of a resolve tile (`STRIPS` in `cull.comp`): rows of occlusion tiles across it.
+const STRIPS: u64 = RESOLVE_TILE as u64 / TILE;
+
+/// Workgroups of KEY_TILES and MARK_SHOWN over `resolve_tiles` resolve tiles: an invocation
+/// per strip (a lavapipe invocation costs about as much as a few reads, so not one per
+/// occlusion tile or pixel row).
+pub(crate) fn strip_groups(resolve_tiles: u32) -> u32 {
+    (resolve_tiles as u64 * STRIPS).div_ceil(GROUP_SIZE) as u32
+}
+
 /// The dispatch grid for `groups` workgroups: x up to the guaranteed limit, then rows.
 pub(crate) fn dispatch_grid(groups: u32) -> (u32, u32) {
     let x = groups.clamp(1, MAX_GROUPS_X);
@@ -162,6 +173,11 @@ mod tests {
         assert_eq!(groups_bytes(1_000_000), 4 * 9 * 3907);
         assert_eq!(tiles_bytes(1920, 1080), 4 * 480 * 270);
         assert_eq!(tiles_bytes(161, 121), 4 * 41 * 31);
+        // 60 x 34 resolve tiles at 1920 x 1080, 8 strips each: 16,320 invocations.
+        assert_eq!(strip_groups(2040), 64);
+        assert_eq!(strip_groups(32), 1);
+        assert_eq!(strip_groups(33), 2);
+        assert_eq!(strip_groups(1), 1);
     }
 
     #[test]
