@@ -8,7 +8,8 @@
 // multisampled targets both proofs are about the samples (SAMPLE_GRID): the pixels with a
 // sample in the rectangle, and tiles whose every sample the occluder covers.
 //
-// The steps, one dispatch each over groups of 256 instances (CULL_STEP):
+// The steps, one dispatch each over groups of 256 instances (CULL_STEP; SCATTER, and CLASSIFY
+// by a stamp, one invocation per 32 of them, a keep word):
 //   OCCLUDERS  each ellipsoid lowers, on the pixel tiles its inscribed sphere covers for
 //              certain, the tile's "something lies at or before this view depth" bound;
 //   CLASSIFY   keep bits and a count per group, and (CULL_SETUP) each kept instance's set-up
@@ -48,6 +49,9 @@ const int STEP_SCAN = 2;
 const int STEP_SCATTER = 3;
 const int STEP_KEY_TILES = 4;
 const int STEP_MARK_SHOWN = 5;
+// CLASSIFY picks by a stamp alone (`classify_stamps`; `CullSelect::by_stamp` in
+// src/renderer/prepass/steps.rs).
+const bool CLASSIFY_STAMPS = CULL_SELECT == CULL_SELECT_SHOWN || CULL_SELECT == CULL_SELECT_DRAWN;
 
 layout(std430, set = 0, binding = 2) writeonly buffer Visible {
     uint visible[];
@@ -358,6 +362,34 @@ bool setup_rect(Setup s, out vec4 rect) {
 }
 
 shared uint keep_bits[8];
+// CLASSIFY of the stamps: the kept instances of each of the workgroup's groups.
+shared uint kept_in_group[GROUP / 8u];
+
+// CLASSIFY of the glyphs a stamp picks (those the last stamping frame showed, or those a
+// splat pass of this frame left to the draw): invocation `w` reads the stamps of keep word
+// `w`'s 32 instances, as SCATTER takes them, and the 8 lanes of a group add up its count.
+void classify_stamps(uint w) {
+    uint lane = gl_LocalInvocationIndex;
+    uint group = w / 8u;
+    if (lane < GROUP / 8u) {
+        kept_in_group[lane] = 0u;
+    }
+    barrier();
+    uint bits = 0u;
+    uint end = group < group_count() ? min(w * 32u + 32u, total) : 0u;
+    for (uint i = w * 32u; i < end; i++) {
+        bool keep = CULL_SELECT == CULL_SELECT_SHOWN ? shown_last_frame(i) : left_to_draw(i);
+        bits |= keep ? 1u << (i % 32u) : 0u;
+    }
+    if (end > 0u) {
+        groups[w] = bits;
+        atomicAdd(kept_in_group[lane / 8u], uint(bitCount(bits)));
+    }
+    barrier();
+    if (end > 0u && lane % 8u == 0u) {
+        groups[group_count() * 8u + group] = kept_in_group[lane / 8u];
+    }
+}
 
 void classify(uint group, uint index) {
     uint lane = gl_LocalInvocationIndex;
@@ -375,10 +407,6 @@ void classify(uint group, uint index) {
             if (keep) {
                 store_setup(index, s);
             }
-        } else if (CULL_SELECT == CULL_SELECT_SHOWN) {
-            keep = shown_last_frame(index);
-        } else if (CULL_SELECT == CULL_SELECT_DRAWN) {
-            keep = left_to_draw(index);
         } else {
             keep = (CULL_SELECT != CULL_SELECT_REST || !shown_last_frame(index))
                 && needed(index, silhouette_rect(load_instance(index), rect), rect);
@@ -440,18 +468,24 @@ void scan() {
     }
 }
 
-void scatter(uint group, uint index) {
-    uint lane = gl_LocalInvocationIndex;
-    uint word = groups[group * 8u + lane / 32u];
-    uint bit = 1u << (lane % 32u);
-    if ((word & bit) == 0u) {
-        return;
+// SCATTER: invocation `w` takes keep word `w` (word w % 8 of group w / 8) and writes its kept
+// instances to their slots in instance order, from the group's first slot and the kept
+// instances of the group's earlier words: one invocation per 32 instances, since on lavapipe
+// an invocation costs about as much as a few reads.
+void scatter_word(uint w) {
+    uint group = w / 8u;
+    if (group >= group_count()) {
+        return; // the dispatch grid's padding
     }
-    uint slot = groups[group_count() * 8u + group] + uint(bitCount(word & (bit - 1u)));
-    for (uint w = 0u; w < lane / 32u; w++) {
-        slot += uint(bitCount(groups[group * 8u + w]));
+    uint word = groups[w];
+    uint slot = groups[group_count() * 8u + group];
+    for (uint k = group * 8u; k < w; k++) {
+        slot += uint(bitCount(groups[k]));
     }
-    visible[slot] = index;
+    for (; word != 0u; word &= word - 1u) {
+        visible[slot] = w * 32u + uint(findLSB(word));
+        slot++;
+    }
 }
 
 void main() {
@@ -467,6 +501,14 @@ void main() {
         mark_shown(group_index() * GROUP + gl_LocalInvocationIndex);
         return;
     }
+    if (CULL_STEP == STEP_SCATTER) {
+        scatter_word(group_index() * GROUP + gl_LocalInvocationIndex);
+        return;
+    }
+    if (CULL_STEP == STEP_CLASSIFY && CLASSIFY_STAMPS) {
+        classify_stamps(group_index() * GROUP + gl_LocalInvocationIndex);
+        return;
+    }
     uint group = group_index();
     if (group >= group_count()) {
         return; // the whole workgroup: the dispatch grid's padding
@@ -478,7 +520,5 @@ void main() {
         }
     } else if (CULL_STEP == STEP_CLASSIFY) {
         classify(group, index);
-    } else {
-        scatter(group, index);
     }
 }

@@ -107,6 +107,8 @@ TABLES = [
     Table("stages-strips", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28/stages",
           lambda: runs.stages([f"{RESULTS}/deep/2026-11-28/stages/{b}"
                                for b in ("before", "strips", "tile-texels")])),
+    Table("stages-keep-words", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28b",
+          lambda: runs.stages([f"{RESULTS}/deep/2026-11-28b/{b}" for b in ("tile-texels", "keep-words")])),
     Table("resolve-variants", "docs/deep-scenes.md", f"{DEEP}h/resolve-variants",
           lambda: runs.stages([f"{DEEP}h/resolve-variants/{v}" for v in ("base2", "nosetup2", "loadonly")])),
     Table("traced-lavapipe", "docs/deep-scenes.md", f"{DEEP}b",

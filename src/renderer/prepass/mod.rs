@@ -398,6 +398,8 @@ impl EllipsoidRenderer {
     ) -> Result<(vk::Pipeline, DispatchSize)> {
         let size = match step {
             CullStep::Scan => DispatchSize::Grid(1, 1),
+            CullStep::Scatter => DispatchSize::Words,
+            CullStep::Classify if select.by_stamp() => DispatchSize::Words,
             _ => DispatchSize::Groups,
         };
         Ok((

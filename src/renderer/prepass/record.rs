@@ -6,7 +6,7 @@ use ash::vk;
 use crate::barriers;
 use crate::gpu_layout::{IndirectDraw, PushConstants};
 
-use super::steps::{dispatch_grid, group_count, SPLAT_GROUP_SIZE};
+use super::steps::{dispatch_grid, group_count, word_groups, SPLAT_GROUP_SIZE};
 
 /// The buffers the pre-pass fills with transfer commands (the rest it writes through the
 /// descriptor set).
@@ -20,6 +20,8 @@ pub(crate) struct PrepassBuffers {
 pub(crate) enum DispatchSize {
     /// One invocation per instance of the chunk, in the culling's groups of 256.
     Groups,
+    /// One invocation per keep word of the chunk (`steps::word_groups`).
+    Words,
     /// One invocation per instance of the chunk, in the splat's groups of 64.
     Splat,
     /// These workgroups (x, y).
@@ -147,6 +149,7 @@ impl Prepass {
                 device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, dispatch.pipeline);
                 let (x, y) = match dispatch.size {
                     DispatchSize::Groups => dispatch_grid(group_count(total)),
+                    DispatchSize::Words => dispatch_grid(word_groups(total)),
                     DispatchSize::Splat => splat_grid(total),
                     DispatchSize::Grid(x, y) => (x, y),
                     DispatchSize::Indirect => {

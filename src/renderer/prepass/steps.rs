@@ -37,6 +37,14 @@ pub(crate) enum CullSelect {
     Drawn = 3,
 }
 
+impl CullSelect {
+    /// Whether CLASSIFY picks by a stamp alone (`CLASSIFY_STAMPS` in `cull.comp`): then one
+    /// invocation per keep word, as SCATTER.
+    pub(crate) fn by_stamp(self) -> bool {
+        matches!(self, CullSelect::Shown | CullSelect::Drawn)
+    }
+}
+
 /// The benchmark's tiled splat's steps (`CULL_STEP` of `glsl/research/tiled_bins.comp`, then
 /// `glsl/research/tiled_splat.comp`), in the order they run in place of the compute splat.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -115,6 +123,13 @@ pub(crate) fn group_count(count: u32) -> u32 {
     (count as u64).div_ceil(GROUP_SIZE) as u32
 }
 
+/// Workgroups over the keep words of `count` instances (8 per group of 256): SCATTER, and
+/// CLASSIFY by a stamp, take one invocation per word, since on lavapipe an invocation costs
+/// about as much as a few reads.
+pub(crate) fn word_groups(count: u32) -> u32 {
+    (group_count(count) as u64 * 8).div_ceil(GROUP_SIZE) as u32
+}
+
 /// Bytes of the groups buffer: 8 words of keep bits and one count per group.
 pub(crate) fn groups_bytes(count: u32) -> u64 {
     4 * 9 * group_count(count).max(1) as u64
@@ -171,6 +186,9 @@ mod tests {
         assert_eq!(group_count(257), 2);
         assert_eq!(groups_bytes(0), 36);
         assert_eq!(groups_bytes(1_000_000), 4 * 9 * 3907);
+        assert_eq!(word_groups(0), 0);
+        assert_eq!(word_groups(64_000), 8); // 250 groups, 2,000 words
+        assert_eq!(word_groups(1_000_000), 123); // 3,907 groups, 31,256 words
         assert_eq!(tiles_bytes(1920, 1080), 4 * 480 * 270);
         assert_eq!(tiles_bytes(161, 121), 4 * 41 * 31);
         // 60 x 34 resolve tiles at 1920 x 1080, 8 strips each: 16,320 invocations.
