@@ -8,8 +8,9 @@
 // multisampled targets both proofs are about the samples (SAMPLE_GRID): the pixels with a
 // sample in the rectangle, and tiles whose every sample the occluder covers.
 //
-// The steps, one dispatch each over groups of 256 instances (CULL_STEP; SCATTER, and CLASSIFY
-// by a stamp, one invocation per 32 of them, a keep word):
+// The steps, one dispatch each (CULL_STEP): over groups of 256 instances, one invocation each
+// (SCATTER, and CLASSIFY by a stamp: one per 32 of them, a keep word); SCAN one workgroup;
+// KEY_TILES and MARK_SHOWN one invocation per strip of the image:
 //   OCCLUDERS  each ellipsoid lowers, on the pixel tiles its inscribed sphere covers for
 //              certain, the tile's "something lies at or before this view depth" bound;
 //   CLASSIFY   keep bits and a count per group, and (CULL_SETUP) each kept instance's set-up
@@ -18,8 +19,9 @@
 //              writes the splat's indirect dispatch over the list);
 //   SCATTER    kept indices to their slots: the compacted order is the instance order, so
 //              draw order, and with it which of two exactly tied depths wins, is unchanged;
-//   KEY_TILES  (the visible-first splat, after its first pass) each tile takes the farthest
-//              depth-buffer value the visibility buffer holds over its pixels;
+//   KEY_TILES  (the visible-first splat, after its first pass) each tile of a marked resolve
+//              tile takes the farthest depth-buffer value the visibility buffer holds over
+//              its pixels;
 //   MARK_SHOWN (the visible-first splat, after its passes) each glyph the finished visibility
 //              buffer shows is stamped with the frame, to be splatted first next frame.
 // CULL_SELECT picks what CLASSIFY lists: the visible-first splat lists the glyphs the last
@@ -227,7 +229,7 @@ bool occluded(uint index, vec4 sampled) {
 
 // KEY_TILES and MARK_SHOWN go by strips: a strip is a row of occlusion tiles across a resolve
 // tile (32 x 4 pixels), invocation `i` takes strip `i % STRIPS` of resolve tile `i / STRIPS`,
-// and the 8 lanes of a subgroup share a resolve tile. On lavapipe an invocation costs about as
+// so each 8 consecutive invocations (a subgroup on lavapipe) share a resolve tile. On lavapipe an invocation costs about as
 // much as a few reads, so what a resolve tile no glyph marked costs is its strips' invocations;
 // such a tile shows nothing so far this frame (a glyph with a hit marks every resolve tile its
 // box touches), and its strips read no pixel, in loops of no trips (lavapipe runs a branch's

@@ -13,7 +13,13 @@ set -euo pipefail
 out="${1:?stage-profile: give the results folder}"
 [ $# -ge 2 ] || { echo "stage-profile: give the patched tool" >&2; exit 2; }
 tools=()
-for tool in "${@:2}"; do tools+=("$(realpath "$tool")"); done
+for tool in "${@:2}"; do
+  for other in "${tools[@]}"; do
+    [ "$(basename "$other")" != "$(basename "$tool")" ] \
+      || { echo "stage-profile: two tools named $(basename "$tool"): each needs a folder of its own" >&2; exit 2; }
+  done
+  tools+=("$(realpath "$tool")")
+done
 mkdir -p "$out"
 cd "$out"
 uptime > load.txt

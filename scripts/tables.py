@@ -30,7 +30,7 @@ from figures.results import RESULTS, ROOT, ResultsError  # noqa: E402
 
 PLAN = f"{RESULTS}/plan"
 DEEP = f"{RESULTS}/deep/2026-11-27"
-# The latest deep-scenes run beside Mitsuba (the build with the texel reads).
+# The latest deep-scenes run beside Mitsuba (the build with the keep words).
 DEEP_LATEST = f"{RESULTS}/deep/2026-11-28c"
 H200 = f"{RESULTS}/devices/nvidia-h200-2026-11-27b"
 # The first report of the day: the plan's regret over three runs and `bench --skip`.
@@ -108,7 +108,7 @@ TABLES = [
           lambda: runs.stages([f"{RESULTS}/deep/2026-11-28/stages/{b}"
                                for b in ("before", "strips", "tile-texels")])),
     Table("stages-keep-words", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28b",
-          lambda: runs.stages([f"{RESULTS}/deep/2026-11-28b/{b}" for b in ("tile-texels", "keep-words")])),
+          lambda: runs.stages([f"{RESULTS}/deep/2026-11-28b/{b}" for b in ("tile-texels", "keep-words", "keep-words-cleared")])),
     Table("resolve-variants", "docs/deep-scenes.md", f"{DEEP}h/resolve-variants",
           lambda: runs.stages([f"{DEEP}h/resolve-variants/{v}" for v in ("base2", "nosetup2", "loadonly")])),
     Table("traced-lavapipe", "docs/deep-scenes.md", f"{DEEP}b",

@@ -441,6 +441,93 @@ fn visible_first_frames_match_the_draw_at_each_stop_of_an_orbit() {
     finish_validated(drawn);
 }
 
+/// The camera jumps from one cluster of glyphs to another that no frame showed yet, farther
+/// away, with a drawn frame between: the visible-first splat's first pass hits nothing, so no
+/// resolve tile is marked, and its second pass must find every occlusion tile holding nothing
+/// (not the depths an earlier frame or the draw's culling left there), or the new cluster
+/// would be culled as hidden; in both depth conventions.
+#[test]
+fn visible_first_after_a_jump_to_glyphs_never_shown_matches_the_draw() {
+    let mut scene = random_cloud(2_000, 31, 3.0, 0.4);
+    let far: Vec<Ellipsoid> = scene
+        .ellipsoids
+        .iter()
+        .map(|e| Ellipsoid {
+            center: e.center + DVec3::new(60.0, 0.0, 0.0),
+            ..*e
+        })
+        .collect();
+    scene.ellipsoids.extend(far);
+    let fixed = |kind| {
+        let mut settings = Settings::default();
+        settings.plan = PlanMode::Fixed(kind);
+        settings
+    };
+    let mut splatted = validated_renderer();
+    splatted.set_settings(fixed(PathKind::VisibleFirst));
+    splatted.upload(&scene).expect("upload");
+    let mut drawn = validated_renderer();
+    drawn.set_settings(fixed(PathKind::Draw));
+    drawn.upload(&scene).expect("upload");
+    for standard in [false, true] {
+        let depth = |camera: Camera| {
+            if standard {
+                camera
+                    .with_depth(DepthConvention::STANDARD_INFINITE)
+                    .unwrap()
+            } else {
+                camera
+            }
+        };
+        let near_cluster = depth(
+            Camera::look_at(DVec3::new(0.0, 1.0, 9.0), DVec3::ZERO, 45.0, 1.0, 200, 150).unwrap(),
+        );
+        let far_cluster = depth(
+            Camera::look_at(
+                DVec3::new(60.0, 1.0, 18.0),
+                DVec3::new(60.0, 0.0, 0.0),
+                45.0,
+                1.0,
+                200,
+                150,
+            )
+            .unwrap(),
+        );
+        // Stamps of the near cluster, tiles from its hits, then the draw's culling's tiles.
+        for _ in 0..2 {
+            splatted
+                .render_uploaded(&near_cluster, Outputs::ALL)
+                .unwrap();
+        }
+        splatted.set_settings(fixed(PathKind::Draw));
+        splatted
+            .render_uploaded(&near_cluster, Outputs::ALL)
+            .unwrap();
+        splatted.set_settings(fixed(PathKind::VisibleFirst));
+        let plan = splatted.plan(&far_cluster).expect("plan");
+        assert!(visible_first(&plan), "standard {standard}: {plan:?}");
+        let expected = drawn.render_uploaded(&far_cluster, Outputs::ALL).unwrap().0;
+        let shown = expected.id.iter().filter(|&&id| id != NO_INSTANCE).count();
+        assert!(
+            shown > 2_000,
+            "standard {standard}: only {shown} pixels shown"
+        );
+        let frame = splatted
+            .render_uploaded(&far_cluster, Outputs::ALL)
+            .unwrap()
+            .0;
+        let seen = Seen {
+            scene: &scene,
+            camera: &far_cluster,
+            format: InstanceFormat::Full,
+        };
+        let name = format!("far cluster after a jump, standard depth {standard}");
+        assert_frames_agree(Agreement::of(&splatted), &name, &expected, &frame, seen);
+    }
+    finish_validated(splatted);
+    finish_validated(drawn);
+}
+
 #[test]
 fn splat_over_several_chunks_matches_the_draw() {
     // 1,500 tiny glyphs in 6 chunks of 256: each chunk splats into the shared visibility

@@ -1,9 +1,11 @@
 // Occlusion tiles of the culling pre-pass (cull.comp). Needs ellipsoid_common.glsl first.
 //
-// Tiles of TILE x TILE pixels, row-major from the top left, each holding the float bits of a
-// view depth such that every pixel centre (multisampled: every sample) of the tile shows a
-// surface at or before it (+inf: none known). Positive floats order like their bits, so
-// atomicMin works on them.
+// Tiles of TILE x TILE pixels, row-major from the top left. For the culled draw each holds the
+// float bits of a view depth such that every pixel centre (multisampled: every sample) of the
+// tile shows a surface at or before it (+inf: none known); positive floats order like their
+// bits, so atomicMin works on them. Under the visible-first splat each holds instead the
+// farthest depth-buffer value's bits at its pixels (KEY_TILES), or the empty key's word: none
+// known.
 
 layout(std430, set = 0, binding = 5) buffer OcclusionTiles {
     uint tiles[];

@@ -14,8 +14,8 @@ use crate::gpu::GpuBuffer;
 ///
 /// Descriptor set 0, one buffer per `Binding` (`src/renderer/buffers.rs`), each chunk's set
 /// pointing at its slices (design §5.4): storage buffers, but the instances, which every
-/// shader only reads, are a uniform texel buffer, and binding 12 views the visibility buffer
-/// as one for the passes that only read it:
+/// shader only reads, are a uniform texel buffer, and bindings 12 and 13 view the visibility
+/// buffer and the occlusion tiles as such for the passes that only read them:
 ///
 /// | binding | `Binding` | contents | stages | per chunk |
 /// |---:|---|---|---|---|
@@ -24,7 +24,7 @@ use crate::gpu::GpuBuffer;
 /// | 2 | `Visible` | visible instance indices (`uint` each) | vertex, compute | slice |
 /// | 3 | `IndirectDraw` | `IndirectDraw` | compute | the chunk's 40 bytes at `256 k` |
 /// | 4 | `CullGroups` | per group of 256: 8 words of keep bits; after all groups, one count per group (SCAN turns it into the first output slot) (written by CLASSIFY, or by the compute splat for the glyphs it leaves to the draw) | compute | the chunk's slice, 256-aligned |
-/// | 5 | `OcclusionTiles` | occlusion tiles (`uint` float bits per 4 x 4 tile, row-major from the top left; the visible-first splat's second `CLASSIFY` reads them through binding 13) | compute | whole, shared |
+/// | 5 | `OcclusionTiles` | occlusion tiles (`uint` per 4 x 4 tile, row-major from the top left: view-depth float bits for the culled draw, depth-buffer value bits for the visible-first splat, whose second `CLASSIFY` reads them through binding 13; `glsl/include/occlusion_tiles.glsl`) | compute | whole, shared |
 /// | 6 | `ShadingRecords` | `ShadingRecord`s | compute, fragment | slice (whole beyond `MAX_SETUP_ONCE_INSTANCES`) |
 /// | 7 | `FootprintRecords` | `FootprintRecord`s | vertex, compute | slice (likewise) |
 /// | 8 | `Visibility` | the compute splat's nearest hit per pixel, then its resolve tiles (`uint64_t`, row-major, design §5.6); its readers read it through binding 12 | compute, fragment (the benchmark's visibility draw) | whole, shared |

@@ -297,3 +297,30 @@ fn write_chunk_sets(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each texel view has a binding of its own, and its buffer the usage a view needs.
+    #[test]
+    fn read_views_have_their_own_bindings_and_texel_usage() {
+        for view in READ_VIEWS {
+            assert!(
+                Binding::ALL.iter().all(|&b| b as u32 != view.binding),
+                "binding {} is also a buffer's",
+                view.binding
+            );
+            assert!(
+                view.of
+                    .usage()
+                    .contains(vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
+                "{:?} cannot be viewed as texels",
+                view.of
+            );
+        }
+        let mut bindings: Vec<u32> = READ_VIEWS.iter().map(|v| v.binding).collect();
+        bindings.dedup();
+        assert_eq!(bindings.len(), READ_VIEWS.len());
+    }
+}

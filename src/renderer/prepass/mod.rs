@@ -196,7 +196,8 @@ impl EllipsoidRenderer {
         // The occlusion tiles' clear word: the culling's +inf bits (no surface known in front
         // of any tile yet), or under the visible-first splat the empty key's word (hides
         // nothing, glsl/include/nearest_depth.glsl), which KEY_TILES leaves in the tiles no
-        // glyph marked.
+        // glyph marked: cleared every such frame, since they hold what an earlier frame, of
+        // another camera or path, left there.
         let empty_key_word = if plan.reversed_z { 0 } else { u32::MAX };
         let visible_first = matches!(
             plan.path.splat().map(|s| s.hidden),
@@ -255,7 +256,8 @@ impl EllipsoidRenderer {
                     dispatch_z: 1,
                 },
                 indirect_offset: k as u64 * SLICE_ALIGN,
-                clear_tiles: (plan.culling().occlusion && k == 0).then_some(tiles_word),
+                clear_tiles: ((plan.culling().occlusion || visible_first) && k == 0)
+                    .then_some(tiles_word),
                 buffers: PrepassBuffers { ..buffers },
                 fills,
                 dispatches: dispatches

@@ -136,7 +136,7 @@ pub(crate) fn groups_bytes(count: u32) -> u64 {
 }
 
 /// Occlusion tiles of a `width` x `height` image.
-pub(crate) fn tiles_count(width: u32, height: u32) -> u32 {
+fn tiles_count(width: u32, height: u32) -> u32 {
     (width as u64).div_ceil(TILE) as u32 * (height as u64).div_ceil(TILE) as u32
 }
 
