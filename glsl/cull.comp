@@ -229,11 +229,11 @@ bool occluded(uint index, vec4 sampled) {
 
 // KEY_TILES and MARK_SHOWN go by strips: a strip is a row of occlusion tiles across a resolve
 // tile (32 x 4 pixels), invocation `i` takes strip `i % STRIPS` of resolve tile `i / STRIPS`,
-// so each 8 consecutive invocations (a subgroup on lavapipe) share a resolve tile. On lavapipe an invocation costs about as
-// much as a few reads, so what a resolve tile no glyph marked costs is its strips' invocations;
-// such a tile shows nothing so far this frame (a glyph with a hit marks every resolve tile its
-// box touches), and its strips read no pixel, in loops of no trips (lavapipe runs a branch's
-// body whatever the condition, but not a loop's).
+// so each 8 consecutive invocations (a subgroup on lavapipe) share a resolve tile. On lavapipe
+// an invocation costs about as much as a few reads, so what a resolve tile no glyph marked
+// costs is its strips' invocations; such a tile shows nothing so far this frame (a glyph with
+// a hit marks every resolve tile its box touches), and its strips read no pixel, in loops of
+// no trips (lavapipe runs a branch's body whatever the condition, but not a loop's).
 const uint STRIPS = RESOLVE_TILE / uint(TILE);
 
 // The strip of invocation `i`: its first pixel, and whether its resolve tile was marked; none

@@ -41,8 +41,8 @@ pub(crate) const VISIBILITY_KEYS: ReadView = ReadView {
 
 /// The occlusion tiles' words (`occlusion_tile_words` in glsl/include/occlusion_tiles.glsl),
 /// one `R32_UINT` texel each, read by the visible-first splat's second CLASSIFY. Only there:
-/// a frame that splats has a visibility buffer within the device's texel limit, and so tiles
-/// within it (16 pixels a tile), where a culled draw may not.
+/// a frame that splats has a visibility buffer (a texel per pixel) within the device's texel
+/// limit, and an image has no more tiles than pixels; a culled draw's image may exceed it.
 pub(crate) const OCCLUSION_TILE_WORDS: ReadView = ReadView {
     binding: 13,
     of: Binding::OcclusionTiles,
@@ -320,6 +320,7 @@ mod tests {
             );
         }
         let mut bindings: Vec<u32> = READ_VIEWS.iter().map(|v| v.binding).collect();
+        bindings.sort_unstable();
         bindings.dedup();
         assert_eq!(bindings.len(), READ_VIEWS.len());
     }

@@ -65,9 +65,10 @@ pub(crate) struct Prepass {
     pub command: IndirectDraw,
     /// Where in the indirect buffer this chunk's command lies.
     pub indirect_offset: u64,
-    /// Occlusion runs: reset the tiles first, every word to this one (the culling's +inf
-    /// bits: no surface known yet; the visible-first splat's empty key word: hides nothing,
-    /// so KEY_TILES writes only the tiles a glyph may have covered).
+    /// Frames with occlusion culling or the visible-first splat: reset the tiles first, every
+    /// word to this one (the culling's +inf bits: no surface known yet; the visible-first
+    /// splat's empty key word: hides nothing, so KEY_TILES writes only the tiles a glyph may
+    /// have covered).
     pub clear_tiles: Option<u32>,
     pub buffers: PrepassBuffers,
     /// Buffer ranges filled before the dispatches (buffer, offset, bytes, word): the compute

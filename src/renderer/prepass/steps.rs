@@ -150,7 +150,7 @@ const STRIPS: u64 = RESOLVE_TILE as u64 / TILE;
 
 /// Workgroups of KEY_TILES and MARK_SHOWN over `resolve_tiles` resolve tiles: an invocation
 /// per strip (a lavapipe invocation costs about as much as a few reads, so not one per
-/// occlusion tile or pixel row).
+/// occlusion tile or pixel).
 pub(crate) fn strip_groups(resolve_tiles: u32) -> u32 {
     (resolve_tiles as u64 * STRIPS).div_ceil(GROUP_SIZE) as u32
 }
