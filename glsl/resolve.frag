@@ -2,10 +2,11 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 // The compute splat's resolve, inside the host's pass, once per chunk: each pixel whose
-// visibility key names an instance of this chunk re-derives that instance's set-up and hit
-// with the vertex and fragment stages' own functions, shades it once and writes colour,
-// normal, ID and the depth in the camera's convention, so host meshes drawn before
-// depth-test against it exactly.
+// visibility key names an instance of this chunk takes that instance's set-up -- the record
+// the splat stored (SPLAT_SETUP_ONCE), or derived again with the vertex stage's own function
+// -- and its hit with the fragment stage's, shades it once and writes colour, normal, ID and
+// the depth in the camera's convention, so host meshes drawn before depth-test against it
+// exactly.
 #define SETUP_HERE
 #include "ellipsoid_common.glsl"
 #include "silhouette_bounds.glsl"
@@ -22,6 +23,7 @@ layout(location = 2) out uint out_id;
 
 #include "impostor_hit.glsl"
 #include "visibility.glsl"
+#include "shading_record_texels.glsl"
 
 void main() {
     vec2 pixel = camera_pixel(gl_FragCoord.xy);
@@ -32,7 +34,13 @@ void main() {
         discard;
     }
     count_fragment();
-    use_setup(setup_instance(load_instance(id)));
+    if (SPLAT_SETUP_ONCE) {
+        ShadingRecord record = shading_record(id);
+        use_record_setup(record);
+        use_record_shading(record);
+    } else {
+        use_setup(setup_instance(load_instance(id)));
+    }
     float z;
     vec3 n;
     if (!impostor_pixel(pixel, z, n)) {

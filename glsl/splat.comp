@@ -6,9 +6,9 @@
 // vertex stage does; it says when the glyph is off screen), ray casts the pixel centres of its
 // silhouette ellipse, row by row, with the fragment stage's hit (impostor_hit.glsl), keeps the
 // nearest hit per pixel in the visibility buffer with a 64-bit atomic and marks the resolve
-// tiles it touched. resolve.vert/.frag then shade each pixel of the marked tiles once. No
-// rasterizer front end (on lavapipe about 0.5 us per instance on one thread), and no set-up
-// records written and read back. A glyph too large to walk is left to the draw: its keep bit
+// tiles it touched (and, with SPLAT_SETUP_ONCE, stores its shading set-up for the resolve).
+// resolve.vert/.frag then shade each pixel of the marked tiles once. No rasterizer front end
+// (on lavapipe about 0.5 us per instance on one thread). A glyph too large to walk is left to the draw: its keep bit
 // and its group's count go where the culling's CLASSIFY step would put them, and the SCAN and
 // SCATTER steps that follow compact them in instance order for the culled draw.
 #define SPLAT_PASS
@@ -16,6 +16,7 @@
 #include "ellipsoid_common.glsl"
 #include "silhouette_bounds.glsl"
 #include "instance_setup.glsl"
+#include "setup_records.glsl"
 #include "splat_box.glsl"
 #include "shading.glsl"
 #include "impostor_state.glsl"
@@ -176,6 +177,10 @@ void main() {
     }
     if (SPLAT_FLOOR == SPLAT_FLOOR_ARITHMETIC && depth_sum == 0x5eed5eedu) {
         visibility[0] = 1ul;
+    }
+    if (any_hit && SPLAT_FLOOR == SPLAT_FLOOR_NONE && SPLAT_SETUP_ONCE) {
+        // Only a glyph with a hit can be a pixel's nearest: the resolve reads no other record.
+        store_shading(id, f);
     }
     if (any_hit && SPLAT_FLOOR == SPLAT_FLOOR_NONE) {
         // The tiles the glyph's box touches get resolved (every glyph marking one writes the

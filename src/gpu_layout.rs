@@ -432,6 +432,9 @@ pub struct SpecConstants {
     pub cull_select: u32,
     /// `SPLAT_LIST` (24): the compute splat takes its glyphs from the pre-pass's list.
     pub splat_list: vk::Bool32,
+    /// `SPLAT_SETUP_ONCE` (25): the compute splat stores each glyph's shading set-up, and its
+    /// resolve reads it instead of setting the pixel's glyph up again.
+    pub splat_setup_once: vk::Bool32,
 }
 
 impl Default for SpecConstants {
@@ -460,13 +463,14 @@ impl Default for SpecConstants {
             count_ray_casts: 0,
             cull_select: 0,
             splat_list: 0,
+            splat_setup_once: 0,
         }
     }
 }
 
 impl SpecConstants {
     /// `(constant_id, byte offset)` of every field.
-    pub const IDS: [(u32, usize); 22] = [
+    pub const IDS: [(u32, usize); 23] = [
         (0, offset_of!(SpecConstants, orthographic)),
         (2, offset_of!(SpecConstants, textbook)),
         (3, offset_of!(SpecConstants, bounds)),
@@ -489,11 +493,12 @@ impl SpecConstants {
         (22, offset_of!(SpecConstants, count_ray_casts)),
         (23, offset_of!(SpecConstants, cull_select)),
         (24, offset_of!(SpecConstants, splat_list)),
+        (25, offset_of!(SpecConstants, splat_setup_once)),
     ];
 
     /// The map entries of [`SpecConstants::IDS`], for a `VkSpecializationInfo` over
     /// `bytemuck::bytes_of(self)`.
-    pub fn map_entries() -> [vk::SpecializationMapEntry; 22] {
+    pub fn map_entries() -> [vk::SpecializationMapEntry; 23] {
         Self::IDS.map(|(constant_id, offset)| vk::SpecializationMapEntry {
             constant_id,
             offset: offset as u32,
@@ -531,5 +536,5 @@ const _: () = {
     assert!(offset_of!(ShadingRecord, ray_c) == 48);
     assert!(offset_of!(ShadingRecord, depth_gradient) == 64);
     assert!(offset_of!(ShadingRecord, to_normal_x) == 80);
-    assert!(size_of::<SpecConstants>() == 88);
+    assert!(size_of::<SpecConstants>() == 92);
 };

@@ -294,4 +294,6 @@ pub mod internals {
     /// The offscreen renderer's background (linear RGBA), for checks of its colour output.
     #[cfg(feature = "offscreen")]
     pub use crate::offscreen::BACKGROUND;
+    /// Where the compute splat sets glyphs up once for its resolve.
+    pub use crate::renderer::SPLAT_SETUP_ONCE_MAX_GLYPHS_PER_PIXEL;
 }

@@ -46,6 +46,9 @@ pub struct SplatPath {
     /// The most pixel centres a glyph's box may hold for the splat to walk it; larger glyphs
     /// (and those reaching the eye plane) are drawn in the same frame.
     pub max_box_pixels: u32,
+    /// The splat stores each glyph's shading set-up once, and the resolve reads it instead of
+    /// setting up the glyph of each pixel again (docs/design.md §5.6).
+    pub setup_once: bool,
 }
 
 /// How a splatted frame treats the glyphs hidden behind others.

@@ -9,6 +9,7 @@
 //! visible-first splat (those first, then the rest its hits do not hide); and a camera
 //! stopping along an orbit matches the draw at every frame.
 
+use ellipsoid_splat::internals::SPLAT_SETUP_ONCE_MAX_GLYPHS_PER_PIXEL;
 #[cfg(feature = "research")]
 use ellipsoid_splat::Culling;
 #[cfg(feature = "research")]
@@ -26,13 +27,25 @@ use ellipsoid_splat_reference::testing::{
 use glam::{DQuat, DVec3};
 
 /// Renders `scene` with and without the compute splat and asserts the frames agree
-/// and that the splat really ran.
+/// and that the splat really ran, its resolve reading the set-up the splat stored.
 fn assert_splat_matches_draw(
     renderer: &mut OffscreenRenderer,
     name: &str,
     scene: &Scene,
     camera: &Camera,
     format: InstanceFormat,
+) {
+    assert_splat_matches_draw_set_up(renderer, name, scene, camera, (format, true));
+}
+
+/// As `assert_splat_matches_draw`, the splat setting glyphs up once (its resolve reads their
+/// stored set-up) or not (the resolve sets each pixel's glyph up again).
+fn assert_splat_matches_draw_set_up(
+    renderer: &mut OffscreenRenderer,
+    name: &str,
+    scene: &Scene,
+    camera: &Camera,
+    (format, setup_once): (InstanceFormat, bool),
 ) {
     // Visible first however deep the scene lies, to check it on every case.
     let settings = |compute_splat| {
@@ -43,6 +56,7 @@ fn assert_splat_matches_draw(
             PathKind::Draw
         });
         settings.instance_format = format;
+        settings.setup_once = setup_once;
         settings
     };
     renderer.set_settings(settings(false));
@@ -60,6 +74,14 @@ fn assert_splat_matches_draw(
     assert!(
         !visible_first(&plan),
         "{name}: a new scene has no stamps yet"
+    );
+    // Set up once where asked and the glyphs are few enough for the image (design §5.6).
+    let image_px = camera.width as f64 * camera.height as f64;
+    let sparse = scene.ellipsoids.len() as f64 <= SPLAT_SETUP_ONCE_MAX_GLYPHS_PER_PIXEL * image_px;
+    assert_eq!(
+        plan.path.splat().map(|s| s.setup_once),
+        Some(setup_once && sparse),
+        "{name}: {plan:?}"
     );
     let splatted = renderer
         .render_uploaded(camera, Outputs::ALL)
@@ -102,11 +124,11 @@ fn assert_reaches_near_plane(scene: &Scene, camera: &Camera) {
     );
 }
 
-/// 20,000 glyphs of one or two pixels, 320x240.
+/// 18,000 glyphs of one or two pixels, 320x240 (few enough for the splat to set them up once).
 fn tiny_glyphs() -> (Scene, Camera) {
     let camera =
         Camera::look_at(DVec3::new(2.0, 3.0, 25.0), DVec3::ZERO, 45.0, 1.0, 320, 240).unwrap();
-    (random_cloud(20_000, 21, 10.0, 0.06), camera)
+    (random_cloud(18_000, 21, 10.0, 0.06), camera)
 }
 
 #[test]
@@ -145,15 +167,30 @@ fn splat_matches_the_draw() {
     // The near plane inside the cloud cuts glyphs (caps), none of which reaches the eye plane.
     let inside = Camera::look_at(DVec3::new(0.3, 0.2, 6.0), DVec3::ZERO, 60.0, 4.5, 320, 240)
         .expect("camera");
-    let small = random_cloud(20_000, 22, 3.0, 0.02);
+    let small = random_cloud(18_000, 22, 3.0, 0.02);
     assert_reaches_near_plane(&small, &inside);
     assert_splat_matches_draw(&mut renderer, "near-plane cut", &small, &inside, full);
     finish_validated(renderer);
 }
 
+/// With set-up once off, the resolve sets each pixel's glyph up again: the same picture.
+#[test]
+fn splat_without_set_up_once_matches_the_draw() {
+    let mut renderer = validated_renderer();
+    let (scene, camera) = tiny_glyphs();
+    let not_once = (InstanceFormat::Full, false);
+    assert_splat_matches_draw_set_up(&mut renderer, "perspective", &scene, &camera, not_once);
+    let ortho = Camera {
+        projection: Projection::Orthographic { height: 22.0 },
+        ..camera
+    };
+    assert_splat_matches_draw_set_up(&mut renderer, "orthographic", &scene, &ortho, not_once);
+    finish_validated(renderer);
+}
+
 /// Glyphs of tens to hundreds of pixels, many layers deep, in an image whose sides are no
-/// multiple of the resolve tile (its last row and column of tiles are partial): the splat,
-/// not set up once, still matches the draw (bit for bit on lavapipe).
+/// multiple of the resolve tile (its last row and column of tiles are partial), too large for
+/// the draw's set-up once: the splat still matches the draw (bit for bit on lavapipe).
 #[test]
 fn medium_glyphs_many_layers_deep_match_the_draw() {
     let mut renderer = validated_renderer();

@@ -139,6 +139,9 @@ layout(constant_id = 23) const int CULL_SELECT = CULL_SELECT_ALL;
 // The compute splat takes its glyphs from the pre-pass's list (the visible-first splat's
 // passes) instead of the whole chunk, and leaves glyphs to the draw by their stamp.
 layout(constant_id = 24) const bool SPLAT_LIST = false;
+// The compute splat stores the shading set-up of each glyph with a hit (binding 6), and its
+// resolve reads it (binding 14) instead of setting the pixel's glyph up again.
+layout(constant_id = 25) const bool SPLAT_SETUP_ONCE = false;
 
 #if defined(CULL_PASS) || defined(SPLAT_PASS)
 #define INDIRECT_DRAW_ACCESS

@@ -14,8 +14,9 @@ use crate::gpu::GpuBuffer;
 ///
 /// Descriptor set 0, one buffer per `Binding` (`src/renderer/buffers.rs`), each chunk's set
 /// pointing at its slices (design §5.4): storage buffers, but the instances, which every
-/// shader only reads, are a uniform texel buffer, and bindings 12 and 13 view the visibility
-/// buffer and the occlusion tiles as such for the passes that only read them:
+/// shader only reads, are a uniform texel buffer, and bindings 12 to 14 view the visibility
+/// buffer, the occlusion tiles and the shading records as such for the passes that only read
+/// them:
 ///
 /// | binding | `Binding` | contents | stages | per chunk |
 /// |---:|---|---|---|---|
@@ -25,7 +26,7 @@ use crate::gpu::GpuBuffer;
 /// | 3 | `IndirectDraw` | `IndirectDraw` | compute | the chunk's 40 bytes at `256 k` |
 /// | 4 | `CullGroups` | per group of 256: 8 words of keep bits; after all groups, one count per group (SCAN turns it into the first output slot) (written by CLASSIFY, or by the compute splat for the glyphs it leaves to the draw) | compute | the chunk's slice, 256-aligned |
 /// | 5 | `OcclusionTiles` | occlusion tiles (`uint` per 4 x 4 tile, row-major from the top left: view-depth float bits for the culled draw, depth-buffer value bits for the visible-first splat, whose second `CLASSIFY` reads them through binding 13; `glsl/include/occlusion_tiles.glsl`) | compute | whole, shared |
-/// | 6 | `ShadingRecords` | `ShadingRecord`s | compute, fragment | slice (whole beyond `MAX_SETUP_ONCE_INSTANCES`) |
+/// | 6 | `ShadingRecords` | `ShadingRecord`s, written through binding 15 by CLASSIFY for the set-up-once draw or by the compute splat for its resolve (which reads them through binding 14) | fragment | slice (whole beyond `MAX_SETUP_ONCE_INSTANCES`) |
 /// | 7 | `FootprintRecords` | `FootprintRecord`s | vertex, compute | slice (likewise) |
 /// | 8 | `Visibility` | the compute splat's nearest hit per pixel, then its resolve tiles (`uint64_t`, row-major, design §5.6); its readers read it through binding 12 | compute, fragment (the benchmark's visibility draw) | whole, shared |
 /// | 9 | `FloorPixels` | the visible-pixel floor's lists (host-visible; 8 bytes unless the benchmark sets them, design §5.7) | compute | whole |
@@ -33,6 +34,8 @@ use crate::gpu::GpuBuffer;
 /// | 11 | `TileLists` | the benchmark's tiled splat's lists (`research`; 8 bytes otherwise): per 8 x 8 tile and depth bucket a count and a first slot, 112 bytes per glyph (box, nearest depth, the hit's set-up), 64 entries of room per glyph (`glsl/research/tile_lists.glsl`) | compute | whole |
 /// | 12 | (`VISIBILITY_KEYS` in `src/renderer/descriptors.rs`) | binding 8's buffer as a uniform texel buffer of `R32G32_UINT` texels, a key each, for the passes that only read it (the resolve, `KEY_TILES`, `MARK_SHOWN`) | vertex, fragment, compute | whole, shared |
 /// | 13 | (`OCCLUSION_TILE_WORDS` there) | binding 5's buffer as a uniform texel buffer of `R32_UINT` texels, a tile's word each, for the visible-first splat's second `CLASSIFY` | compute | whole, shared |
+/// | 14 | (`SHADING_RECORD_TEXELS` there) | binding 6's slice as a uniform texel buffer of `R32G32B32A32_UINT` texels, 8 a record, for the splat's resolve | fragment | slice (likewise) |
+/// | 15 | (`SHADING_RECORD_STORES` there) | binding 6's slice as a storage texel buffer of the same texels, through which the pre-pass writes the records | compute | slice (likewise) |
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Binding {
     /// The instance records.
@@ -106,9 +109,8 @@ impl Binding {
             | Binding::FloorPixels
             | Binding::GlyphStamps
             | Binding::TileLists => vk::ShaderStageFlags::COMPUTE,
-            Binding::ShadingRecords => {
-                vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT
-            }
+            // Read by the set-up-once draw's fragment stage; written through binding 15.
+            Binding::ShadingRecords => vk::ShaderStageFlags::FRAGMENT,
             // Written by the splat, and by the benchmark's visibility draw (fragment); its
             // readers see it through binding 12 (`VISIBILITY_KEYS`).
             Binding::Visibility => vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT,
@@ -163,6 +165,12 @@ impl Binding {
         match self {
             // Only ever read through texel views (binding 0).
             Binding::Instances => vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER | extra,
+            Binding::ShadingRecords => {
+                vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
+                    | vk::BufferUsageFlags::STORAGE_TEXEL_BUFFER
+                    | extra
+            }
             // Also read through binding 12's and 13's texel views.
             Binding::Visibility | Binding::OcclusionTiles => {
                 vk::BufferUsageFlags::STORAGE_BUFFER

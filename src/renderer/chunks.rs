@@ -13,6 +13,8 @@
 //! and write the global ID `v_id + first_instance`. The occlusion tiles (and the fragment counter)
 //! are bound whole and shared by all chunks.
 
+use super::plan::MAX_SETUP_ONCE_INSTANCES;
+
 /// Alignment of each chunk's slice of a buffer: a multiple of every device's
 /// `minStorageBufferOffsetAlignment` (at most 256 by the specification).
 pub(crate) const SLICE_ALIGN: u64 = 256;
@@ -52,6 +54,15 @@ impl Chunking {
     pub fn max_binding_bytes(limits: &ash::vk::PhysicalDeviceLimits, texel: u64) -> u64 {
         (limits.max_storage_buffer_range as u64)
             .min(limits.max_texel_buffer_elements as u64 * texel)
+    }
+
+    /// Whether the scene has set-up records (at most `MAX_SETUP_ONCE_INSTANCES` instances) and
+    /// each chunk's shading records fit one binding read through a texel view of 16-byte
+    /// texels on a device of `limits` (the splat's resolve reads them so).
+    pub fn shading_records_fit(&self, limits: &ash::vk::PhysicalDeviceLimits) -> bool {
+        let largest = self.capacity.min(self.count) as u64;
+        let bytes = largest * size_of::<crate::gpu_layout::ShadingRecord>() as u64;
+        self.count <= MAX_SETUP_ONCE_INSTANCES && bytes <= Self::max_binding_bytes(limits, 16)
     }
 
     /// Number of chunks (at least one, so an empty scene still has a descriptor set).

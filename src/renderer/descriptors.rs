@@ -12,24 +12,29 @@ use super::buffers::{Binding, SceneBuffers};
 use super::chunks::{Chunking, SLICE_ALIGN};
 use super::plan::MAX_SETUP_ONCE_INSTANCES;
 
-/// A texel view of a storage binding's buffer, for the passes that only read it (why texel
-/// reads: design §7): its binding, the buffer it views, its texels' format and bytes, and the
-/// stages that read it.
+/// A texel view of a storage binding's buffer (why texels: design §7): read as a uniform texel
+/// buffer by the passes that only read it, or written as a storage texel buffer. Its binding,
+/// the buffer it views, its descriptor type, its texels' format and bytes, the stages that
+/// use it, and whether it views each chunk's slice of the buffer (as the storage binding
+/// does) or the whole buffer, shared by all chunks.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct ReadView {
+pub(crate) struct TexelView {
     pub binding: u32,
     pub of: Binding,
+    pub kind: vk::DescriptorType,
     pub format: vk::Format,
     pub texel: u64,
     pub stages: vk::ShaderStageFlags,
+    pub sliced: bool,
 }
 
 /// The visibility buffer's keys (`visibility_keys` in glsl/include/visibility_words.glsl), one
 /// `R32G32_UINT` texel each, read by the resolve's vertex stage (the tile words) and fragment
 /// stage (the pixels' keys), and by `KEY_TILES` and `MARK_SHOWN`.
-pub(crate) const VISIBILITY_KEYS: ReadView = ReadView {
+pub(crate) const VISIBILITY_KEYS: TexelView = TexelView {
     binding: 12,
     of: Binding::Visibility,
+    kind: vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
     format: vk::Format::R32G32_UINT,
     texel: 8,
     stages: vk::ShaderStageFlags::from_raw(
@@ -37,25 +42,61 @@ pub(crate) const VISIBILITY_KEYS: ReadView = ReadView {
             | vk::ShaderStageFlags::FRAGMENT.as_raw()
             | vk::ShaderStageFlags::COMPUTE.as_raw(),
     ),
+    sliced: false,
 };
 
 /// The occlusion tiles' words (`occlusion_tile_words` in glsl/include/occlusion_tiles.glsl),
 /// one `R32_UINT` texel each, read by the visible-first splat's second CLASSIFY. Only there:
 /// a frame that splats has a visibility buffer (a texel per pixel) within the device's texel
 /// limit, and an image has no more tiles than pixels; a culled draw's image may exceed it.
-pub(crate) const OCCLUSION_TILE_WORDS: ReadView = ReadView {
+pub(crate) const OCCLUSION_TILE_WORDS: TexelView = TexelView {
     binding: 13,
     of: Binding::OcclusionTiles,
+    kind: vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
     format: vk::Format::R32_UINT,
     texel: 4,
     stages: vk::ShaderStageFlags::COMPUTE,
+    sliced: false,
+};
+
+/// The chunk's shading records (`shading_record_texels` in
+/// glsl/include/shading_record_texels.glsl), 8 `R32G32B32A32_UINT` texels each, read by the
+/// splat's resolve where the splat stored them (`SplatPath::setup_once`; the plan asks that they
+/// fit the device's texel limit, `Chunking::shading_records_fit`).
+pub(crate) const SHADING_RECORD_TEXELS: TexelView = TexelView {
+    binding: 14,
+    of: Binding::ShadingRecords,
+    kind: vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
+    format: vk::Format::R32G32B32A32_UINT,
+    texel: 16,
+    stages: vk::ShaderStageFlags::FRAGMENT,
+    sliced: true,
+};
+
+/// The chunk's shading records (`shading_record_stores` in glsl/include/setup_records.glsl) as
+/// the pre-pass writes them (CLASSIFY for the set-up-once draw, the splat for its resolve), 8
+/// `R32G32B32A32_UINT` texels each: lavapipe stores a storage buffer's words lane by lane, a
+/// texel at a time here (the plan asks that they fit the device's texel limit, likewise).
+pub(crate) const SHADING_RECORD_STORES: TexelView = TexelView {
+    binding: 15,
+    of: Binding::ShadingRecords,
+    kind: vk::DescriptorType::STORAGE_TEXEL_BUFFER,
+    format: vk::Format::R32G32B32A32_UINT,
+    texel: 16,
+    stages: vk::ShaderStageFlags::COMPUTE,
+    sliced: true,
 };
 
 /// Every texel view of a storage binding, in binding order.
-pub(crate) const READ_VIEWS: [ReadView; 2] = [VISIBILITY_KEYS, OCCLUSION_TILE_WORDS];
+pub(crate) const TEXEL_VIEWS: [TexelView; 4] = [
+    VISIBILITY_KEYS,
+    OCCLUSION_TILE_WORDS,
+    SHADING_RECORD_TEXELS,
+    SHADING_RECORD_STORES,
+];
 
 /// Creates the layout of the renderer's one descriptor set: a buffer per [`Binding`], of its
-/// descriptor type, and the texel views of [`READ_VIEWS`].
+/// descriptor type, and the texel views of [`TEXEL_VIEWS`].
 pub(crate) fn create_set_layout(device: &ash::Device) -> Result<vk::DescriptorSetLayout> {
     let mut bindings = Binding::ALL
         .map(|binding| {
@@ -66,10 +107,10 @@ pub(crate) fn create_set_layout(device: &ash::Device) -> Result<vk::DescriptorSe
                 .stage_flags(binding.stages())
         })
         .to_vec();
-    bindings.extend(READ_VIEWS.map(|view| {
+    bindings.extend(TEXEL_VIEWS.map(|view| {
         vk::DescriptorSetLayoutBinding::default()
             .binding(view.binding)
-            .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
+            .descriptor_type(view.kind)
             .descriptor_count(1)
             .stage_flags(view.stages)
     }));
@@ -79,7 +120,7 @@ pub(crate) fn create_set_layout(device: &ash::Device) -> Result<vk::DescriptorSe
 }
 
 /// Descriptor sets, one per chunk, the pool they came from and the texel views they point at
-/// (those of [`READ_VIEWS`], then each chunk's view of its instances).
+/// (those of [`TEXEL_VIEWS`], then each chunk's view of its instances).
 #[derive(Default)]
 pub(crate) struct ChunkSets {
     pub pool: vk::DescriptorPool,
@@ -174,8 +215,15 @@ fn write_chunk_sets(
         .iter()
         .filter(|b| b.descriptor_type() == vk::DescriptorType::STORAGE_BUFFER)
         .count() as u32;
-    let texel = Binding::ALL.len() as u32 + READ_VIEWS.len() as u32 - storage;
+    let stores = TEXEL_VIEWS
+        .iter()
+        .filter(|r| r.kind == vk::DescriptorType::STORAGE_TEXEL_BUFFER)
+        .count() as u32;
+    let texel = Binding::ALL.len() as u32 + TEXEL_VIEWS.len() as u32 - storage - stores;
     let sizes = [
+        vk::DescriptorPoolSize::default()
+            .ty(vk::DescriptorType::STORAGE_TEXEL_BUFFER)
+            .descriptor_count(stores * sets),
         vk::DescriptorPoolSize::default()
             .ty(vk::DescriptorType::STORAGE_BUFFER)
             .descriptor_count(storage * sets),
@@ -196,18 +244,20 @@ fn write_chunk_sets(
     // SAFETY: the pool has room for exactly these sets; they are freed with the pool.
     made.sets =
         unsafe { device.allocate_descriptor_sets(&info) }.call("vkAllocateDescriptorSets")?;
-    // The views read where nothing writes them: one of each for every chunk.
-    let mut read_views = Vec::with_capacity(READ_VIEWS.len());
-    for read in READ_VIEWS {
+    // The views of whole buffers, read where nothing writes them: one of each for every
+    // chunk (the sliced ones are made per chunk below).
+    let mut whole_views = Vec::with_capacity(TEXEL_VIEWS.len());
+    for read in TEXEL_VIEWS.iter().filter(|r| !r.sliced) {
         let owner = if read.of.per_view() { view } else { shared };
         let bytes = owner.get(read.of).map_or(0, |b| b.size());
-        read_views.push(texel_view(
+        let made_view = texel_view(
             device,
             &mut made.views,
             (handles[read.of as usize], 0, bytes),
             (read.format, read.texel),
             max_texels,
-        )?);
+        )?;
+        whole_views.push((read.binding, made_view));
     }
     // Set-up records exist per instance only for scenes that can use them.
     let records = chunking.count <= MAX_SETUP_ONCE_INSTANCES;
@@ -273,21 +323,43 @@ fn write_chunk_sets(
                     .buffer_info(info)
             })
             .collect();
-        let texel_views: Vec<(u32, [vk::BufferView; 1])> =
-            std::iter::once((Binding::Instances as u32, [instances]))
-                .chain(
-                    READ_VIEWS
-                        .iter()
-                        .zip(&read_views)
-                        .map(|(r, &v)| (r.binding, [v])),
-                )
-                .collect();
-        for (binding, view) in &texel_views {
+        let mut texel_views: Vec<(u32, [vk::BufferView; 1], vk::DescriptorType)> =
+            std::iter::once((
+                Binding::Instances as u32,
+                [instances],
+                vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
+            ))
+            .chain(
+                whole_views
+                    .iter()
+                    .map(|&(binding, v)| (binding, [v], vk::DescriptorType::UNIFORM_TEXEL_BUFFER)),
+            )
+            .collect();
+        for read in TEXEL_VIEWS.iter().filter(|r| r.sliced) {
+            let (offset, bytes) = ranges[read.of as usize];
+            // A slice's offset is a multiple of 256 instances' records, so of any device's
+            // `minTexelBufferOffsetAlignment`; a whole buffer (no records) starts at 0.
+            let bytes = if bytes == vk::WHOLE_SIZE {
+                let owner = if read.of.per_view() { view } else { shared };
+                owner.get(read.of).map_or(0, |b| b.size())
+            } else {
+                bytes
+            };
+            let sliced = texel_view(
+                device,
+                &mut made.views,
+                (handles[read.of as usize], offset, bytes),
+                (read.format, read.texel),
+                max_texels,
+            )?;
+            texel_views.push((read.binding, [sliced], read.kind));
+        }
+        for (binding, view, kind) in &texel_views {
             writes.push(
                 vk::WriteDescriptorSet::default()
                     .dst_set(set)
                     .dst_binding(*binding)
-                    .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
+                    .descriptor_type(*kind)
                     .texel_buffer_view(view),
             );
         }
@@ -304,24 +376,32 @@ mod tests {
 
     /// Each texel view has a binding of its own, and its buffer the usage a view needs.
     #[test]
-    fn read_views_have_their_own_bindings_and_texel_usage() {
-        for view in READ_VIEWS {
+    fn texel_views_have_their_own_bindings_and_texel_usage() {
+        for view in TEXEL_VIEWS {
             assert!(
                 Binding::ALL.iter().all(|&b| b as u32 != view.binding),
                 "binding {} is also a buffer's",
                 view.binding
             );
+            let usage = match view.kind {
+                vk::DescriptorType::UNIFORM_TEXEL_BUFFER => {
+                    vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
+                }
+                vk::DescriptorType::STORAGE_TEXEL_BUFFER => {
+                    vk::BufferUsageFlags::STORAGE_TEXEL_BUFFER
+                }
+                kind => panic!("binding {} is a {kind:?}, not a texel view", view.binding),
+            };
             assert!(
-                view.of
-                    .usage()
-                    .contains(vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER),
-                "{:?} cannot be viewed as texels",
-                view.of
+                view.of.usage().contains(usage),
+                "{:?} cannot be viewed as {:?}",
+                view.of,
+                view.kind
             );
         }
-        let mut bindings: Vec<u32> = READ_VIEWS.iter().map(|v| v.binding).collect();
+        let mut bindings: Vec<u32> = TEXEL_VIEWS.iter().map(|v| v.binding).collect();
         bindings.sort_unstable();
         bindings.dedup();
-        assert_eq!(bindings.len(), READ_VIEWS.len());
+        assert_eq!(bindings.len(), TEXEL_VIEWS.len());
     }
 }

@@ -40,7 +40,7 @@
 //! | file | what it holds |
 //! |---|---|
 //! | `mod.rs` | `EllipsoidRenderer`: `new`, `plan`, `last_plan`, `plan_wisdom`, `load_plan_wisdom`, `can_measure`, `settings`, `set_settings`, `set_target`, `current_target`, `begin_frame` (which hands the slot's frame times to the plan's learning), `gpu_memory_bytes`, `count`, `origin`, `destroy`; sizing the scene's buffers; the per-chunk descriptor sets; the barrier contract in its module documentation |
-//! | `plan.rs` | `FramePlan`, every per-frame decision made once (the crate docs): which paths can serve the frame, the one it takes, its footprint, variants and sampling; `SETUP_ONCE_MAX_AREA_PX`, `MAX_SETUP_ONCE_INSTANCES`, `SPLAT_MAX_BOX_PIXELS`, `MAX_SPLAT_CHUNKS` |
+//! | `plan.rs` | `FramePlan`, every per-frame decision made once (the crate docs): which paths can serve the frame, the one it takes, its footprint, variants and sampling; `SETUP_ONCE_MAX_AREA_PX`, `MAX_SETUP_ONCE_INSTANCES`, `SPLAT_MAX_BOX_PIXELS`, `SPLAT_SETUP_ONCE_MAX_GLYPHS_PER_PIXEL`, `MAX_SPLAT_CHUNKS` |
 //! | `plan_reason.rs` | `PlanReason` (why a frame takes its path), `DrawReason` (what rules the splat out), `Guess`, `Measured` |
 //! | `estimate.rs` | the first guess from the scene's size on screen, and its lavapipe thresholds (design §5.8) |
 //! | `learning.rs` | `PlanLearning`, `SceneClass`: the candidates' times per scene class, the exploring schedule, the settled choices (design §5.8) |
@@ -48,7 +48,7 @@
 //! | `wisdom.rs` | what the plan learned as bytes, keyed by the device and driver build (design §5.8) |
 //! | `buffers.rs` | `SceneBuffers` and `Binding`: one buffer per descriptor binding as one table (name, descriptor type, stages, usage, memory), each grown by the same rule (a buffer too small is replaced and the old one retired, `src/frame_slots.rs`) |
 //! | `chunks.rs` | `Chunking`, `SLICE_ALIGN`: how a scene is split across bindings (design §5.4) |
-//! | `descriptors.rs` | the descriptor-set layout and one set per chunk, in a pool of its own, with the texel views they point at (`READ_VIEWS`) |
+//! | `descriptors.rs` | the descriptor-set layout and one set per chunk, in a pool of its own, with the texel views they point at (`TEXEL_VIEWS`) |
 //! | `pipelines/mod.rs` | `Pipelines`: the two pipeline layouts (graphics push range `DRAW_PUSH_STAGES`, compute-only for the pre-pass) and every pipeline, built on first use and kept per key |
 //! | `pipelines/keys.rs` | `PipelineKey`, `SplatKey`, `CullKey`: each derived from the frame plan in one place, with its specialization constants (`SpecConstants`) |
 //! | `pipelines/create.rs` | creating the graphics and compute pipelines the keys describe |
@@ -100,13 +100,18 @@ pub(crate) use buffers::Binding;
 use buffers::SceneBuffers;
 use chunks::Chunking;
 #[cfg(test)]
-pub(crate) use descriptors::{ReadView, OCCLUSION_TILE_WORDS, READ_VIEWS, VISIBILITY_KEYS};
+pub(crate) use descriptors::{
+    TexelView, OCCLUSION_TILE_WORDS, SHADING_RECORD_STORES, SHADING_RECORD_TEXELS, TEXEL_VIEWS,
+    VISIBILITY_KEYS,
+};
 use frame_timer::FrameTimer;
 use learning::PlanLearning;
 use pipelines::Pipelines;
 pub use plan::FramePlan;
 use plan::PlanInputs;
 use plan::MAX_SETUP_ONCE_INSTANCES;
+#[doc(hidden)]
+pub use plan::SPLAT_SETUP_ONCE_MAX_GLYPHS_PER_PIXEL;
 pub use plan_reason::PlanReason;
 use uploaded::UploadedScene;
 use view::{View, MAX_VIEWS};
@@ -299,6 +304,7 @@ impl EllipsoidRenderer {
             sample_rate_shading: self.caps.enabled.sample_rate_shading,
             timed: self.timer.available(),
             chunks: self.chunking().len(),
+            shading_records_fit: self.chunking().shading_records_fit(&self.caps.limits),
             still: last_camera == Some(*camera),
             shown_stamped: shown_stamped.is_some(),
             scene: &self.scene,
@@ -306,6 +312,7 @@ impl EllipsoidRenderer {
             learning: &self.learning,
             baseline: self.research.baseline(),
             splat_floor: self.research.splat_floor() != 0,
+            splat_variant: self.research.splat_variant(),
             target: (self.target, &self.targets[self.target]),
             camera,
         })

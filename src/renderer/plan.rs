@@ -33,6 +33,14 @@ pub const SETUP_ONCE_MAX_AREA_PX: f64 = 12.0;
 /// of 946 px^2 on average: the figures are in `docs/compute-splat.md`.
 pub const SPLAT_MAX_BOX_PIXELS: u32 = 4096;
 
+/// The most glyphs per image pixel for which the compute splat sets glyphs up once for its
+/// resolve: each glyph with a hit then stores a 128-byte record, and each resolved pixel reads
+/// one instead of setting its glyph up again. Measured on lavapipe (2026-11-28, 1920x1080,
+/// `docs/deep-scenes.md`): the records saved a quarter to a third of the frame on clouds of
+/// 1,000 to 100,000 glyphs and on `lattice`, and cost 5-10 % on a million 2-pixel glyphs,
+/// where the stores outweigh what the resolve saves.
+pub const SPLAT_SETUP_ONCE_MAX_GLYPHS_PER_PIXEL: f64 = 0.25;
+
 /// The most chunks a splatted frame may have: each chunk resolves over every marked tile.
 pub const MAX_SPLAT_CHUNKS: u32 = 8;
 
@@ -204,6 +212,9 @@ pub(crate) struct PlanInputs<'a> {
     pub timed: bool,
     /// Chunks the scene is drawn in (the splat resolves once per chunk).
     pub chunks: u32,
+    /// Every chunk's shading records fit their binding and a texel view of the device
+    /// (`maxTexelBufferElements`, 8 texels a record), so the splat can set up once.
+    pub shading_records_fit: bool,
     /// The last pre-pass recorded had this camera.
     pub still: bool,
     /// A pre-pass since the upload stamped the glyphs its frame showed (with any camera).
@@ -216,6 +227,9 @@ pub(crate) struct PlanInputs<'a> {
     pub baseline: Option<Baseline>,
     /// The benchmark replaces the splat by a floor (no visible-first splat then).
     pub splat_floor: bool,
+    /// The benchmark replaces the splat by its tiled or traced variant, which store no
+    /// set-up for the resolve.
+    pub splat_variant: bool,
     pub target: (usize, &'a Target),
     pub camera: &'a Camera,
 }
@@ -439,7 +453,7 @@ fn draw_path(inputs: &PlanInputs, mean_area_px: f64) -> DrawPath {
         && inputs.scene.count > 0
         && mean_area_px > 0.0
         && mean_area_px <= SETUP_ONCE_MAX_AREA_PX
-        && count <= MAX_SETUP_ONCE_INSTANCES;
+        && inputs.shading_records_fit;
     DrawPath {
         culling,
         setup_once,
@@ -448,8 +462,11 @@ fn draw_path(inputs: &PlanInputs, mean_area_px: f64) -> DrawPath {
 
 /// The splat's path for `kind`: the visible-first splat (its first frame since the upload
 /// stamps what it shows; every later one splats first what the last stamped, whatever the
-/// camera, and stamps again), else every glyph.
+/// camera, and stamps again), else every glyph; set up once where the settings ask, the
+/// records fit and the glyphs are few enough for the image
+/// ([`SPLAT_SETUP_ONCE_MAX_GLYPHS_PER_PIXEL`]).
 fn splat_path(inputs: &PlanInputs, kind: PathKind) -> SplatPath {
+    let image_px = inputs.camera.width as f64 * inputs.camera.height as f64;
     let visible_first = kind == PathKind::VisibleFirst
         && inputs.chunks == 1
         && inputs.settings.culling.occlusion
@@ -467,6 +484,11 @@ fn splat_path(inputs: &PlanInputs, kind: PathKind) -> SplatPath {
     SplatPath {
         hidden,
         max_box_pixels: SPLAT_MAX_BOX_PIXELS,
+        setup_once: inputs.settings.setup_once
+            && inputs.shading_records_fit
+            && inputs.scene.count as f64 <= SPLAT_SETUP_ONCE_MAX_GLYPHS_PER_PIXEL * image_px
+            && !inputs.splat_floor
+            && !inputs.splat_variant,
     }
 }
 
@@ -576,6 +598,7 @@ mod tests {
             sample_rate_shading: true,
             timed: true,
             chunks: 1,
+            shading_records_fit: true,
             still: history.0,
             shown_stamped: history.1,
             scene,
@@ -583,6 +606,7 @@ mod tests {
             learning,
             baseline: None,
             splat_floor: false,
+            splat_variant: false,
             target: (0, &target),
             camera,
         })

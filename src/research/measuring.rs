@@ -70,6 +70,12 @@ impl Research {
         self.tiled_splat
     }
 
+    /// Whether splatted frames run a variant of the splat that stores no set-up records for
+    /// the resolve (the tiled splat, the traced path).
+    pub fn splat_variant(&self) -> bool {
+        self.tiled_splat || self.traced.build != super::traced::TracedBuild::Off
+    }
+
     /// A new scene was uploaded: the floor's lists are for the old one.
     pub fn forget_upload(&mut self) {
         self.floor_pixels_for = None;

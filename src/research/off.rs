@@ -67,6 +67,9 @@ impl Research {
     pub fn tiled_splat(&self) -> bool {
         false
     }
+    pub fn splat_variant(&self) -> bool {
+        false
+    }
     pub fn forget_upload(&mut self) {}
     pub fn forget_instances(&mut self) {}
     pub fn prepare(

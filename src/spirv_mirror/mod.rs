@@ -16,7 +16,10 @@ use ash::vk;
 
 use crate::gpu_layout::SpecConstants;
 use crate::renderer::prepass::steps::{GROUP_SIZE, SPLAT_GROUP_SIZE};
-use crate::renderer::{Binding, OCCLUSION_TILE_WORDS, READ_VIEWS, VISIBILITY_KEYS};
+use crate::renderer::{
+    Binding, OCCLUSION_TILE_WORDS, SHADING_RECORD_STORES, SHADING_RECORD_TEXELS, TEXEL_VIEWS,
+    VISIBILITY_KEYS,
+};
 use reader::{Constant, Module, Type};
 use rust_layouts::{shared_layouts, spec_constant_fields, Layout};
 
@@ -35,10 +38,9 @@ const OTHER_VIEWS: [(Binding, &str); 2] = [
     (Binding::TileLists, "TileLists4"),
 ];
 
-/// The uniform texel buffers of set 0: binding, variable name, and the stages the set layout
-/// gives it.
-fn texel_views() -> [(u32, &'static str, vk::ShaderStageFlags); 3] {
-    let read = |view: crate::renderer::ReadView, name| (view.binding, name, view.stages);
+/// The texel buffers of set 0: binding, variable name, and the stages the set layout gives it.
+fn texel_views() -> [(u32, &'static str, vk::ShaderStageFlags); 5] {
+    let read = |view: crate::renderer::TexelView, name| (view.binding, name, view.stages);
     [
         (
             Binding::Instances as u32,
@@ -47,6 +49,8 @@ fn texel_views() -> [(u32, &'static str, vk::ShaderStageFlags); 3] {
         ),
         read(VISIBILITY_KEYS, "visibility_keys"),
         read(OCCLUSION_TILE_WORDS, "occlusion_tile_words"),
+        read(SHADING_RECORD_TEXELS, "shading_record_texels"),
+        read(SHADING_RECORD_STORES, "shading_record_stores"),
     ]
 }
 
@@ -529,10 +533,10 @@ fn descriptor_bindings_match_the_binding_table() {
             findings.add_overall(format!("no shader uses Binding::{binding:?}"));
         }
     }
-    for view in READ_VIEWS {
+    for view in TEXEL_VIEWS {
         if !seen.contains(&view.binding) {
             findings.add_overall(format!(
-                "no shader reads binding {}'s texel view",
+                "no shader uses binding {}'s texel view",
                 view.binding
             ));
         }

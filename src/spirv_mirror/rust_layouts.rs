@@ -148,6 +148,7 @@ pub fn spec_constant_fields() -> Layout {
         count_ray_casts,
         cull_select,
         splat_list,
+        splat_setup_once,
     })
 }
 

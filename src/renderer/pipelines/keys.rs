@@ -24,7 +24,8 @@ pub(crate) struct PipelineKey {
     pub count_fragments: bool,
     /// The vertex stage reads instance indices compacted by the culling pre-pass.
     pub culled: bool,
-    /// The impostor stages read the set-up the pre-pass computed (`SETUP_ONCE`).
+    /// The impostor stages read the set-up the pre-pass computed (`SETUP_ONCE`); the resolve
+    /// the set-up the splat stored (`SPLAT_SETUP_ONCE`).
     pub setup_once: bool,
     /// Instances are in the compact format (`COMPACT`).
     pub compact: bool,
@@ -68,7 +69,7 @@ impl PipelineKey {
         plan.resolves().then(|| Self {
             resolve: true,
             culled: false,
-            setup_once: false,
+            setup_once: plan.path.splat().is_some_and(|s| s.setup_once),
             baseline: None,
             ..Self::draw(plan, research)
         })
@@ -85,6 +86,7 @@ impl PipelineKey {
             reversed_z: self.reversed_z as u32,
             coverage_samples: self.coverage_samples,
             far_plane: self.far_plane as u32,
+            splat_setup_once: (self.resolve && self.setup_once) as u32,
             ..SpecConstants::default()
         };
         if let Some(baseline) = self.baseline {
@@ -109,6 +111,8 @@ pub(crate) struct SplatKey {
     pub count_ray_casts: bool,
     /// `SPLAT_LIST`: a pass of the visible-first splat over the pre-pass's list.
     pub list: bool,
+    /// `SPLAT_SETUP_ONCE`: the splat stores each glyph's shading set-up for the resolve.
+    pub setup_once: bool,
     /// A step of the benchmark's tiled splat (`research/tiled_splat.comp`) instead.
     pub tiled: Option<TiledStep>,
 }
@@ -125,6 +129,7 @@ impl SplatKey {
             max_box_pixels: plan.path.splat().map_or(0, |s| s.max_box_pixels),
             count_ray_casts: research.count_fragments(),
             list: false,
+            setup_once: plan.path.splat().is_some_and(|s| s.setup_once),
             tiled: None,
         }
     }
@@ -140,6 +145,7 @@ impl SplatKey {
             splat_max_box_pixels: self.max_box_pixels,
             count_ray_casts: self.count_ray_casts as u32,
             splat_list: self.list as u32,
+            splat_setup_once: self.setup_once as u32,
             cull_step: self
                 .tiled
                 .map_or(SpecConstants::default().cull_step, |s| s as u32),
