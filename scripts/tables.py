@@ -109,6 +109,8 @@ TABLES = [
                                for b in ("before", "strips", "tile-texels")])),
     Table("stages-keep-words", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28b",
           lambda: runs.stages([f"{RESULTS}/deep/2026-11-28b/{b}" for b in ("tile-texels", "keep-words", "keep-words-cleared")])),
+    Table("stages-set-up-once", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28e/stages",
+          lambda: runs.stages([f"{RESULTS}/deep/2026-11-28e/stages/{b}" for b in ("before", "set-up-once")])),
     Table("resolve-variants", "docs/deep-scenes.md", f"{DEEP}h/resolve-variants",
           lambda: runs.stages([f"{DEEP}h/resolve-variants/{v}" for v in ("base2", "nosetup2", "loadonly")])),
     Table("traced-lavapipe", "docs/deep-scenes.md", f"{DEEP}b",
@@ -127,8 +129,17 @@ TABLES = [
     for change, folder, methods in (("resolve-records", f"{DEEP}d", None),
                                     ("key-tiles", f"{DEEP}f", ["impostor-visible-first"]),
                                     ("texel-reads", f"{DEEP}h", None),
-                                    ("strips", f"{RESULTS}/deep/2026-11-28", None))
+                                    ("strips", f"{RESULTS}/deep/2026-11-28", None),
+                                    ("set-up-once", f"{RESULTS}/deep/2026-11-28e", None))
     for motion in ("still", "orbit")
+] + [
+    # Set-up once on the clouds: two pairs each, the plain splat.
+    Table(f"set-up-once-{name}", "docs/deep-scenes.md",
+          f"{RESULTS}/deep/2026-11-28e/{folder}/{{before,after}}-pair1-2.csv",
+          lambda folder=folder: runs.before_after(
+              runs_of(f"{RESULTS}/deep/2026-11-28e/{folder}/before-pair{{run}}.csv", range(1, 3)),
+              runs_of(f"{RESULTS}/deep/2026-11-28e/{folder}/after-pair{{run}}.csv", range(1, 3))))
+    for name, folder in (("clouds-unlimited", "clouds-without-limit"), ("clouds", "clouds"))
 ] + [
     Table(f"plan-regret-{which}", "docs/plan.md", f"{PLAN}/regret-{which}-run*.csv",
           lambda which=which: runs.regret(f"{PLAN}/regret-{which}-run*.csv"))

@@ -379,9 +379,8 @@ fn cases() -> Vec<Case> {
             shipped,
             setup_once(true),
         ),
-        // The compute splat (which sets nothing up once: it computes the set-up where it needs
-        // it) must give the draw's very bits (the expected lines are the draw's, recorded
-        // before the splat existed).
+        // The compute splat must give the draw's very bits (the expected lines are the draw's,
+        // recorded before the splat existed).
         case(
             "tiny-glyphs-compute",
             tiny_glyphs,

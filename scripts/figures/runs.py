@@ -127,6 +127,25 @@ def stamped_frames(log: Path) -> list[list[float]]:
     return block
 
 
+def stamped_resolves(log: Path) -> list[float]:
+    """The resolve's time (ms) in each of `stamped_frames`' frames, from the `frame:` line that
+    follows each `stamps:` line in logs of builds that time the pass too (frame-stamps.diff of
+    results/deep/2026-11-28e); empty for logs without them."""
+    resolves, stamps = [], 0
+    for line in log.read_text().splitlines():
+        if line.startswith("stamps:"):
+            if len(line.split()) - 1 != DISPATCHES:
+                if resolves:
+                    break
+                stamps = 0
+                continue
+            stamps += 1
+        elif line.startswith("frame:") and stamps:
+            words = line.split()
+            resolves.append(float(words[words.index("resolve") + 1]))
+    return resolves
+
+
 def stages(folders: list[str]) -> list[str]:
     """Where the visible-first splat's frame goes (a temporary build's timestamps before each
     pre-pass dispatch, the `stamps:` lines of each run's log), one table per folder: per motion
@@ -144,24 +163,31 @@ def stages(folders: list[str]) -> list[str]:
             rows = read_csv(results) if results.exists() else []
             if not rows:
                 raise ResultsError(f"{results.relative_to(ROOT)} is missing or empty (the run's bench failed)")
-            entry = groups.setdefault((motion, scene), {"frames": [], "gpu": [], "rows": []})
+            entry = groups.setdefault((motion, scene), {"frames": [], "gpu": [], "rows": [],
+                                                        "resolves": []})
             entry["frames"] += stamped_frames(log)
+            entry["resolves"] += stamped_resolves(log)
             entry["gpu"].append(float(rows[0]["gpu_ms"]))
             entry["rows"] += rows
         device = device_of([r for e in groups.values() for r in e["rows"]])
+        # Builds that time the pass too have the resolve's own timestamps: a column of them.
+        timed_pass = all(e["resolves"] for e in groups.values())
         lines += ([""] if lines else []) + [
             measured(logs[0], *device) + " `bench --quick --frames 15`, impostor-visible-first, "
             "1920x1080; each part the median over the runs' frames (their warm-up included), "
             "the frame the median of the runs' medians; orbit: 0.5 degree a frame.", "",
-            "| motion | scene | frame | pre-pass | " + " | ".join(STAGES) + " | the pass (frame - pre-pass) |",
-            "|---|---|---:|---:|" + "---:|" * (len(STAGES) + 1)]
+            "| motion | scene | frame | pre-pass | " + " | ".join(STAGES) + " | the pass (frame - pre-pass) |"
+            + (" resolve |" if timed_pass else ""),
+            "|---|---|---:|---:|" + "---:|" * (len(STAGES) + 1 + timed_pass)]
         for (motion, scene), entry in sorted(groups.items(), key=lambda kv: (kv[0][0] != "still", kv[0][1])):
             frame = statistics.median(entry["gpu"])
             prepass = statistics.median(sum(f) for f in entry["frames"])
             cells = [statistics.median(sum(f[k] for k in ks) for f in entry["frames"])
                      for ks in STAGES.values()]
+            resolve = f" {statistics.median(entry['resolves']):.1f} |" if timed_pass else ""
             lines.append(f"| {motion} | {scene} | {frame:.1f} | {prepass:.1f} | "
-                         + " | ".join(f"{c:.1f}" for c in cells) + f" | {frame - prepass:.1f} |")
+                         + " | ".join(f"{c:.1f}" for c in cells) + f" | {frame - prepass:.1f} |"
+                         + resolve)
     return lines
 
 

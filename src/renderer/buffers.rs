@@ -14,9 +14,9 @@ use crate::gpu::GpuBuffer;
 ///
 /// Descriptor set 0, one buffer per `Binding` (`src/renderer/buffers.rs`), each chunk's set
 /// pointing at its slices (design §5.4): storage buffers, but the instances, which every
-/// shader only reads, are a uniform texel buffer, and bindings 12 to 14 view the visibility
+/// shader only reads, are a uniform texel buffer, bindings 12 to 14 view the visibility
 /// buffer, the occlusion tiles and the shading records as such for the passes that only read
-/// them:
+/// them, and binding 15 views the shading records as a storage texel buffer for their writers:
 ///
 /// | binding | `Binding` | contents | stages | per chunk |
 /// |---:|---|---|---|---|

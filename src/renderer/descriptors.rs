@@ -162,8 +162,8 @@ fn texel_view(
         .format(format)
         .offset(offset)
         .range(range);
-    // SAFETY: valid create info (the buffer has UNIFORM_TEXEL_BUFFER usage; the range lies
-    // inside it); `views` owns the view.
+    // SAFETY: valid create info (the buffer has the texel usage of every view made of it,
+    // `Binding::usage`; the range lies inside it); `views` owns the view.
     let view = unsafe { device.create_buffer_view(&info, None) }.call("vkCreateBufferView")?;
     views.push(view);
     Ok(view)
@@ -257,7 +257,7 @@ fn write_chunk_sets(
             (read.format, read.texel),
             max_texels,
         )?;
-        whole_views.push((read.binding, made_view));
+        whole_views.push((read, made_view));
     }
     // Set-up records exist per instance only for scenes that can use them.
     let records = chunking.count <= MAX_SETUP_ONCE_INSTANCES;
@@ -332,7 +332,7 @@ fn write_chunk_sets(
             .chain(
                 whole_views
                     .iter()
-                    .map(|&(binding, v)| (binding, [v], vk::DescriptorType::UNIFORM_TEXEL_BUFFER)),
+                    .map(|&(read, v)| (read.binding, [v], read.kind)),
             )
             .collect();
         for read in TEXEL_VIEWS.iter().filter(|r| r.sliced) {

@@ -55,8 +55,9 @@ pub const MAX_SETUP_ONCE_INSTANCES: u32 = (1 << 27) / size_of::<ShadingRecord>()
 /// **The frame plan.** `plan(&camera)` returns the `FramePlan`  a frame
 /// with that camera gets, every decision made once: `path` (a `FramePath`: the draw with the
 /// culling it does and whether it sets glyphs up once, or the splat with what it does about
-/// hidden layers -- `SplatAll`, `StampShown`, `VisibleFirst { rest }` -- and the largest box it
-/// walks; no invalid combination can be written), `reason` (why: the only path, fixed, the first
+/// hidden layers -- `SplatAll`, `StampShown`, `VisibleFirst { rest }` --, the largest box it
+/// walks and whether it sets glyphs up once for its resolve; no invalid combination can be
+/// written), `reason` (why: the only path, fixed, the first
 /// guess, exploring, or measured, design §5.8), `candidates()`, `footprint` (design §5.1), `mean_area_px` (the
 /// sampled glyphs' mean projected area, if any is on screen), `depth_complexity` and
 /// `hidden_area_px` (about how many glyphs deep the scene lies where it covers the image, and
@@ -803,6 +804,41 @@ mod tests {
             plan.path.splat().map(|s| s.hidden),
             Some(HiddenLayers::SplatAll)
         );
+    }
+
+    /// The splat sets glyphs up once where the settings ask and the scene has at most a glyph
+    /// per `1 / SPLAT_SETUP_ONCE_MAX_GLYPHS_PER_PIXEL` image pixels.
+    #[test]
+    fn the_splat_sets_up_once_for_sparse_enough_scenes() {
+        let (scene, camera) = scene_of(false, 20.0);
+        let one = vk::SampleCountFlags::TYPE_1;
+        let fixed = mode(PlanMode::Fixed(PathKind::Splat));
+        let learning = PlanLearning::default();
+        let once = |camera: &Camera, settings: &Settings| {
+            let plan = plan_with(
+                &scene,
+                camera,
+                one,
+                true,
+                settings,
+                (true, false),
+                &learning,
+            );
+            plan.path.splat().map(|s| s.setup_once)
+        };
+        // 60,000 glyphs: 640x480 has 5.1 pixels a glyph, 320x240 1.3.
+        assert_eq!(once(&camera, &fixed), Some(true));
+        let not_asked = Settings {
+            setup_once: false,
+            ..fixed
+        };
+        assert_eq!(once(&camera, &not_asked), Some(false));
+        let small = Camera {
+            width: 320,
+            height: 240,
+            ..camera
+        };
+        assert_eq!(once(&small, &fixed), Some(false));
     }
 
     /// Measuring: the first frames take the first guess; once the class is timed the plan
