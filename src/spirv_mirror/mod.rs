@@ -38,14 +38,20 @@ const OTHER_VIEWS: [(Binding, &str); 2] = [
     (Binding::TileLists, "TileLists4"),
 ];
 
-/// The texel buffers of set 0: binding, variable name, and the stages the set layout gives it.
-fn texel_views() -> [(u32, &'static str, vk::ShaderStageFlags); 5] {
-    let read = |view: crate::renderer::TexelView, name| (view.binding, name, view.stages);
+/// A texel buffer of set 0: binding, variable name, the stages the set layout gives it and its
+/// descriptor type.
+type TexelBinding = (u32, &'static str, vk::ShaderStageFlags, vk::DescriptorType);
+
+/// The texel buffers of set 0.
+fn texel_views() -> [TexelBinding; 5] {
+    let read =
+        |view: crate::renderer::TexelView, name| (view.binding, name, view.stages, view.kind);
     [
         (
             Binding::Instances as u32,
             "instance_texels",
             Binding::Instances.stages(),
+            Binding::Instances.descriptor_type(),
         ),
         read(VISIBILITY_KEYS, "visibility_keys"),
         read(OCCLUSION_TILE_WORDS, "occlusion_tile_words"),
@@ -468,9 +474,9 @@ fn descriptor_bindings_match_the_binding_table() {
             if variable.storage == reader::UNIFORM_CONSTANT {
                 // A texel view: the binding and name of the set layout's.
                 let name = module.name(variable.id);
-                let Some((_, _, stages)) = texel_views()
+                let Some((_, _, stages, kind)) = texel_views()
                     .into_iter()
-                    .find(|(n, v, _)| *n == number && *v == name)
+                    .find(|(n, v, _, _)| *n == number && *v == name)
                 else {
                     findings.add(
                         file,
@@ -478,6 +484,21 @@ fn descriptor_bindings_match_the_binding_table() {
                     );
                     continue;
                 };
+                // A buffer image, sampled for a uniform texel buffer, storage for a storage one.
+                let image = match module.types.get(&variable.pointer) {
+                    Some(Type::Pointer { pointee, .. }) => module.types.get(pointee),
+                    _ => None,
+                };
+                let sampled = match kind {
+                    vk::DescriptorType::STORAGE_TEXEL_BUFFER => 2,
+                    _ => 1,
+                };
+                if image != Some(&Type::Image { dim: 5, sampled }) {
+                    findings.add(
+                        file,
+                        format!("{name} (binding {number}) is {image:?}, not a {kind:?}"),
+                    );
+                }
                 if module.accessed.contains(&variable.id) {
                     seen.insert(number);
                     if !stages.contains(stage) {

@@ -16,6 +16,7 @@ const OP_TYPE_BOOL: u32 = 20;
 const OP_TYPE_INT: u32 = 21;
 const OP_TYPE_FLOAT: u32 = 22;
 const OP_TYPE_VECTOR: u32 = 23;
+const OP_TYPE_IMAGE: u32 = 25;
 const OP_TYPE_ARRAY: u32 = 28;
 const OP_TYPE_RUNTIME_ARRAY: u32 = 29;
 const OP_TYPE_STRUCT: u32 = 30;
@@ -67,8 +68,9 @@ pub const UNIFORM_CONSTANT: u32 = 0;
 pub const PUSH_CONSTANT: u32 = 9;
 pub const STORAGE_BUFFER: u32 = 12;
 
-/// The types the layouts are made of; the reader skips the rest (images, functions,
-/// matrices), which no shared layout holds.
+/// The types the layouts are made of, and images (the texel views: `Image`'s `dim` 5 is a
+/// buffer, `sampled` 1 a sampled image and 2 a storage one); the reader skips the rest
+/// (functions, matrices), which no shared layout holds.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Type {
     Bool,
@@ -79,6 +81,7 @@ pub enum Type {
     RuntimeArray { element: u32 },
     Struct { members: Vec<u32> },
     Pointer { storage: u32, pointee: u32 },
+    Image { dim: u32, sampled: u32 },
 }
 
 /// A constant's value (its first word; booleans 0 or 1) and whether the pipeline may
@@ -220,6 +223,10 @@ impl Module {
                 storage: op[1],
                 pointee: op[2],
             })?,
+            OP_TYPE_IMAGE => self.define(op, 8, |op| Type::Image {
+                dim: op[2],
+                sampled: op[6],
+            })?,
             OP_CONSTANT_TRUE
             | OP_CONSTANT_FALSE
             | OP_SPEC_CONSTANT_TRUE
@@ -350,7 +357,7 @@ impl Module {
                 let offset = self.member_decoration(id, last as u32, OFFSET)?;
                 Some(offset + self.size_of(members[last])?)
             }
-            Type::RuntimeArray { .. } | Type::Pointer { .. } => None,
+            Type::RuntimeArray { .. } | Type::Pointer { .. } | Type::Image { .. } => None,
         }
     }
 }
