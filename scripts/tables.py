@@ -133,13 +133,14 @@ TABLES = [
                                     ("set-up-once", f"{RESULTS}/deep/2026-11-28e", None))
     for motion in ("still", "orbit")
 ] + [
-    # Set-up once on the clouds: two pairs each, the plain splat.
+    # Set-up once on the clouds: two pairs each, the plain splat (the draw in draw-clouds).
     Table(f"set-up-once-{name}", "docs/deep-scenes.md",
           f"{RESULTS}/deep/2026-11-28e/{folder}/{{before,after}}-pair1-2.csv",
           lambda folder=folder: runs.before_after(
               runs_of(f"{RESULTS}/deep/2026-11-28e/{folder}/before-pair{{run}}.csv", range(1, 3)),
               runs_of(f"{RESULTS}/deep/2026-11-28e/{folder}/after-pair{{run}}.csv", range(1, 3))))
-    for name, folder in (("clouds-unlimited", "clouds-without-limit"), ("clouds", "clouds"))
+    for name, folder in (("clouds-unlimited", "clouds-without-limit"), ("clouds", "clouds"),
+                         ("draw-clouds", "draw-clouds"))
 ] + [
     Table(f"plan-regret-{which}", "docs/plan.md", f"{PLAN}/regret-{which}-run*.csv",
           lambda which=which: runs.regret(f"{PLAN}/regret-{which}-run*.csv"))
