@@ -94,7 +94,7 @@ impl Material {
 /// |---|---|---|---|
 /// | `material` | `Material::default()`: ambient 0.15, diffuse 0.75, specular 0.4, shininess 40, white highlights | the shading (design §4.8); a weight not finite or below 0, or shininess not above 0, is refused by `new` and by every plan while in force (`Error::Invalid`, "material ambient" ...) | at the next `record`; push constants, free |
 /// | `culling` | `Culling::ON` (`frustum`, `pixel_centres`, `occlusion`) | which exact culling the pre-pass does (design §5.3) | at the next frame |
-/// | `setup_once` | on | the pre-pass sets small glyphs up once for the draw (design §5.3), and the compute splat each glyph it shows for its resolve (design §5.6) | at the next frame |
+/// | `setup_once` | on | the pre-pass sets small glyphs up once for the draw (design §5.3), and the compute splat each glyph with a hit for its resolve where the scene's glyphs are few enough for the image (design §5.6) | at the next frame |
 /// | `cap_free_path` | on | the `NO_CAPS` variant when nothing reaches the near plane (design §4.6) | at the next frame |
 /// | `small_glyph_triangles` | off | the triangle footprint for glyphs of a few pixels (design §5.1) | at the next frame |
 /// | `instance_format` | `InstanceFormat::Full` | 48-byte float32 or 32-byte compact instances ([`crate::InstanceFormat`]) | at the next `upload` |

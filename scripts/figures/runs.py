@@ -165,8 +165,12 @@ def stages(folders: list[str]) -> list[str]:
                 raise ResultsError(f"{results.relative_to(ROOT)} is missing or empty (the run's bench failed)")
             entry = groups.setdefault((motion, scene), {"frames": [], "gpu": [], "rows": [],
                                                         "resolves": []})
-            entry["frames"] += stamped_frames(log)
-            entry["resolves"] += stamped_resolves(log)
+            frames, resolves = stamped_frames(log), stamped_resolves(log)
+            if resolves and len(resolves) != len(frames):
+                raise ResultsError(f"{log.relative_to(ROOT)}: {len(frames)} frames' stamps but "
+                                   f"{len(resolves)} resolves")
+            entry["frames"] += frames
+            entry["resolves"] += resolves
             entry["gpu"].append(float(rows[0]["gpu_ms"]))
             entry["rows"] += rows
         device = device_of([r for e in groups.values() for r in e["rows"]])

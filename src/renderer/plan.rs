@@ -35,10 +35,11 @@ pub const SPLAT_MAX_BOX_PIXELS: u32 = 4096;
 
 /// The most glyphs per image pixel for which the compute splat sets glyphs up once for its
 /// resolve: each glyph with a hit then stores a 128-byte record, and each resolved pixel reads
-/// one instead of setting its glyph up again. Measured on lavapipe (2026-11-28, 1920x1080,
-/// `docs/deep-scenes.md`): the records saved a quarter to a third of the frame on clouds of
-/// 1,000 to 100,000 glyphs and on `lattice`, and cost 5-10 % on a million 2-pixel glyphs,
-/// where the stores outweigh what the resolve saves.
+/// one instead of setting its glyph up again. A conservative limit from lavapipe runs
+/// (2026-11-28, 1920x1080, `docs/deep-scenes.md`): the plain splat took a quarter to a third
+/// less on the clouds of 10,000 and 100,000 2-pixel and 1,000 to 10,000 16-pixel glyphs, its
+/// resolve a quarter to a third less on `lattice`, and a million 2-pixel glyphs read 7 % slower
+/// (within the noise), where nearly as many stores as pixels are expected to outweigh it.
 pub const SPLAT_SETUP_ONCE_MAX_GLYPHS_PER_PIXEL: f64 = 0.25;
 
 /// The most chunks a splatted frame may have: each chunk resolves over every marked tile.
