@@ -56,13 +56,18 @@ impl Chunking {
             .min(limits.max_texel_buffer_elements as u64 * texel)
     }
 
-    /// Whether the scene has set-up records (at most `MAX_SETUP_ONCE_INSTANCES` instances) and
-    /// each chunk's shading records fit one binding read through a texel view of 16-byte
-    /// texels on a device of `limits` (the splat's resolve reads them so).
+    /// Whether the scene has set-up records, one per instance (at most
+    /// `MAX_SETUP_ONCE_INSTANCES` instances: beyond, each record buffer holds one).
+    pub fn has_records(&self) -> bool {
+        self.count <= MAX_SETUP_ONCE_INSTANCES
+    }
+
+    /// Whether the scene has set-up records and each chunk's shading records fit one binding
+    /// read and written through texel views of 16-byte texels on a device of `limits`.
     pub fn shading_records_fit(&self, limits: &ash::vk::PhysicalDeviceLimits) -> bool {
         let largest = self.capacity.min(self.count) as u64;
         let bytes = largest * size_of::<crate::gpu_layout::ShadingRecord>() as u64;
-        self.count <= MAX_SETUP_ONCE_INSTANCES && bytes <= Self::max_binding_bytes(limits, 16)
+        self.has_records() && bytes <= Self::max_binding_bytes(limits, 16)
     }
 
     /// Number of chunks (at least one, so an empty scene still has a descriptor set).

@@ -10,7 +10,6 @@ use crate::gpu_layout::{FootprintRecord, IndirectDraw, ShadingRecord};
 
 use super::buffers::{Binding, SceneBuffers};
 use super::chunks::{Chunking, SLICE_ALIGN};
-use super::plan::MAX_SETUP_ONCE_INSTANCES;
 
 /// A texel view of a storage binding's buffer (why texels: design §7): read as a uniform texel
 /// buffer by the passes that only read it, or written as a storage texel buffer. Its binding,
@@ -206,10 +205,12 @@ fn write_chunk_sets(
     (instance_stride, max_texels): (u64, u32),
     made: &mut ChunkSets,
 ) -> Result<()> {
+    let owner = |b: Binding| if b.per_view() { view } else { shared };
     let handles = Binding::ALL
         .iter()
-        .map(|&b| if b.per_view() { view } else { shared }.handle(b))
+        .map(|&b| owner(b).handle(b))
         .collect::<Result<Vec<_>>>()?;
+    let size = |b: Binding| owner(b).get(b).map_or(0, |buffer| buffer.size());
     let sets = chunking.len();
     let storage = Binding::ALL
         .iter()
@@ -248,19 +249,17 @@ fn write_chunk_sets(
     // chunk (the sliced ones are made per chunk below).
     let mut whole_views = Vec::with_capacity(TEXEL_VIEWS.len());
     for read in TEXEL_VIEWS.iter().filter(|r| !r.sliced) {
-        let owner = if read.of.per_view() { view } else { shared };
-        let bytes = owner.get(read.of).map_or(0, |b| b.size());
         let made_view = texel_view(
             device,
             &mut made.views,
-            (handles[read.of as usize], 0, bytes),
+            (handles[read.of as usize], 0, size(read.of)),
             (read.format, read.texel),
             max_texels,
         )?;
         whole_views.push((read, made_view));
     }
     // Set-up records exist per instance only for scenes that can use them.
-    let records = chunking.count <= MAX_SETUP_ONCE_INSTANCES;
+    let records = chunking.has_records();
     let groups = chunking.groups_slice();
     let chunks: Vec<(u32, u32)> = chunking.chunks().collect();
     for k in 0..made.sets.len() {
@@ -340,8 +339,7 @@ fn write_chunk_sets(
             // A slice's offset is a multiple of 256 instances' records, so of any device's
             // `minTexelBufferOffsetAlignment`; a whole buffer (no records) starts at 0.
             let bytes = if bytes == vk::WHOLE_SIZE {
-                let owner = if read.of.per_view() { view } else { shared };
-                owner.get(read.of).map_or(0, |b| b.size())
+                size(read.of)
             } else {
                 bytes
             };

@@ -109,7 +109,6 @@ use learning::PlanLearning;
 use pipelines::Pipelines;
 pub use plan::FramePlan;
 use plan::PlanInputs;
-use plan::MAX_SETUP_ONCE_INSTANCES;
 #[doc(hidden)]
 pub use plan::SPLAT_SETUP_ONCE_MAX_GLYPHS_PER_PIXEL;
 pub use plan_reason::PlanReason;
@@ -476,7 +475,7 @@ impl EllipsoidRenderer {
     ) -> Result<()> {
         let count = chunking.count;
         // Set-up records only for scenes that can use them.
-        let records = if count <= MAX_SETUP_ONCE_INSTANCES {
+        let records = if chunking.has_records() {
             count.max(1) as u64
         } else {
             1
