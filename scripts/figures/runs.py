@@ -146,38 +146,46 @@ def stamped_resolves(log: Path) -> list[float]:
     return resolves
 
 
-def stages(folders: list[str]) -> list[str]:
+def stage_runs(folder: str) -> tuple[list[Path], dict]:
+    """A stage profile's runs in `folder` (`MOTION-SCENE-runN.txt` logs beside their
+    `MOTION-SCENE-runN/results.csv`): the logs, and per (motion, scene) every run's stamped
+    frames, the resolves timed with them, the runs' GPU medians and their results rows."""
+    logs = files(f"{folder}/*-run*.txt")
+    groups = {}
+    for log in logs:
+        motion, scene = log.stem.split("-", 1)
+        scene = scene.rsplit("-run", 1)[0]
+        results = log.parent / log.stem / "results.csv"
+        rows = read_csv(results) if results.exists() else []
+        if not rows:
+            raise ResultsError(f"{results.relative_to(ROOT)} is missing or empty (the run's bench failed)")
+        entry = groups.setdefault((motion, scene), {"frames": [], "gpu": [], "rows": [],
+                                                    "resolves": []})
+        stamped, resolves = stamped_frames(log), stamped_resolves(log)
+        if resolves and len(resolves) != len(stamped):
+            raise ResultsError(f"{log.relative_to(ROOT)}: {len(stamped)} frames' stamps but "
+                               f"{len(resolves)} resolves")
+        entry["frames"] += stamped
+        entry["resolves"] += resolves
+        entry["gpu"].append(float(rows[0]["gpu_ms"]))
+        entry["rows"] += rows
+    return logs, groups
+
+
+def stages(folders: list[str], frames: int = 15) -> list[str]:
     """Where the visible-first splat's frame goes (a temporary build's timestamps before each
     pre-pass dispatch, the `stamps:` lines of each run's log), one table per folder: per motion
     and scene the median over the runs' frames of each group of dispatches and of the
     pre-pass, and the frame's GPU time (median of the runs' medians); the pass (resolve,
-    clears) is the rest."""
+    clears) is the rest. `frames`: the runs' `bench --frames`."""
     lines = []
     for folder in folders:
-        logs = files(f"{folder}/*-run*.txt")
-        groups = {}
-        for log in logs:
-            motion, scene = log.stem.split("-", 1)
-            scene = scene.rsplit("-run", 1)[0]
-            results = log.parent / log.stem / "results.csv"
-            rows = read_csv(results) if results.exists() else []
-            if not rows:
-                raise ResultsError(f"{results.relative_to(ROOT)} is missing or empty (the run's bench failed)")
-            entry = groups.setdefault((motion, scene), {"frames": [], "gpu": [], "rows": [],
-                                                        "resolves": []})
-            frames, resolves = stamped_frames(log), stamped_resolves(log)
-            if resolves and len(resolves) != len(frames):
-                raise ResultsError(f"{log.relative_to(ROOT)}: {len(frames)} frames' stamps but "
-                                   f"{len(resolves)} resolves")
-            entry["frames"] += frames
-            entry["resolves"] += resolves
-            entry["gpu"].append(float(rows[0]["gpu_ms"]))
-            entry["rows"] += rows
+        logs, groups = stage_runs(folder)
         device = device_of([r for e in groups.values() for r in e["rows"]])
         # Builds that time the pass too have the resolve's own timestamps: a column of them.
         timed_pass = all(e["resolves"] for e in groups.values())
         lines += ([""] if lines else []) + [
-            measured(logs[0], *device) + " `bench --quick --frames 15`, impostor-visible-first, "
+            measured(logs[0], *device) + f" `bench --quick --frames {frames}`, impostor-visible-first, "
             "1920x1080; each part the median over the runs' frames (their warm-up included), "
             "the frame the median of the runs' medians; orbit: 0.5 degree a frame.", "",
             "| motion | scene | frame | pre-pass | " + " | ".join(STAGES) + " | the pass (frame - pre-pass) |"
@@ -192,6 +200,70 @@ def stages(folders: list[str]) -> list[str]:
             lines.append(f"| {motion} | {scene} | {frame:.1f} | {prepass:.1f} | "
                          + " | ".join(f"{c:.1f}" for c in cells) + f" | {frame - prepass:.1f} |"
                          + resolve)
+    return lines
+
+
+def stage_builds(folders: list[str], frames: int) -> list[str]:
+    """Several builds' stage profiles (scripts/stage-profile.sh with a tool per folder, taking
+    turns run by run) side by side: per motion and scene, each build's first splat (`splat
+    shown`, the median over its runs' frames) and frame (the median of its runs' medians), in
+    ms. `frames`: the runs' `bench --frames`."""
+    builds, logs = {}, []
+    for folder in folders:
+        found, builds[Path(folder).name] = stage_runs(folder)
+        logs += found
+    first = next(iter(builds.values()))
+    for name, cells in builds.items():
+        if cells.keys() != first.keys():
+            raise ResultsError(f"{name} ran other scenes or motions than {next(iter(builds))}")
+    device = device_of([r for cells in builds.values() for e in cells.values() for r in e["rows"]])
+    lines = [measured(logs[0], *device) + f" `bench --quick --frames {frames}`, "
+             "impostor-visible-first, 1920x1080; each build's first splat (`splat shown`, the "
+             "median over its runs' frames) / frame (the median of its runs' medians), in ms; "
+             "orbit: 0.5 degree a frame.", "",
+             "| motion | scene | " + " | ".join(builds) + " |",
+             "|---|---|" + "---:|" * len(builds)]
+    for motion, scene in sorted(first, key=lambda k: (k[0] != "still", k[1])):
+        row = [builds[b][(motion, scene)] for b in builds]
+        shown = [statistics.median(sum(f[k] for k in STAGES["splat shown"]) for f in e["frames"])
+                 for e in row]
+        lines.append(f"| {motion} | {scene} | " + " | ".join(
+            f"{s:.1f} / {statistics.median(e['gpu']):.1f}" for s, e in zip(shown, row)) + " |")
+    return lines
+
+
+def visible_walk(folder: str) -> list[str]:
+    """What the visible-first splat's first pass walks: per scene, the glyphs a frame shows
+    (`{scene}-visible/`, the plain splat of those glyphs alone, the same camera) beside
+    the whole scene (`{scene}-all/`): covered pixel centres (with multiplicity) and the splat's
+    ray casts (the resolve's one per shown pixel included) per pixel shown."""
+    lines = []
+    for visible in files(f"{folder}/*-visible/results.csv"):
+        scene = visible.parent.name.removesuffix("-visible")
+        whole = ROOT / folder / f"{scene}-all" / "results.csv"
+        if not whole.exists():
+            raise ResultsError(f"{whole.relative_to(ROOT)} is missing (the whole scene's run)")
+        part = {r["method"]: r for r in read_csv(visible)}["impostor-compute"]
+        full = {r["method"]: r for r in read_csv(whole)}["impostor-compute"]
+        if part["visible_pixels"] != full["visible_pixels"]:
+            raise ResultsError(f"{visible.relative_to(ROOT)}: the shown glyphs show "
+                               f"{part['visible_pixels']} pixels, the scene {full['visible_pixels']}")
+        if not lines:
+            rows = read_csv(visible) + read_csv(whole)
+            lines = [measured(visible, *device_of(rows)) + " `bench --quick --frames 3`, "
+                     "1920x1080, each scene's own camera; the splat's ray casts include the "
+                     "resolve's one per pixel shown.", "",
+                     "| scene | glyphs | glyphs shown | pixels shown per glyph shown "
+                     "| covered centres per glyph shown | covered centres per pixel shown: "
+                     "glyphs shown, all | ray casts per pixel shown, splat of: glyphs shown, all |",
+                     "|---|---:|---:|---:|---:|---:|---:|"]
+        shown, glyphs = float(part["visible_pixels"]), float(part["count"])
+        lines.append(f"| {scene} | {int(full['count']):,} | {int(glyphs):,} | {shown / glyphs:.0f} | "
+                     f"{float(part['covered_pixels']) / glyphs:.0f} | "
+                     f"{float(part['covered_pixels']) / shown:.2f}, "
+                     f"{float(full['covered_pixels']) / shown:.2f} | "
+                     f"{float(part['ray_casts_per_visible_pixel']):.2f}, "
+                     f"{float(full['ray_casts_per_visible_pixel']):.2f} |")
     return lines
 
 

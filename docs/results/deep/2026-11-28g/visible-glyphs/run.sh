@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# What the visible-first splat's first pass walks (docs/deep-scenes.md, "What would reach the
+# ray tracer"): for each deep scene, the glyphs its frame shows benched alone with the same
+# camera (SCENE-visible/) beside the whole scene as the same file's rows (SCENE-all/). Only
+# counts are read (covered centres, ray casts), no timings. Intermediate files (the scene CSVs,
+# the images) go to a temporary folder.
+#
+#   bash run.sh TOOL OUT_DIR
+set -euo pipefail
+tool="$(realpath "${1:?run.sh: give the tool (target/release/ellipsoid-splat)}")"
+out="${2:?run.sh: give the results folder}"
+here="$(cd "$(dirname "$0")" && pwd)"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$out"
+for scene in lattice md-liquid; do
+  "$tool" render --scene "$scene" --width 1920 --height 1080 --output "$work/$scene.png" \
+    --id "$work/$scene-id.png" --save-scene "$work/$scene.csv" > "$work/$scene-render.txt"
+  read -r -a camera < <(python3 "$here/visible-glyphs.py" "$work/$scene.csv" "$work/$scene-id.png" \
+    "$work/$scene-visible.csv")
+  tail -n +2 "$work/$scene.csv" > "$work/$scene-all.csv"
+  for part in visible all; do
+    # bench exits 1 where a target of its own is missed: only a missing result is a failure.
+    "$tool" bench --quick --frames 3 --scene "$work/$scene-$part.csv" "${camera[@]}" \
+      --methods impostor-compute --out "$out/$scene-$part" > "$out/$scene-$part.txt" 2>&1 || true
+    [ -s "$out/$scene-$part/results.csv" ] || { echo "run.sh: $scene-$part: no results.csv" >&2; exit 1; }
+    rm -f "$out/$scene-$part"/*.png
+  done
+done
