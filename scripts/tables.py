@@ -117,6 +117,9 @@ TABLES = [
           lambda: runs.stage_builds([f"{RESULTS}/deep/2026-11-28g/stages/{b}" for b in (
               "shipped", "lanes-sorted-by-size", "atomic-load-before-atomic",
               "plain-load-before-atomic", "spread-small-dispatches")], 15)),
+    Table("spread-pairs", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28g/spread-pairs",
+          lambda: runs.stage_builds([f"{RESULTS}/deep/2026-11-28g/spread-pairs/{b}"
+                                     for b in ("shipped", "spread-small-dispatches")], 15)),
     Table("instance-order", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28g/order",
           lambda: runs.stage_builds([f"{RESULTS}/deep/2026-11-28g/order/{b}" for b in ("scene-order", "shuffled")], 9)),
     Table("visible-walk", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28g/visible-glyphs",

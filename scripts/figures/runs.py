@@ -210,7 +210,11 @@ def stage_builds(folders: list[str], frames: int) -> list[str]:
     ms. `frames`: the runs' `bench --frames`."""
     builds, logs = {}, []
     for folder in folders:
-        found, builds[Path(folder).name] = stage_runs(folder)
+        name = Path(folder).name
+        if name in builds:
+            raise ResultsError(f"two builds named {name}: each needs a folder name of its own")
+        found, groups = stage_runs(folder)
+        builds[name] = groups
         logs += found
     first = next(iter(builds.values()))
     for name, cells in builds.items():
@@ -219,8 +223,8 @@ def stage_builds(folders: list[str], frames: int) -> list[str]:
     device = device_of([r for cells in builds.values() for e in cells.values() for r in e["rows"]])
     lines = [measured(logs[0], *device) + f" `bench --quick --frames {frames}`, "
              "impostor-visible-first, 1920x1080; each build's first splat (`splat shown`, the "
-             "median over its runs' frames) / frame (the median of its runs' medians), in ms; "
-             "orbit: 0.5 degree a frame.", "",
+             "median over its runs' frames, their warm-up included) / frame (the median of its "
+             "runs' medians), in ms; orbit: 0.5 degree a frame.", "",
              "| motion | scene | " + " | ".join(builds) + " |",
              "|---|---|" + "---:|" * len(builds)]
     for motion, scene in sorted(first, key=lambda k: (k[0] != "still", k[1])):
@@ -243,8 +247,11 @@ def visible_walk(folder: str) -> list[str]:
         whole = ROOT / folder / f"{scene}-all" / "results.csv"
         if not whole.exists():
             raise ResultsError(f"{whole.relative_to(ROOT)} is missing (the whole scene's run)")
-        part = {r["method"]: r for r in read_csv(visible)}["impostor-compute"]
-        full = {r["method"]: r for r in read_csv(whole)}["impostor-compute"]
+        part, full = ({r["method"]: r for r in read_csv(path)}.get("impostor-compute")
+                      for path in (visible, whole))
+        for path, row in ((visible, part), (whole, full)):
+            if row is None:
+                raise ResultsError(f"{path.relative_to(ROOT)} has no impostor-compute row")
         if part["visible_pixels"] != full["visible_pixels"]:
             raise ResultsError(f"{visible.relative_to(ROOT)}: the shown glyphs show "
                                f"{part['visible_pixels']} pixels, the scene {full['visible_pixels']}")

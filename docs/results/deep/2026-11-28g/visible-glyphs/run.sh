@@ -2,8 +2,8 @@
 # What the visible-first splat's first pass walks (docs/deep-scenes.md, "What would reach the
 # ray tracer"): for each deep scene, the glyphs its frame shows benched alone with the same
 # camera (SCENE-visible/) beside the whole scene as the same file's rows (SCENE-all/). Only
-# counts are read (covered centres, ray casts), no timings. Intermediate files (the scene CSVs,
-# the images) go to a temporary folder.
+# counts are read (covered centres, ray casts), no timings. The scene CSVs and images go to a
+# temporary folder; each render's output stays beside the results.
 #
 #   bash run.sh TOOL OUT_DIR
 set -euo pipefail
@@ -13,11 +13,14 @@ here="$(cd "$(dirname "$0")" && pwd)"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$out"
-for scene in lattice md-liquid; do
+for scene in lattice md-liquid tensor-field; do
   "$tool" render --scene "$scene" --width 1920 --height 1080 --output "$work/$scene.png" \
-    --id "$work/$scene-id.png" --save-scene "$work/$scene.csv" > "$work/$scene-render.txt"
-  read -r -a camera < <(python3 "$here/visible-glyphs.py" "$work/$scene.csv" "$work/$scene-id.png" \
-    "$work/$scene-visible.csv")
+    --id "$work/$scene-id.png" --save-scene "$work/$scene.csv" > "$out/$scene-render.txt" 2>&1 \
+    || { echo "run.sh: render of $scene failed ($out/$scene-render.txt says why)" >&2; exit 1; }
+  flags="$(python3 "$here/visible-glyphs.py" "$work/$scene.csv" "$work/$scene-id.png" \
+    "$work/$scene-visible.csv")"
+  [ -n "$flags" ] || { echo "run.sh: visible-glyphs.py gave no camera for $scene" >&2; exit 1; }
+  read -r -a camera <<<"$flags"
   tail -n +2 "$work/$scene.csv" > "$work/$scene-all.csv"
   for part in visible all; do
     # bench exits 1 where a target of its own is missed: only a missing result is a failure.

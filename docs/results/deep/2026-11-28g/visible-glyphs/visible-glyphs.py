@@ -31,6 +31,8 @@ def png_rgba8(path):
     for _ in range(height):
         kind, cur = raw[at], bytearray(raw[at + 1:at + 1 + stride])
         at += 1 + stride
+        if kind > 4:
+            sys.exit(f"{path}: a row with PNG filter type {kind} (0-4 exist)")
         for x in range(stride):
             a = cur[x - bpp] if x >= bpp else 0
             b, c = prev[x], (prev[x - bpp] if x >= bpp else 0)
