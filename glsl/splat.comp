@@ -8,9 +8,10 @@
 // nearest hit per pixel in the visibility buffer with a 64-bit atomic and marks the resolve
 // tiles it touched (and, with SPLAT_SETUP_ONCE, stores its shading set-up for the resolve).
 // resolve.vert/.frag then shade each pixel of the marked tiles once. No rasterizer front end
-// (on lavapipe about 0.5 us per instance on one thread). A glyph too large to walk is left to the draw: its keep bit
-// and its group's count go where the culling's CLASSIFY step would put them, and the SCAN and
-// SCATTER steps that follow compact them in instance order for the culled draw.
+// (on lavapipe about 0.5 us per instance on one thread). A glyph too large to walk is left to
+// the draw: its keep bit and its group's count go where the culling's CLASSIFY step would put
+// them, and the SCAN and SCATTER steps that follow compact them in instance order for the
+// culled draw.
 #define SPLAT_PASS
 #define SETUP_HERE
 #include "ellipsoid_common.glsl"
@@ -178,11 +179,12 @@ void main() {
     if (SPLAT_FLOOR == SPLAT_FLOOR_ARITHMETIC && depth_sum == 0x5eed5eedu) {
         visibility[0] = 1ul;
     }
-    if (any_hit && SPLAT_FLOOR == SPLAT_FLOOR_NONE && SPLAT_SETUP_ONCE) {
-        // Only a glyph with a hit can be a pixel's nearest: the resolve reads no other record.
-        store_shading(id, f);
-    }
     if (any_hit && SPLAT_FLOOR == SPLAT_FLOOR_NONE) {
+        if (SPLAT_SETUP_ONCE) {
+            // Only a glyph with a hit can be a pixel's nearest: the resolve reads no other
+            // record.
+            store_shading(id, f);
+        }
         // The tiles the glyph's box touches get resolved (every glyph marking one writes the
         // same word; atomically, so the writes do not race). A plain read first: most glyphs
         // find their tiles marked, and a million glyphs exchanging a few thousand words keep
