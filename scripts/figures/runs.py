@@ -240,7 +240,8 @@ def visible_walk(folder: str) -> list[str]:
     """What the visible-first splat's first pass walks: per scene, the glyphs a frame shows
     (`{scene}-visible/`, the plain splat of those glyphs alone, the same camera) beside
     the whole scene (`{scene}-all/`): covered pixel centres (with multiplicity) and the splat's
-    ray casts (the resolve's one per shown pixel included) per pixel shown."""
+    ray casts (the resolve's one per shown pixel included) per pixel shown; and the share of
+    the pixels shown a bench orbit step later that show the same glyph (`{scene}-turned.csv`)."""
     lines = []
     for visible in files(f"{folder}/*-visible/results.csv"):
         scene = visible.parent.name.removesuffix("-visible")
@@ -252,6 +253,10 @@ def visible_walk(folder: str) -> list[str]:
         for path, row in ((visible, part), (whole, full)):
             if row is None:
                 raise ResultsError(f"{path.relative_to(ROOT)} has no impostor-compute row")
+        turned = ROOT / folder / f"{scene}-turned.csv"
+        kept = read_csv(turned) if turned.exists() else []
+        if len(kept) != 1:
+            raise ResultsError(f"{turned.relative_to(ROOT)} is missing or not one row (same-glyph.py's)")
         if part["visible_pixels"] != full["visible_pixels"]:
             raise ResultsError(f"{visible.relative_to(ROOT)}: the shown glyphs show "
                                f"{part['visible_pixels']} pixels, the scene {full['visible_pixels']}")
@@ -262,15 +267,17 @@ def visible_walk(folder: str) -> list[str]:
                      "resolve's one per pixel shown.", "",
                      "| scene | glyphs | glyphs shown | pixels shown per glyph shown "
                      "| covered centres per glyph shown | covered centres per pixel shown: "
-                     "glyphs shown, all | ray casts per pixel shown, splat of: glyphs shown, all |",
-                     "|---|---:|---:|---:|---:|---:|---:|"]
+                     "glyphs shown, all | ray casts per pixel shown, splat of: glyphs shown, all "
+                     "| pixels showing the same glyph 0.5 degree later |",
+                     "|---|---:|---:|---:|---:|---:|---:|---:|"]
         shown, glyphs = float(part["visible_pixels"]), float(part["count"])
         lines.append(f"| {scene} | {int(full['count']):,} | {int(glyphs):,} | {shown / glyphs:.0f} | "
                      f"{float(part['covered_pixels']) / glyphs:.0f} | "
                      f"{float(part['covered_pixels']) / shown:.2f}, "
                      f"{float(full['covered_pixels']) / shown:.2f} | "
                      f"{float(part['ray_casts_per_visible_pixel']):.2f}, "
-                     f"{float(full['ray_casts_per_visible_pixel']):.2f} |")
+                     f"{float(full['ray_casts_per_visible_pixel']):.2f} | "
+                     f"{int(kept[0]['same_glyph']) / int(kept[0]['pixels_shown']):.0%} |")
     return lines
 
 
