@@ -489,11 +489,13 @@ fn descriptor_bindings_match_the_binding_table() {
                     Some(Type::Pointer { pointee, .. }) => module.types.get(pointee),
                     _ => None,
                 };
-                let sampled = match kind {
-                    vk::DescriptorType::STORAGE_TEXEL_BUFFER => 2,
-                    _ => 1,
+                let sampled = if kind == vk::DescriptorType::STORAGE_TEXEL_BUFFER {
+                    reader::SAMPLED_AS_STORAGE
+                } else {
+                    reader::SAMPLED_WITH_SAMPLER
                 };
-                if image != Some(&Type::Image { dim: 5, sampled }) {
+                let dim = reader::DIM_BUFFER;
+                if image != Some(&Type::Image { dim, sampled }) {
                     findings.add(
                         file,
                         format!("{name} (binding {number}) is {image:?}, not a {kind:?}"),

@@ -67,10 +67,15 @@ pub const LOCAL_SIZE_ID: u32 = 38;
 pub const UNIFORM_CONSTANT: u32 = 0;
 pub const PUSH_CONSTANT: u32 = 9;
 pub const STORAGE_BUFFER: u32 = 12;
+// OpTypeImage's Dim for a buffer image, and its Sampled for an image read through a sampler
+// (a uniform texel buffer) or read and written without one (a storage texel buffer).
+pub const DIM_BUFFER: u32 = 5;
+pub const SAMPLED_WITH_SAMPLER: u32 = 1;
+pub const SAMPLED_AS_STORAGE: u32 = 2;
 
-/// The types the layouts are made of, and images (the texel views: `Image`'s `dim` 5 is a
-/// buffer, `sampled` 1 a sampled image and 2 a storage one); the reader skips the rest
-/// (functions, matrices), which no shared layout holds.
+/// The types the layouts are made of, and images (the texel views: `Image`'s `dim` and
+/// `sampled` as OpTypeImage gives them, `DIM_BUFFER` and `SAMPLED_*` above); the reader skips
+/// the rest (functions, matrices), which no shared layout holds.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Type {
     Bool,

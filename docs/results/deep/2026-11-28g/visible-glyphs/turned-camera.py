@@ -19,6 +19,9 @@ def main():
     angle = math.radians(float(sys.argv[1]))
     flags = sys.stdin.read().split()
     values = dict(zip(flags[0::2], flags[1::2]))
+    missing = [f for f in ("--eye", "--target", "--up") if f not in values]
+    if missing:
+        sys.exit(f"turned-camera.py: the camera flags lack {', '.join(missing)}")
     eye, target, up = (vector(values[f]) for f in ("--eye", "--target", "--up"))
     n = math.sqrt(sum(u * u for u in up))
     k = [u / n for u in up]
