@@ -23,6 +23,8 @@
 #include "impostor_state.glsl"
 #include "impostor_hit.glsl"
 #include "visibility.glsl"
+#include "occlusion_tiles.glsl"
+#include "nearest_depth.glsl"
 #include "cull_groups.glsl"
 #include "glyph_stamps.glsl"
 #include "fragment_counter.glsl"
@@ -36,6 +38,10 @@ layout(std430, set = 0, binding = 9) readonly buffer FloorPixels {
 
 layout(local_size_x = 64) in;
 const uint GROUP = 64u;
+
+// The visible-first splat's second pass (its list is CULL_SELECT_REST's) reads the occlusion
+// tiles KEY_TILES left, after a barrier.
+const bool SKIP_HIDDEN_TILES = SPLAT_LIST && CULL_SELECT == CULL_SELECT_REST;
 
 // The visible-pixel floor: glyph `k` is set up and ray casts the pixels it shows, each once,
 // keeping nothing (the depths feed a sum the compiler cannot drop).
@@ -105,7 +111,8 @@ void main() {
         }
         return;
     }
-    Setup f = setup_instance(load_instance(id));
+    Instance inst = load_instance(id);
+    Setup f = setup_instance(inst);
     if (f.culled) {
         return;
     }
@@ -143,7 +150,28 @@ void main() {
     vec2 a1 = f.axis1 * to_px, a2 = f.axis2 * to_px;
     float s01 = a1.x * a1.y + a2.x * a2.y, s11 = a1.y * a1.y + a2.y * a2.y;
     float det_a = abs(a1.x * a2.y - a2.x * a1.y);
+    // The visible-first splat's second pass skips the occlusion tiles whose every pixel the
+    // first pass already holds nearer than any hit of the glyph (the list's own test, tile by
+    // tile: the glyph passed it because some tile under it failed). Per band of TILE rows, a
+    // bit per tile column of the box (the first 32; beyond them nothing is skipped), so a
+    // hidden tile costs one read instead of its ray casts.
+    float nearest = SKIP_HIDDEN_TILES ? nearest_with_gap(inst) : 0.0;
+    bool skipping = SKIP_HIDDEN_TILES && nearest > cam.near_plane;
+    int tile_x0 = lo.x / TILE;
+    int band = -1;
+    uint hidden = 0u;
     for (int y = lo.y; y <= hi.y; y++) {
+        if (skipping && y / TILE != band) {
+            band = y / TILE;
+            hidden = 0u;
+            int row = band * tile_grid().x;
+            int tile_x1 = min(hi.x / TILE, tile_x0 + 31);
+            for (int tx = tile_x0; tx <= tile_x1; tx++) {
+                if (hides_every_hit(tile_word(row + tx), nearest)) {
+                    hidden |= 1u << uint(tx - tile_x0);
+                }
+            }
+        }
         float dy = float(y) + 0.5 - c_px.y;
         // A thousandth of s11 and a twentieth of a pixel more than the chord: more than
         // float32 rounding moves it.
@@ -152,6 +180,11 @@ void main() {
         int x_lo = max(lo.x, int(ceil(mid - chord - 0.55)));
         int x_hi = min(hi.x, int(floor(mid + chord - 0.45)));
         for (int x = x_lo; x <= x_hi; x++) {
+            uint column = uint(x / TILE - tile_x0);
+            if (column < 32u && (hidden >> column & 1u) != 0u) {
+                x = (x / TILE + 1) * TILE - 1; // on to the next tile
+                continue;
+            }
             float z;
             vec3 normal;
             bool cap;

@@ -122,6 +122,14 @@ TABLES = [
                                      for b in ("shipped", "spread-small-dispatches")], 15)),
     Table("instance-order", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28g/order",
           lambda: runs.stage_builds([f"{RESULTS}/deep/2026-11-28g/order/{b}" for b in ("scene-order", "shuffled")], 9)),
+    Table("tile-skip", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28h/tile-skip",
+          lambda: runs.stage_builds([f"{RESULTS}/deep/2026-11-28h/tile-skip/{b}"
+                                     for b in ("shipped", "skip-hidden-tiles")], 15,
+                                    ("splat shown", "splat rest"))),
+    Table("front-stamps", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28h/front-stamps",
+          lambda: runs.stage_builds([f"{RESULTS}/deep/2026-11-28h/front-stamps/{b}"
+                                     for b in ("skip-hidden-tiles", "front-stamps")], 15,
+                                    ("splat shown", "splat rest"))),
     Table("visible-walk", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28g/visible-glyphs",
           lambda: runs.visible_walk(f"{RESULTS}/deep/2026-11-28g/visible-glyphs")),
     Table("traced-lavapipe", "docs/deep-scenes.md", f"{DEEP}b",

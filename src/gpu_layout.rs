@@ -377,7 +377,7 @@ pub fn resolve_tiles(width: u32, height: u32) -> u32 {
 /// | 20 | `SAMPLE_GRID` | `sample_grid` | int | 1 | where the culling proofs find a pixel's samples: 1 its centre, R the cell centres of a grid R times finer, 0 anywhere (`FramePlan::sample_grid`, design §5.3) | pre-pass |
 /// | 21 | `FAR_PLANE` | `far_plane` | bool | false | the camera has a finite far plane: pixel-rate coverage runs the full hit at every sample (`FramePlan::far_plane`, `Target`'s documentation); set only with `COVERAGE_SAMPLES` above 1 | graphics |
 /// | 22 | `COUNT_RAY_CASTS` | `count_ray_casts` | bool | false | the splat adds its ray casts to the counter's second word (`research` counting frames, design §5.7) | splat |
-/// | 23 | `CULL_SELECT` | `cull_select` | int | 0 | what CLASSIFY lists: 0 all its culling keeps, 1 `SHOWN`, 2 `REST`, 3 `DRAWN` (`CullSelect`, design §5.7) | pre-pass |
+/// | 23 | `CULL_SELECT` | `cull_select` | int | 0 | what CLASSIFY lists: 0 all its culling keeps, 1 `SHOWN`, 2 `REST`, 3 `DRAWN` (`CullSelect`, design §5.7); in the splat over a list, which list it walks (`REST` skips the tiles the first pass hides) | pre-pass, splat |
 /// | 24 | `SPLAT_LIST` | `splat_list` | bool | false | the splat takes its glyphs from the pre-pass's list and leaves large ones to the draw by their stamp (design §5.7) | splat |
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Pod, Zeroable)]

@@ -130,7 +130,8 @@ layout(constant_id = 22) const bool COUNT_RAY_CASTS = false;
 // keeps; 1 those the last stamping frame showed (the visible-first splat's first pass, for a
 // still camera); 2 the others
 // its culling keeps, occlusion by the first pass's hits included (the second pass); 3 those a
-// splat pass of this frame left to the draw.
+// splat pass of this frame left to the draw. In the compute splat over a list, which list it
+// walks (the second pass skips the tiles the first pass hides).
 const int CULL_SELECT_ALL = 0;
 const int CULL_SELECT_SHOWN = 1;
 const int CULL_SELECT_REST = 2;

@@ -203,11 +203,19 @@ def stages(folders: list[str], frames: int = 15) -> list[str]:
     return lines
 
 
-def stage_builds(folders: list[str], frames: int) -> list[str]:
+def stage_builds(folders: list[str], frames: int, stages: tuple[str, ...] = ("splat shown",)) -> list[str]:
     """Several builds' stage profiles (scripts/stage-profile.sh with a tool per folder, taking
-    turns run by run) side by side: per motion and scene, each build's first splat (`splat
-    shown`, the median over its runs' frames) and frame (the median of its runs' medians), in
-    ms. `frames`: the runs' `bench --frames`."""
+    turns run by run) side by side: per motion and scene, each build's `stages` (by default the
+    first splat, `splat shown`; each the median over its runs' frames) and frame (the median of
+    its runs' medians), in ms. `frames`: the runs' `bench --frames`."""
+    for stage in stages:
+        if stage not in STAGES:
+            raise ResultsError(f"no stage named {stage!r} (the stages: {', '.join(STAGES)})")
+    names = {"splat shown": "first splat", "splat rest": "second splat"}
+    what = " / ".join(f"{names.get(s, s)} (`{s}`" + (", the median over its runs' frames, "
+                                                      "their warm-up included)" if len(stages) == 1 else ")")
+                      for s in stages)
+    what += "" if len(stages) == 1 else ", each the median over its runs' frames (their warm-up included)"
     builds, logs = {}, []
     for folder in folders:
         name = Path(folder).name
@@ -222,17 +230,17 @@ def stage_builds(folders: list[str], frames: int) -> list[str]:
             raise ResultsError(f"{name} ran other scenes or motions than {next(iter(builds))}")
     device = device_of([r for cells in builds.values() for e in cells.values() for r in e["rows"]])
     lines = [measured(logs[0], *device) + f" `bench --quick --frames {frames}`, "
-             "impostor-visible-first, 1920x1080; each build's first splat (`splat shown`, the "
-             "median over its runs' frames, their warm-up included) / frame (the median of its "
+             f"impostor-visible-first, 1920x1080; each build's {what} / frame (the median of its "
              "runs' medians), in ms; orbit: 0.5 degree a frame.", "",
              "| motion | scene | " + " | ".join(builds) + " |",
              "|---|---|" + "---:|" * len(builds)]
     for motion, scene in sorted(first, key=lambda k: (k[0] != "still", k[1])):
         row = [builds[b][(motion, scene)] for b in builds]
-        shown = [statistics.median(sum(f[k] for k in STAGES["splat shown"]) for f in e["frames"])
-                 for e in row]
+        parts = [[statistics.median(sum(f[k] for k in STAGES[stage]) for f in e["frames"])
+                  for stage in stages] for e in row]
         lines.append(f"| {motion} | {scene} | " + " | ".join(
-            f"{s:.1f} / {statistics.median(e['gpu']):.1f}" for s, e in zip(shown, row)) + " |")
+            " / ".join(f"{p:.1f}" for p in ps) + f" / {statistics.median(e['gpu']):.1f}"
+            for ps, e in zip(parts, row)) + " |")
     return lines
 
 

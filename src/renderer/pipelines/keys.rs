@@ -109,8 +109,9 @@ pub(crate) struct SplatKey {
     pub max_box_pixels: u32,
     /// `COUNT_RAY_CASTS`: the benchmark's counting frames.
     pub count_ray_casts: bool,
-    /// `SPLAT_LIST`: a pass of the visible-first splat over the pre-pass's list.
-    pub list: bool,
+    /// `SPLAT_LIST` and `CULL_SELECT`: a pass of the visible-first splat over the pre-pass's
+    /// list of the glyphs it names (the second pass, `Rest`, skips the tiles the first hides).
+    pub list: Option<CullSelect>,
     /// `SPLAT_SETUP_ONCE`: the splat stores each glyph's shading set-up for the resolve.
     pub setup_once: bool,
     /// A step of the benchmark's tiled splat (`research/tiled_splat.comp`) instead.
@@ -128,7 +129,7 @@ impl SplatKey {
             floor: research.splat_floor(),
             max_box_pixels: plan.path.splat().map_or(0, |s| s.max_box_pixels),
             count_ray_casts: research.count_fragments(),
-            list: false,
+            list: None,
             setup_once: plan.path.splat().is_some_and(|s| s.setup_once),
             tiled: None,
         }
@@ -144,7 +145,8 @@ impl SplatKey {
             splat_floor: self.floor,
             splat_max_box_pixels: self.max_box_pixels,
             count_ray_casts: self.count_ray_casts as u32,
-            splat_list: self.list as u32,
+            splat_list: self.list.is_some() as u32,
+            cull_select: self.list.unwrap_or_default() as u32,
             splat_setup_once: self.setup_once as u32,
             cull_step: self
                 .tiled

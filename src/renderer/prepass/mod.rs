@@ -310,20 +310,23 @@ impl EllipsoidRenderer {
         let mut dispatches = Vec::new();
         match splat_path.hidden {
             HiddenLayers::VisibleFirst { rest } => {
-                let list = SplatKey {
-                    list: true,
-                    ..splat
+                let mut pass = |select| -> Result<_> {
+                    let list = SplatKey {
+                        list: Some(select),
+                        ..splat
+                    };
+                    Ok((self.pipelines.splat(device, list)?, DispatchSize::Indirect))
                 };
-                let pass = (self.pipelines.splat(device, list)?, DispatchSize::Indirect);
+                let (first_pass, second_pass) = (pass(CullSelect::Shown)?, pass(CullSelect::Rest)?);
                 let key_tiles = (
                     self.cull_pipeline(device, plan, CullStep::KeyTiles, CullSelect::All, off)?,
                     grid(steps::strip_groups(resolve_tiles(w, h))),
                 );
                 dispatches.extend(self.list_steps(device, plan, CullSelect::Shown, off)?);
-                dispatches.push(pass);
+                dispatches.push(first_pass);
                 dispatches.push(key_tiles);
                 dispatches.extend(self.list_steps(device, plan, CullSelect::Rest, rest)?);
-                dispatches.push(pass);
+                dispatches.push(second_pass);
                 dispatches.push(mark_shown);
                 dispatches.extend(self.list_steps(device, plan, CullSelect::Drawn, off)?);
             }
