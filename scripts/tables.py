@@ -130,6 +130,9 @@ TABLES = [
           lambda: runs.stage_builds([f"{RESULTS}/deep/2026-11-28h/front-stamps/{b}"
                                      for b in ("skip-hidden-tiles", "front-stamps")], 15,
                                     ("splat shown", "splat rest"))),
+    Table("walk-together", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28h/walk-together",
+          lambda: runs.stage_builds([f"{RESULTS}/deep/2026-11-28h/walk-together/{b}" for b in (
+              "shipped-1", "walk-together-workgroup", "shipped-2", "walk-together-subgroup")], 15)),
     Table("visible-walk", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28g/visible-glyphs",
           lambda: runs.visible_walk(f"{RESULTS}/deep/2026-11-28g/visible-glyphs")),
     Table("traced-lavapipe", "docs/deep-scenes.md", f"{DEEP}b",
