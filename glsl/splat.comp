@@ -7,6 +7,7 @@
 // silhouette ellipse, row by row, with the fragment stage's hit (impostor_hit.glsl), keeps the
 // nearest hit per pixel in the visibility buffer with a 64-bit atomic and marks the resolve
 // tiles it touched (and, with SPLAT_SETUP_ONCE, stores its shading set-up for the resolve).
+// The visible-first splat's second pass skips the occlusion tiles its first pass hides.
 // resolve.vert/.frag then shade each pixel of the marked tiles once. No rasterizer front end
 // (on lavapipe about 0.5 us per instance on one thread). A glyph too large to walk is left to
 // the draw: its keep bit and its group's count go where the culling's CLASSIFY step would put

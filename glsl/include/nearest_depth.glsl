@@ -1,6 +1,6 @@
 // The nearest view depth any hit of an instance can have, with a margin that float32 rounding
-// cannot close: the culling's occlusion tests compare it with depths already held. Needs
-// ellipsoid_common.glsl first.
+// cannot close: the culling's occlusion tests and the visible-first splat's tile skip compare
+// it with depths already held. Needs ellipsoid_common.glsl first.
 
 // Relative depth gap that float32 rounding (in the pre-pass and the fragment stage) cannot
 // close.

@@ -1,4 +1,5 @@
-// Occlusion tiles of the culling pre-pass (cull.comp). Needs ellipsoid_common.glsl first.
+// Occlusion tiles of the culling pre-pass (cull.comp), which the visible-first splat's second
+// pass also reads (splat.comp). Needs ellipsoid_common.glsl first.
 //
 // Tiles of TILE x TILE pixels, row-major from the top left. For the culled draw each holds the
 // float bits of a view depth such that every pixel centre (multisampled: every sample) of the
@@ -11,10 +12,10 @@ layout(std430, set = 0, binding = 5) buffer OcclusionTiles {
     uint tiles[];
 };
 
-// The same words as the visible-first splat's second CLASSIFY reads them (binding 13,
-// `OCCLUSION_TILE_WORDS` in src/renderer/descriptors.rs, which says why only there): a texel
-// each (why texel reads: design §7). Only after a barrier: no pass both writes and reads them
-// here.
+// The same words as the visible-first splat's second CLASSIFY and second splat pass read
+// them (binding 13, `OCCLUSION_TILE_WORDS` in src/renderer/descriptors.rs, which says why
+// only there): a texel each (why texel reads: design §7). Only after a barrier: no pass both
+// writes and reads them here.
 layout(set = 0, binding = 13) uniform utextureBuffer occlusion_tile_words;
 
 // The word of tile `t` (row-major), through the texel view.

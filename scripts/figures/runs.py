@@ -203,19 +203,19 @@ def stages(folders: list[str], frames: int = 15) -> list[str]:
     return lines
 
 
-def stage_builds(folders: list[str], frames: int, stages: tuple[str, ...] = ("splat shown",)) -> list[str]:
+def stage_builds(folders: list[str], frames: int, stage_names: tuple[str, ...] = ("splat shown",)) -> list[str]:
     """Several builds' stage profiles (scripts/stage-profile.sh with a tool per folder, taking
-    turns run by run) side by side: per motion and scene, each build's `stages` (by default the
+    turns run by run) side by side: per motion and scene, each build's `stage_names` (by default the
     first splat, `splat shown`; each the median over its runs' frames) and frame (the median of
     its runs' medians), in ms. `frames`: the runs' `bench --frames`."""
-    for stage in stages:
+    for stage in stage_names:
         if stage not in STAGES:
             raise ResultsError(f"no stage named {stage!r} (the stages: {', '.join(STAGES)})")
     names = {"splat shown": "first splat", "splat rest": "second splat"}
     what = " / ".join(f"{names.get(s, s)} (`{s}`" + (", the median over its runs' frames, "
-                                                      "their warm-up included)" if len(stages) == 1 else ")")
-                      for s in stages)
-    what += "" if len(stages) == 1 else ", each the median over its runs' frames (their warm-up included)"
+                                                      "their warm-up included)" if len(stage_names) == 1 else ")")
+                      for s in stage_names)
+    what += "" if len(stage_names) == 1 else ", each the median over its runs' frames (their warm-up included)"
     builds, logs = {}, []
     for folder in folders:
         name = Path(folder).name
@@ -237,7 +237,7 @@ def stage_builds(folders: list[str], frames: int, stages: tuple[str, ...] = ("sp
     for motion, scene in sorted(first, key=lambda k: (k[0] != "still", k[1])):
         row = [builds[b][(motion, scene)] for b in builds]
         parts = [[statistics.median(sum(f[k] for k in STAGES[stage]) for f in e["frames"])
-                  for stage in stages] for e in row]
+                  for stage in stage_names] for e in row]
         lines.append(f"| {motion} | {scene} | " + " | ".join(
             " / ".join(f"{p:.1f}" for p in ps) + f" / {statistics.median(e['gpu']):.1f}"
             for ps, e in zip(parts, row)) + " |")

@@ -25,7 +25,7 @@ use crate::gpu::GpuBuffer;
 /// | 2 | `Visible` | visible instance indices (`uint` each) | vertex, compute | slice |
 /// | 3 | `IndirectDraw` | `IndirectDraw` | compute | the chunk's 40 bytes at `256 k` |
 /// | 4 | `CullGroups` | per group of 256: 8 words of keep bits; after all groups, one count per group (SCAN turns it into the first output slot) (written by CLASSIFY, or by the compute splat for the glyphs it leaves to the draw) | compute | the chunk's slice, 256-aligned |
-/// | 5 | `OcclusionTiles` | occlusion tiles (`uint` per 4 x 4 tile, row-major from the top left: view-depth float bits for the culled draw, depth-buffer value bits for the visible-first splat, whose second `CLASSIFY` reads them through binding 13; `glsl/include/occlusion_tiles.glsl`) | compute | whole, shared |
+/// | 5 | `OcclusionTiles` | occlusion tiles (`uint` per 4 x 4 tile, row-major from the top left: view-depth float bits for the culled draw, depth-buffer value bits for the visible-first splat, whose second `CLASSIFY` and second splat pass read them through binding 13; `glsl/include/occlusion_tiles.glsl`) | compute | whole, shared |
 /// | 6 | `ShadingRecords` | `ShadingRecord`s, written through binding 15 by CLASSIFY for the set-up-once draw or by the compute splat for its resolve (which reads them through binding 14) | fragment | slice (whole beyond `MAX_SETUP_ONCE_INSTANCES`) |
 /// | 7 | `FootprintRecords` | `FootprintRecord`s | vertex, compute | slice (likewise) |
 /// | 8 | `Visibility` | the compute splat's nearest hit per pixel, then its resolve tiles (`uint64_t`, row-major, design §5.6); its readers read it through binding 12 | compute, fragment (the benchmark's visibility draw) | whole, shared |
@@ -33,7 +33,7 @@ use crate::gpu::GpuBuffer;
 /// | 10 | `GlyphStamps` | per glyph the stamps of the last frame that showed it and that left it to the draw (design §5.7) | compute | whole (frames with stamps have one chunk) |
 /// | 11 | `TileLists` | the benchmark's tiled splat's lists (`research`; 8 bytes otherwise): per 8 x 8 tile and depth bucket a count and a first slot, 112 bytes per glyph (box, nearest depth, the hit's set-up), 64 entries of room per glyph (`glsl/research/tile_lists.glsl`) | compute | whole |
 /// | 12 | (`VISIBILITY_KEYS` in `src/renderer/descriptors.rs`) | binding 8's buffer as a uniform texel buffer of `R32G32_UINT` texels, a key each, for the passes that only read it (the resolve, `KEY_TILES`, `MARK_SHOWN`) | vertex, fragment, compute | whole, shared |
-/// | 13 | (`OCCLUSION_TILE_WORDS` there) | binding 5's buffer as a uniform texel buffer of `R32_UINT` texels, a tile's word each, for the visible-first splat's second `CLASSIFY` | compute | whole, shared |
+/// | 13 | (`OCCLUSION_TILE_WORDS` there) | binding 5's buffer as a uniform texel buffer of `R32_UINT` texels, a tile's word each, for the visible-first splat's second `CLASSIFY` and second splat pass | compute | whole, shared |
 /// | 14 | (`SHADING_RECORD_TEXELS` there) | binding 6's slice as a uniform texel buffer of `R32G32B32A32_UINT` texels, 8 a record, for the splat's resolve | fragment | slice (likewise) |
 /// | 15 | (`SHADING_RECORD_STORES` there) | binding 6's slice as a storage texel buffer of the same texels, through which the pre-pass writes the records | compute | slice (likewise) |
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -45,7 +45,8 @@ pub(crate) const VISIBILITY_KEYS: TexelView = TexelView {
 };
 
 /// The occlusion tiles' words (`occlusion_tile_words` in glsl/include/occlusion_tiles.glsl),
-/// one `R32_UINT` texel each, read by the visible-first splat's second CLASSIFY. Only there:
+/// one `R32_UINT` texel each, read by the visible-first splat's second CLASSIFY and its second
+/// splat pass. Only there:
 /// a frame that splats has a visibility buffer (a texel per pixel) within the device's texel
 /// limit, and an image has no more tiles than pixels; a culled draw's image may exceed it.
 pub(crate) const OCCLUSION_TILE_WORDS: TexelView = TexelView {

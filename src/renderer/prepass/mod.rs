@@ -24,7 +24,8 @@
 //!    smaller than its terms), lies beyond the near plane and has a depth-buffer value more than
 //!    two float steps beyond the tile's; a glyph that may reach the near plane is kept. Every
 //!    hit of the glyph then lies beyond what each of its pixels holds, so it can neither win nor
-//!    tie one, and the splat's atomics would change nothing. The second pass splats the list.
+//!    tie one, and the splat's atomics would change nothing. The second pass splats the list,
+//!    each glyph skipping the tiles under it where the same test holds.
 //! 5. MARK_SHOWN: one invocation per strip of a resolve tile a glyph marked (a loop of no
 //!    trips elsewhere: lavapipe runs a branch's body whatever the condition, but not a loop's)
 //!    stamps the glyph each pixel shows with the frame's stamp.

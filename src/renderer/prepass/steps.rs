@@ -22,7 +22,8 @@ pub(crate) enum CullStep {
     MarkShown = 5,
 }
 
-/// Which glyphs the CLASSIFY step lists (`CULL_SELECT`).
+/// Which glyphs the CLASSIFY step lists (`CULL_SELECT`), and so which list a visible-first
+/// splat pass walks (`SplatKey::list`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub(crate) enum CullSelect {
     /// Every glyph the culling keeps.
