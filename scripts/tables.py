@@ -133,6 +133,9 @@ TABLES = [
     Table("walk-together", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28h/walk-together",
           lambda: runs.stage_builds([f"{RESULTS}/deep/2026-11-28h/walk-together/{b}" for b in (
               "shipped-1", "walk-together-workgroup", "shipped-2", "walk-together-subgroup")], 15)),
+    Table("stamps-in-key-tiles", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28h/stamps-in-key-tiles",
+          lambda: runs.ray_casts_builds(f"{RESULTS}/deep/2026-11-28h/stamps-in-key-tiles",
+                                        ("shipped", "stamps-in-key-tiles"))),
     Table("visible-walk", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28g/visible-glyphs",
           lambda: runs.visible_walk(f"{RESULTS}/deep/2026-11-28g/visible-glyphs")),
     Table("traced-lavapipe", "docs/deep-scenes.md", f"{DEEP}b",

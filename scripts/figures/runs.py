@@ -244,6 +244,36 @@ def stage_builds(folders: list[str], frames: int, stage_names: tuple[str, ...] =
     return lines
 
 
+def ray_casts_builds(folder: str, builds: tuple[str, ...]) -> list[str]:
+    """Ray casts per visible pixel of several builds' visible-first splat (`bench --frames 9`
+    runs into `{build}-{motion}/`, still and orbiting), side by side per motion and scene: the
+    counts, which do not depend on the machine's load."""
+    runs = {}
+    for build in builds:
+        for motion in ("still", "orbit"):
+            path = ROOT / folder / f"{build}-{motion}" / "results.csv"
+            if not path.exists():
+                raise ResultsError(f"{path.relative_to(ROOT)} is missing (the {build} build's {motion} run)")
+            runs[build, motion] = {r["scene"]: r for r in read_csv(path)
+                                   if r["method"] == "impostor-visible-first"}
+    first = runs[builds[0], "still"]
+    rows = [r for rs in runs.values() for r in rs.values()]
+    lines = [measured(ROOT / folder / f"{builds[0]}-still.txt", *device_of(rows))
+             + " `bench --frames 9`, impostor-visible-first, 1920x1080; ray casts per visible "
+             "pixel (the resolve's one included); orbit: 0.5 degree a frame.", "",
+             "| motion | scene | " + " | ".join(builds) + " |", "|---|---|" + "---:|" * len(builds)]
+    for motion in ("still", "orbit"):
+        for scene in sorted(first):
+            cells = []
+            for build in builds:
+                row = runs[build, motion].get(scene)
+                if row is None:
+                    raise ResultsError(f"{folder}/{build}-{motion} has no {scene} row")
+                cells.append(f"{float(row['ray_casts_per_visible_pixel']):.2f}")
+            lines.append(f"| {motion} | {scene} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def visible_walk(folder: str) -> list[str]:
     """What the visible-first splat's first pass walks: per scene, the glyphs a frame shows
     (`{scene}-visible/`, the plain splat of those glyphs alone, the same camera) beside
