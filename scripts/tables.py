@@ -30,7 +30,7 @@ from figures.results import RESULTS, ROOT, ResultsError  # noqa: E402
 
 PLAN = f"{RESULTS}/plan"
 DEEP = f"{RESULTS}/deep/2026-11-27"
-# The latest deep-scenes run beside Mitsuba (the build with the keep words and the tiles cleared).
+# The latest deep-scenes runs beside Mitsuba (the build whose second pass skips hidden tiles).
 DEEP_LATEST = f"{RESULTS}/deep/2026-11-28i"
 H200 = f"{RESULTS}/devices/nvidia-h200-2026-11-27b"
 # The first report of the day: the plan's regret over three runs and `bench --skip`.

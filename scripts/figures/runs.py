@@ -254,9 +254,20 @@ def ray_casts_builds(folder: str, builds: tuple[str, ...]) -> list[str]:
             path = ROOT / folder / f"{build}-{motion}" / "results.csv"
             if not path.exists():
                 raise ResultsError(f"{path.relative_to(ROOT)} is missing (the {build} build's {motion} run)")
-            runs[build, motion] = {r["scene"]: r for r in read_csv(path)
-                                   if r["method"] == "impostor-visible-first"}
+            rows = [r for r in read_csv(path) if r["method"] == "impostor-visible-first"]
+            scenes = [r["scene"] for r in rows]
+            if not rows or len(set(scenes)) != len(scenes):
+                raise ResultsError(f"{path.relative_to(ROOT)}: not one impostor-visible-first row "
+                                   f"per scene ({', '.join(scenes) or 'none'})")
+            if any(not r["ray_casts_per_visible_pixel"] for r in rows):
+                raise ResultsError(f"{path.relative_to(ROOT)}: a row without ray casts (a run "
+                                   "without counting frames)")
+            runs[build, motion] = {r["scene"]: r for r in rows}
     first = runs[builds[0], "still"]
+    for (build, motion), found in runs.items():
+        if found.keys() != first.keys():
+            raise ResultsError(f"{folder}/{build}-{motion} ran other scenes than "
+                               f"{builds[0]}-still ({', '.join(sorted(found))})")
     rows = [r for rs in runs.values() for r in rs.values()]
     lines = [measured(ROOT / folder / f"{builds[0]}-still.txt", *device_of(rows))
              + " `bench --frames 9`, impostor-visible-first, 1920x1080; ray casts per visible "
@@ -264,12 +275,8 @@ def ray_casts_builds(folder: str, builds: tuple[str, ...]) -> list[str]:
              "| motion | scene | " + " | ".join(builds) + " |", "|---|---|" + "---:|" * len(builds)]
     for motion in ("still", "orbit"):
         for scene in sorted(first):
-            cells = []
-            for build in builds:
-                row = runs[build, motion].get(scene)
-                if row is None:
-                    raise ResultsError(f"{folder}/{build}-{motion} has no {scene} row")
-                cells.append(f"{float(row['ray_casts_per_visible_pixel']):.2f}")
+            cells = [f"{float(runs[build, motion][scene]['ray_casts_per_visible_pixel']):.2f}"
+                     for build in builds]
             lines.append(f"| {motion} | {scene} | " + " | ".join(cells) + " |")
     return lines
 
