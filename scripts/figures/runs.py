@@ -212,10 +212,7 @@ def stage_builds(folders: list[str], frames: int, stage_names: tuple[str, ...] =
         if stage not in STAGES:
             raise ResultsError(f"no stage named {stage!r} (the stages: {', '.join(STAGES)})")
     names = {"splat shown": "first splat", "splat rest": "second splat"}
-    what = " / ".join(f"{names.get(s, s)} (`{s}`" + (", the median over its runs' frames, "
-                                                      "their warm-up included)" if len(stage_names) == 1 else ")")
-                      for s in stage_names)
-    what += "" if len(stage_names) == 1 else ", each the median over its runs' frames (their warm-up included)"
+    what = " / ".join(f"{names.get(s, s)} (`{s}`)" for s in stage_names)
     builds, logs = {}, []
     for folder in folders:
         name = Path(folder).name
@@ -230,8 +227,9 @@ def stage_builds(folders: list[str], frames: int, stage_names: tuple[str, ...] =
             raise ResultsError(f"{name} ran other scenes or motions than {next(iter(builds))}")
     device = device_of([r for cells in builds.values() for e in cells.values() for r in e["rows"]])
     lines = [measured(logs[0], *device) + f" `bench --quick --frames {frames}`, "
-             f"impostor-visible-first, 1920x1080; each build's {what} / frame (the median of its "
-             "runs' medians), in ms; orbit: 0.5 degree a frame.", "",
+             f"impostor-visible-first, 1920x1080; each build's {what} / frame, in ms: each "
+             "stage the median over its runs' frames (their warm-up included), the frame the "
+             "median of its runs' medians; orbit: 0.5 degree a frame.", "",
              "| motion | scene | " + " | ".join(builds) + " |",
              "|---|---|" + "---:|" * len(builds)]
     for motion, scene in sorted(first, key=lambda k: (k[0] != "still", k[1])):
