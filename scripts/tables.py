@@ -136,6 +136,21 @@ TABLES = [
     Table("stamps-in-key-tiles", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28h/stamps-in-key-tiles",
           lambda: runs.ray_casts_builds(f"{RESULTS}/deep/2026-11-28h/stamps-in-key-tiles",
                                         ("shipped", "stamps-in-key-tiles"))),
+    Table("shown-occluders", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28j/stages",
+          lambda: runs.stage_builds([f"{RESULTS}/deep/2026-11-28j/stages/{b}"
+                                     for b in ("shipped", "shown-occluders")], 15,
+                                    ("occluders", "splat shown", "splat rest"))),
+    Table("shown-occluders-skip-code", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28j/skip-code",
+          lambda: runs.stage_builds([f"{RESULTS}/deep/2026-11-28j/skip-code/{b}" for b in (
+              "shipped", "skip-code", "skip-code-no-jump", "skip-code-folded")], 15,
+              ("splat shown", "splat rest"))),
+    Table("shown-occluders-pairs", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28j/pairs",
+          lambda: runs.stage_builds([f"{RESULTS}/deep/2026-11-28j/pairs/{b}" for b in (
+              "shipped", "skip-code-storage", "occluders-storage", "occluders-texel")], 15,
+              ("occluders", "splat shown"))),
+    Table("shown-occluders-counts", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28j/counts",
+          lambda: runs.ray_casts_builds(f"{RESULTS}/deep/2026-11-28j/counts",
+                                        ("shipped", "occluders"))),
     Table("visible-walk", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28g/visible-glyphs",
           lambda: runs.visible_walk(f"{RESULTS}/deep/2026-11-28g/visible-glyphs")),
     Table("traced-lavapipe", "docs/deep-scenes.md", f"{DEEP}b",

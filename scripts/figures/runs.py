@@ -102,24 +102,33 @@ def deep_device(folder: str) -> list[str]:
 
 
 # The visible-first splat's pre-pass dispatches in order (`prepass_dispatches` in
-# src/renderer/prepass/mod.rs), grouped as the stage profile's columns.
+# src/renderer/prepass/mod.rs), grouped as the stage profile's columns; a frame with the
+# first pass's occluders has one more dispatch before that pass.
 STAGES = {"list shown": [0, 1, 2], "splat shown": [3], "key tiles": [4], "list rest": [5, 6, 7],
           "splat rest": [8], "mark shown": [9], "list drawn": [10, 11, 12]}
-# Dispatches a visible-first frame's stamps line holds.
-DISPATCHES = sum(len(ks) for ks in STAGES.values())
+STAGES_WITH_OCCLUDERS = {"list shown": [0, 1, 2], "occluders": [3], "splat shown": [4],
+                         "key tiles": [5], "list rest": [6, 7, 8], "splat rest": [9],
+                         "mark shown": [10], "list drawn": [11, 12, 13]}
+# The stages of a visible-first frame's stamps line, by the dispatches it holds.
+LAYOUTS = {sum(len(ks) for ks in stages.values()): stages
+           for stages in (STAGES, STAGES_WITH_OCCLUDERS)}
+STAGE_NAMES = list(STAGES_WITH_OCCLUDERS)
 
 
-def stamped_frames(log: Path) -> list[list[float]]:
-    """The visible-first frames of a stage-profile log's bench run: its first unbroken block of
-    `stamps:` lines with every dispatch (a tensor field's log goes on with the antialiasing
-    study's frames, first frames and others, which are not the run's)."""
+def stamped_frames(log: Path) -> list[dict[str, float]]:
+    """The visible-first frames of a stage-profile log's bench run, each as its stages' times
+    (ms): its first unbroken block of `stamps:` lines with every dispatch (a tensor field's
+    log goes on with the antialiasing study's frames, first frames and others, which are not
+    the run's)."""
     block = []
     for line in log.read_text().splitlines():
         if not line.startswith("stamps:"):
             continue
-        values = line.split()[1:]
-        if len(values) == DISPATCHES:
-            block.append([float(x) for x in values])
+        values = [float(x) for x in line.split()[1:]]
+        stages = LAYOUTS.get(len(values))
+        if stages and (not block or len(values) == block_length):
+            block_length = len(values)
+            block.append({name: sum(values[k] for k in ks) for name, ks in stages.items()})
         elif block:
             break
     if not block:
@@ -134,7 +143,7 @@ def stamped_resolves(log: Path) -> list[float]:
     resolves, stamps = [], 0
     for line in log.read_text().splitlines():
         if line.startswith("stamps:"):
-            if len(line.split()) - 1 != DISPATCHES:
+            if len(line.split()) - 1 not in LAYOUTS:
                 if resolves:
                     break
                 stamps = 0
@@ -193,9 +202,8 @@ def stages(folders: list[str], frames: int = 15) -> list[str]:
             "|---|---|---:|---:|" + "---:|" * (len(STAGES) + 1 + timed_pass)]
         for (motion, scene), entry in sorted(groups.items(), key=lambda kv: (kv[0][0] != "still", kv[0][1])):
             frame = statistics.median(entry["gpu"])
-            prepass = statistics.median(sum(f) for f in entry["frames"])
-            cells = [statistics.median(sum(f[k] for k in ks) for f in entry["frames"])
-                     for ks in STAGES.values()]
+            prepass = statistics.median(sum(f.values()) for f in entry["frames"])
+            cells = [statistics.median(f[stage] for f in entry["frames"]) for stage in STAGES]
             resolve = f" {statistics.median(entry['resolves']):.1f} |" if timed_pass else ""
             lines.append(f"| {motion} | {scene} | {frame:.1f} | {prepass:.1f} | "
                          + " | ".join(f"{c:.1f}" for c in cells) + f" | {frame - prepass:.1f} |"
@@ -209,9 +217,9 @@ def stage_builds(folders: list[str], frames: int, stage_names: tuple[str, ...] =
     first splat, `splat shown`; each the median over its runs' frames) and frame (the median of
     its runs' medians), in ms. `frames`: the runs' `bench --frames`."""
     for stage in stage_names:
-        if stage not in STAGES:
-            raise ResultsError(f"no stage named {stage!r} (the stages: {', '.join(STAGES)})")
-    names = {"splat shown": "first splat", "splat rest": "second splat"}
+        if stage not in STAGE_NAMES:
+            raise ResultsError(f"no stage named {stage!r} (the stages: {', '.join(STAGE_NAMES)})")
+    names = {"occluders": "occluders", "splat shown": "first splat", "splat rest": "second splat"}
     what = " / ".join(f"{names.get(s, s)} (`{s}`)" for s in stage_names)
     builds, logs = {}, []
     for folder in folders:
@@ -234,10 +242,11 @@ def stage_builds(folders: list[str], frames: int, stage_names: tuple[str, ...] =
              "|---|---|" + "---:|" * len(builds)]
     for motion, scene in sorted(first, key=lambda k: (k[0] != "still", k[1])):
         row = [builds[b][(motion, scene)] for b in builds]
-        parts = [[statistics.median(sum(f[k] for k in STAGES[stage]) for f in e["frames"])
-                  for stage in stage_names] for e in row]
+        # A stage a build does not run (the occluders before them) shows as "-".
+        parts = [[f"{statistics.median(f[stage] for f in e['frames']):.1f}"
+                  if stage in e["frames"][0] else "-" for stage in stage_names] for e in row]
         lines.append(f"| {motion} | {scene} | " + " | ".join(
-            " / ".join(f"{p:.1f}" for p in ps) + f" / {statistics.median(e['gpu']):.1f}"
+            " / ".join(ps) + f" / {statistics.median(e['gpu']):.1f}"
             for ps, e in zip(parts, row)) + " |")
     return lines
 
