@@ -120,13 +120,13 @@ def stamped_frames(log: Path) -> list[dict[str, float]]:
     (ms): its first unbroken block of `stamps:` lines with every dispatch (a tensor field's
     log goes on with the antialiasing study's frames, first frames and others, which are not
     the run's)."""
-    block = []
+    block, block_length = [], None
     for line in log.read_text().splitlines():
         if not line.startswith("stamps:"):
             continue
         values = [float(x) for x in line.split()[1:]]
         stages = LAYOUTS.get(len(values))
-        if stages and (not block or len(values) == block_length):
+        if stages and block_length in (None, len(values)):
             block_length = len(values)
             block.append({name: sum(values[k] for k in ks) for name, ks in stages.items()})
         elif block:
@@ -190,6 +190,9 @@ def stages(folders: list[str], frames: int = 15) -> list[str]:
     lines = []
     for folder in folders:
         logs, groups = stage_runs(folder)
+        if any("occluders" in f for e in groups.values() for f in e["frames"]):
+            raise ResultsError(f"{folder}: frames with the first pass's occluders, which this "
+                               "table has no column for (stage_builds shows them)")
         device = device_of([r for e in groups.values() for r in e["rows"]])
         # Builds that time the pass too have the resolve's own timestamps: a column of them.
         timed_pass = all(e["resolves"] for e in groups.values())
@@ -219,7 +222,7 @@ def stage_builds(folders: list[str], frames: int, stage_names: tuple[str, ...] =
     for stage in stage_names:
         if stage not in STAGE_NAMES:
             raise ResultsError(f"no stage named {stage!r} (the stages: {', '.join(STAGE_NAMES)})")
-    names = {"occluders": "occluders", "splat shown": "first splat", "splat rest": "second splat"}
+    names = {"splat shown": "first splat", "splat rest": "second splat"}
     what = " / ".join(f"{names.get(s, s)} (`{s}`)" for s in stage_names)
     builds, logs = {}, []
     for folder in folders:
@@ -227,6 +230,10 @@ def stage_builds(folders: list[str], frames: int, stage_names: tuple[str, ...] =
         if name in builds:
             raise ResultsError(f"two builds named {name}: each needs a folder name of its own")
         found, groups = stage_runs(folder)
+        for (motion, scene), entry in groups.items():
+            if len({frozenset(f) for f in entry["frames"]}) > 1:
+                raise ResultsError(f"{folder}: the {motion} {scene} runs mix frames with and "
+                                   "without the first pass's occluders")
         builds[name] = groups
         logs += found
     first = next(iter(builds.values()))
@@ -242,7 +249,8 @@ def stage_builds(folders: list[str], frames: int, stage_names: tuple[str, ...] =
              "|---|---|" + "---:|" * len(builds)]
     for motion, scene in sorted(first, key=lambda k: (k[0] != "still", k[1])):
         row = [builds[b][(motion, scene)] for b in builds]
-        # A stage a build does not run (the occluders before them) shows as "-".
+        # A stage a build does not run (a build without the first pass's occluders) shows
+        # as "-"; a build mixing runs with and without it is refused above.
         parts = [[f"{statistics.median(f[stage] for f in e['frames']):.1f}"
                   if stage in e["frames"][0] else "-" for stage in stage_names] for e in row]
         lines.append(f"| {motion} | {scene} | " + " | ".join(
