@@ -148,6 +148,10 @@ TABLES = [
           lambda: runs.stage_builds([f"{RESULTS}/deep/2026-11-28j/pairs/{b}" for b in (
               "shipped", "skip-code-storage", "occluders-storage", "occluders-texel")], 15,
               ("occluders", "splat shown"))),
+    Table("shown-occluders-test-alone", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28j/test-alone",
+          lambda: runs.stage_builds([f"{RESULTS}/deep/2026-11-28j/test-alone/{b}" for b in (
+              "shipped", "skip-code-storage", "skip-test-without-reads")], 15,
+              ("splat shown", "splat rest"))),
     Table("shown-occluders-counts", "docs/deep-scenes.md", f"{RESULTS}/deep/2026-11-28j/counts",
           lambda: runs.ray_casts_builds(f"{RESULTS}/deep/2026-11-28j/counts",
                                         ("shipped", "occluders"))),
