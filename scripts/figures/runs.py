@@ -106,9 +106,12 @@ def deep_device(folder: str) -> list[str]:
 # first pass's occluders has one more dispatch before that pass.
 STAGES = {"list shown": [0, 1, 2], "splat shown": [3], "key tiles": [4], "list rest": [5, 6, 7],
           "splat rest": [8], "mark shown": [9], "list drawn": [10, 11, 12]}
-STAGES_WITH_OCCLUDERS = {"list shown": [0, 1, 2], "occluders": [3], "splat shown": [4],
-                         "key tiles": [5], "list rest": [6, 7, 8], "splat rest": [9],
-                         "mark shown": [10], "list drawn": [11, 12, 13]}
+OCCLUDERS_AT = STAGES["splat shown"][0]
+STAGES_WITH_OCCLUDERS = {
+    **{name: ks for name, ks in STAGES.items() if ks[0] < OCCLUDERS_AT},
+    "occluders": [OCCLUDERS_AT],
+    **{name: [k + 1 for k in ks] for name, ks in STAGES.items() if ks[0] >= OCCLUDERS_AT},
+}
 # The stages of a visible-first frame's stamps line, by the dispatches it holds.
 LAYOUTS = {sum(len(ks) for ks in stages.values()): stages
            for stages in (STAGES, STAGES_WITH_OCCLUDERS)}
